@@ -1,0 +1,19 @@
+"""graspsim: Python client of the graspsim grasp-simulation server.
+
+    import graspsim
+    with graspsim.connect("127.0.0.1:50051") as client:
+        scene = client.create_scene("demo")
+        client.add_object(scene.id, "cube", box=(0.05, 0.05, 0.05), mass=0.1, pose=[0, 0, 0.5, 1, 0, 0, 0])
+
+Units are SI (m, kg, s, rad); quaternions are (w, x, y, z). The generated messages live in graspsim.v1.
+"""
+from graspsim import inertia, meshes
+from graspsim._client import Client, connect
+from graspsim._errors import GraspsimError
+from graspsim._pose import Pose, as_pose, quaternion_about_axis, quaternion_to_matrix
+from graspsim._watch import SceneWatch, Snapshot
+from graspsim.v1 import common_pb2, scene_pb2
+
+__all__ = ["Client", "GraspsimError", "Pose", "SceneWatch", "Snapshot", "as_pose", "common_pb2", "connect",
+           "inertia", "meshes", "quaternion_about_axis", "quaternion_to_matrix", "scene_pb2"]
+__version__ = "0.1.0"

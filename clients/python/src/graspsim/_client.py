@@ -1,0 +1,197 @@
+"""Client: the graspsim SceneService with Python values in and numpy/dataclasses out."""
+from __future__ import annotations
+
+from typing import Dict, Iterable, List, Mapping, Optional, Sequence
+
+import grpc
+
+from graspsim import _build
+from graspsim._errors import GraspsimError, translated_errors
+from graspsim._pose import Pose, PoseLike, as_pose
+from graspsim._upload import FileData, upload_chunks
+from graspsim._watch import SceneWatch
+from graspsim.v1 import common_pb2, scene_pb2, scene_pb2_grpc
+
+_CHANNEL_OPTIONS = [
+    ("grpc.max_receive_message_length", 256 << 20),  # scenes with include_geometry can be large
+    ("grpc.max_send_message_length", -1),            # the server enforces its own limit
+]
+
+
+def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_timeout: float = 60.0) -> Client:
+    """Connects to a graspsim server at "host:port", waiting up to timeout (s) for the channel to be ready.
+
+    call_timeout (s) is the deadline of every unary call. Raises GraspsimError(UNAVAILABLE) when no server
+    answers in time.
+    """
+    channel = grpc.insecure_channel(target, options=_CHANNEL_OPTIONS)
+    try:
+        grpc.channel_ready_future(channel).result(timeout=timeout)
+    except grpc.FutureTimeoutError:
+        channel.close()
+        raise GraspsimError(grpc.StatusCode.UNAVAILABLE,
+                            f"no graspsim server answered at {target} within {timeout:g} s") from None
+    return Client(channel, call_timeout)
+
+
+class Client:
+    """A connection to one graspsim server (see connect()); a context manager that closes the channel.
+
+    Units are SI: m, kg, s, rad; poses are Pose, [x y z qw qx qy qz] or (position, quaternion (w, x, y, z)).
+    Every method raises GraspsimError (gRPC code + server message) when the server refuses a request.
+    The raw stub is available as `scene_stub` for messages this class does not wrap.
+    """
+
+    def __init__(self, channel: grpc.Channel, call_timeout: float = 60.0):
+        self.channel = channel
+        self.call_timeout = call_timeout
+        self.scene_stub = scene_pb2_grpc.SceneServiceStub(channel)
+
+    def close(self) -> None:
+        """Closes the channel; open WatchScene streams end."""
+        self.channel.close()
+
+    def __enter__(self) -> Client:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def _unary(self, method: str, request):
+        with translated_errors():
+            return getattr(self.scene_stub, method)(request, timeout=self.call_timeout)
+
+    # --- scenes -------------------------------------------------------------------------------------------
+    def create_scene(self, name: str = "scene") -> scene_pb2.SceneSummary:
+        """Creates an empty scene; returns its summary (.id is the server-generated scene id)."""
+        return self._unary("CreateScene", scene_pb2.CreateSceneRequest(name=name)).summary
+
+    def list_scenes(self) -> List[scene_pb2.SceneSummary]:
+        """Summaries of every scene on the server."""
+        return list(self._unary("ListScenes", scene_pb2.ListScenesRequest()).scenes)
+
+    def get_scene(self, scene_id: str, include_geometry: bool = False) -> scene_pb2.Scene:
+        """The whole scene: bodies, joints, robots, tactile arrays, files (meshes only with include_geometry)."""
+        return self._unary("GetScene", scene_pb2.GetSceneRequest(scene_id=scene_id, include_geometry=include_geometry))
+
+    def delete_scene(self, scene_id: str) -> None:
+        """Deletes a scene with everything in it."""
+        self._unary("DeleteScene", scene_pb2.DeleteSceneRequest(scene_id=scene_id))
+
+    # --- files and models ---------------------------------------------------------------------------------
+    def upload_file(self, scene_id: str, path_in_scene: str, data: FileData,
+                    chunk_size: int = 1 << 20) -> common_pb2.FileInfo:
+        """Uploads a file into a scene in chunks of chunk_size bytes, so files above the message limit pass.
+
+        data is the content (bytes) or the path of a local file (str / os.PathLike). path_in_scene is how a
+        URDF or Geometry.mesh_file names it (e.g. "meshes/finger.stl"). The server checks size and SHA-256.
+        """
+        with translated_errors():
+            return self.scene_stub.UploadFile(upload_chunks(scene_id, path_in_scene, data, chunk_size),
+                                              timeout=self.call_timeout)
+
+    def builtin_models(self) -> List[scene_pb2.BuiltinModel]:
+        """The server's built-in models (name, kind "robot"/"object", description)."""
+        return list(self._unary("ListBuiltinModels", scene_pb2.ListBuiltinModelsRequest()).models)
+
+    # --- bodies and robots --------------------------------------------------------------------------------
+    def add_object(self, scene_id: str, name: str, *, builtin: Optional[str] = None,
+                   box: Optional[Sequence[float]] = None, sphere: Optional[float] = None,
+                   cylinder: Optional[Sequence[float]] = None, mesh: Optional[tuple] = None,
+                   mesh_file: Optional[str] = None, mass: Optional[float] = None, inertia=None,
+                   center_of_mass: Optional[Sequence[float]] = None, friction: Optional[Sequence[float]] = None,
+                   pose: Optional[PoseLike] = None, is_static: bool = False) -> common_pb2.Body:
+        """Adds a rigid object; give exactly one shape:
+
+        builtin="cube_5cm" (its own mass and friction unless given), box=(x, y, z) full edge lengths m,
+        sphere=radius m, cylinder=(radius, length) m along z, mesh=(vertices (N, 3) m, triangles (M, 3)
+        counter-clockwise from outside), mesh_file="path" uploaded with upload_file.
+
+        mass in kg; inertia 3x3 in kg m^2 about center_of_mass (m, body frame). With a mass but no inertia,
+        the uniform-density inertia is computed here: box m(b²+c²)/12 …, sphere 2/5 m r², cylinder m r²/2
+        about z and m(3r²+l²)/12 about x and y, closed mesh by the divergence theorem (its volume centroid
+        becomes center_of_mass unless given); mesh_file and builtin need an explicit inertia with a mass.
+        friction=(static, dynamic) coefficients; pose is the body frame in the world; is_static fixes it.
+        Returns the Body as the server holds it.
+        """
+        kind, value = _build.pick_shape(dict(builtin=builtin, box=box, sphere=sphere, cylinder=cylinder,
+                                             mesh=mesh, mesh_file=mesh_file))
+        request = scene_pb2.AddObjectRequest(scene_id=scene_id, name=name, is_static=is_static)
+        if kind == "builtin":
+            request.builtin = value
+        else:
+            request.geometry.CopyFrom(_build.geometry(kind, value))
+        inertial = _build.inertial(kind, value, mass, inertia, center_of_mass)
+        if inertial is not None:
+            request.inertial.CopyFrom(inertial)
+        material = _build.material(friction)
+        if material is not None:
+            request.material.CopyFrom(material)
+        if pose is not None:
+            request.pose.CopyFrom(as_pose(pose).to_proto())
+        return self._unary("AddObject", request)
+
+    def add_robot(self, scene_id: str, name: str, *, urdf: Optional[str] = None, builtin: Optional[str] = None,
+                  base_pose: Optional[PoseLike] = None,
+                  files: Optional[Mapping[str, bytes]] = None) -> scene_pb2.AddRobotResponse:
+        """Adds a robot from URDF text or a built-in model ("schunk_pg70"), its root link at base_pose (world).
+
+        Meshes the URDF names must be uploaded first or given in files ({path: content}, small files only).
+        Returns the robot with its bodies ("<name>/<link>"), joints and tactile arrays.
+        """
+        if (urdf is None) == (builtin is None):
+            raise ValueError("give exactly one of urdf, builtin")
+        request = scene_pb2.AddRobotRequest(scene_id=scene_id, name=name)
+        if urdf is not None:
+            request.urdf = urdf
+        else:
+            request.builtin = builtin
+        if base_pose is not None:
+            request.base_pose.CopyFrom(as_pose(base_pose).to_proto())
+        for path, data in (files or {}).items():
+            request.files.add(path=path, data=bytes(data))
+        return self._unary("AddRobot", request)
+
+    def remove_body(self, scene_id: str, id: str) -> List[str]:
+        """Removes an object, or a robot (by robot id) with its links; returns the removed body ids."""
+        return list(self._unary("RemoveBody", scene_pb2.RemoveBodyRequest(scene_id=scene_id, id=id)).removed_body_ids)
+
+    # --- poses and joints ---------------------------------------------------------------------------------
+    def set_body_poses(self, scene_id: str, poses: Mapping[str, PoseLike]) -> int:
+        """Sets world poses by body id (object, robot id or robot base body), all or none; returns the revision."""
+        request = scene_pb2.SetBodyPosesRequest(scene_id=scene_id)
+        for body_id, pose in poses.items():
+            request.poses.add(body_id=body_id, pose=as_pose(pose).to_proto())
+        return self._unary("SetBodyPoses", request).revision
+
+    def set_body_pose(self, scene_id: str, body_id: str, pose: PoseLike) -> int:
+        """Sets one world pose; returns the new scene revision."""
+        return self.set_body_poses(scene_id, {body_id: pose})
+
+    def get_body_poses(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, Pose]:
+        """World poses by body id (every body when ids is None)."""
+        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id, body_ids=list(ids or []))
+        return {p.body_id: Pose.from_proto(p.pose) for p in self._unary("GetBodyPoses", request).poses}
+
+    def set_joint_positions(self, scene_id: str, positions: Mapping[str, float]) -> int:
+        """Sets joint positions (rad or m) by joint id, all or none; mimic joints follow. Returns the revision."""
+        request = scene_pb2.SetJointPositionsRequest(scene_id=scene_id)
+        for joint_id, value in positions.items():
+            request.positions.add(joint_id=joint_id, position=float(value))
+        return self._unary("SetJointPositions", request).revision
+
+    def get_joint_positions(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, float]:
+        """Joint positions (rad or m) by joint id (every joint when ids is None)."""
+        request = scene_pb2.GetJointPositionsRequest(scene_id=scene_id, joint_ids=list(ids or []))
+        return {p.joint_id: p.position for p in self._unary("GetJointPositions", request).positions}
+
+    # --- streams and simulation ---------------------------------------------------------------------------
+    def watch_scene(self, scene_id: str, max_rate_hz: float = 0.0) -> SceneWatch:
+        """A live iterator of Snapshots: one at once, then one per change, at most max_rate_hz (0 = server
+        default). Call cancel() on it (or use it in a with-block) to end the stream."""
+        request = scene_pb2.WatchSceneRequest(scene_id=scene_id, max_rate_hz=max_rate_hz)
+        return SceneWatch(self.scene_stub.WatchScene(request))
+
+    def step_simulation(self, scene_id: str, duration: float) -> scene_pb2.StepSimulationResponse:
+        """Advances the simulation by duration (s); the server answers UNIMPLEMENTED until physics lands."""
+        return self._unary("StepSimulation", scene_pb2.StepSimulationRequest(scene_id=scene_id, duration=duration))

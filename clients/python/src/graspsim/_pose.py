@@ -1,0 +1,109 @@
+"""Poses and quaternions: conversion between Python values, numpy arrays and the API's Pose message.
+
+Conventions (as on the wire): positions in metres, orientations as unit quaternions (w, x, y, z).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence, Union
+
+import numpy as np
+
+from graspsim.v1 import common_pb2
+
+
+def _identity_quaternion() -> np.ndarray:
+    return np.array([1.0, 0.0, 0.0, 0.0])
+
+
+@dataclass
+class Pose:
+    """A rigid transform: position (3,) in m and orientation (4,) as a quaternion (w, x, y, z).
+
+    The client never normalises or checks values: the server rejects quaternions whose norm is farther than
+    1e-3 from 1 and normalises the rest.
+    """
+
+    position: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    orientation: np.ndarray = field(default_factory=_identity_quaternion)
+
+    def __post_init__(self):
+        self.position = np.array(self.position, dtype=np.float64).reshape(-1)
+        self.orientation = np.array(self.orientation, dtype=np.float64).reshape(-1)
+        if self.position.shape != (3,):
+            raise ValueError(f"Pose.position needs 3 values (m), got {self.position.size}")
+        if self.orientation.shape != (4,):
+            raise ValueError(f"Pose.orientation needs 4 values (w, x, y, z), got {self.orientation.size}")
+
+    @classmethod
+    def from_array(cls, values: Sequence[float]) -> Pose:
+        """From 7 values [x, y, z (m), qw, qx, qy, qz]."""
+        values = np.asarray(values, dtype=np.float64).reshape(-1)
+        if values.shape != (7,):
+            raise ValueError(f"a pose array needs 7 values [x y z qw qx qy qz], got {values.size}")
+        return cls(values[:3], values[3:])
+
+    @classmethod
+    def from_proto(cls, msg: common_pb2.Pose) -> Pose:
+        """From a graspsim.v1.Pose message; an absent orientation is the identity."""
+        p = msg.position
+        if msg.HasField("orientation"):
+            q = msg.orientation
+            return cls([p.x, p.y, p.z], [q.w, q.x, q.y, q.z])
+        return cls([p.x, p.y, p.z])
+
+    def to_proto(self) -> common_pb2.Pose:
+        """To a graspsim.v1.Pose message; the orientation is always sent, even (0, 0, 0, 0)."""
+        x, y, z = (float(v) for v in self.position)
+        w, qx, qy, qz = (float(v) for v in self.orientation)
+        msg = common_pb2.Pose(position=common_pb2.Vec3(x=x, y=y, z=z))
+        msg.orientation.SetInParent()
+        msg.orientation.CopyFrom(common_pb2.Quaternion(w=w, x=qx, y=qy, z=qz))
+        return msg
+
+    def as_array(self) -> np.ndarray:
+        """The 7 values [x, y, z (m), qw, qx, qy, qz]."""
+        return np.concatenate([self.position, self.orientation])
+
+    def rotation_matrix(self) -> np.ndarray:
+        """The 3x3 rotation matrix of the (normalised) orientation."""
+        return quaternion_to_matrix(self.orientation)
+
+    def matrix(self) -> np.ndarray:
+        """The 4x4 homogeneous transform (m)."""
+        out = np.eye(4)
+        out[:3, :3] = self.rotation_matrix()
+        out[:3, 3] = self.position
+        return out
+
+
+PoseLike = Union[Pose, common_pb2.Pose, Sequence[float], "tuple[Sequence[float], Sequence[float]]", np.ndarray]
+
+
+def as_pose(value: PoseLike) -> Pose:
+    """Accepts a Pose, a graspsim.v1.Pose message, 7 values [x y z qw qx qy qz] or a (position, quaternion) pair."""
+    if isinstance(value, Pose):
+        return value
+    if isinstance(value, common_pb2.Pose):
+        return Pose.from_proto(value)
+    if not isinstance(value, np.ndarray) and len(value) == 2:
+        position, orientation = value
+        return Pose(position, orientation)
+    return Pose.from_array(value)
+
+
+def quaternion_about_axis(axis: Sequence[float], angle: float) -> np.ndarray:
+    """The unit quaternion (w, x, y, z) of a rotation by angle (rad) about axis (any non-zero length)."""
+    axis = np.asarray(axis, dtype=np.float64)
+    axis = axis / np.linalg.norm(axis)
+    return np.concatenate([[np.cos(angle / 2.0)], np.sin(angle / 2.0) * axis])
+
+
+def quaternion_to_matrix(q: Sequence[float]) -> np.ndarray:
+    """The 3x3 rotation matrix of quaternion (w, x, y, z), normalised first."""
+    w, x, y, z = np.asarray(q, dtype=np.float64) / np.linalg.norm(q)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])

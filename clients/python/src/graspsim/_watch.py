@@ -1,0 +1,90 @@
+"""WatchScene as a Python iterator of numpy snapshots."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterator, List
+
+import grpc
+import numpy as np
+
+from graspsim._errors import from_rpc_error
+from graspsim._pose import Pose
+from graspsim.v1 import scene_pb2
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """One published state of a scene.
+
+    Attributes:
+        sequence: per-stream counter, +1 per published snapshot (gaps = snapshots skipped for a slow reader).
+        revision: the scene revision shown.
+        time: simulation time, s.
+        body_ids: order of the rows of poses.
+        poses: (N, 7) float64, one row [x y z (m), qw qx qy qz] per body, world frame.
+        joint_ids: order of joint_positions.
+        joint_positions: (J,) float64, rad or m.
+    """
+
+    sequence: int
+    revision: int
+    time: float
+    body_ids: List[str]
+    poses: np.ndarray
+    joint_ids: List[str]
+    joint_positions: np.ndarray
+
+    @classmethod
+    def from_proto(cls, msg: scene_pb2.SceneSnapshot) -> Snapshot:
+        """Unpacks the little-endian float64 arrays of a SceneSnapshot message."""
+        poses = np.frombuffer(msg.body_poses, dtype="<f8").astype(np.float64)
+        joints = np.frombuffer(msg.joint_positions, dtype="<f8").astype(np.float64)
+        if poses.size != 7 * len(msg.body_ids) or joints.size != len(msg.joint_ids):
+            raise ValueError(f"snapshot {msg.sequence}: {poses.size} pose values for {len(msg.body_ids)} bodies, "
+                             f"{joints.size} joint values for {len(msg.joint_ids)} joints")
+        return cls(msg.sequence, msg.revision, msg.time, list(msg.body_ids), poses.reshape(-1, 7),
+                   list(msg.joint_ids), joints)
+
+    def pose(self, body_id: str) -> Pose:
+        """The world pose of one body (KeyError-like ValueError if absent)."""
+        return Pose.from_array(self.poses[self.body_ids.index(body_id)])
+
+    def joint_position(self, joint_id: str) -> float:
+        """The position of one joint, rad or m."""
+        return float(self.joint_positions[self.joint_ids.index(joint_id)])
+
+
+class SceneWatch:
+    """Iterator over a WatchScene stream; cancel() (or close(), or leaving a with-block) ends it.
+
+    Iteration blocks until the next snapshot; after cancel() it stops cleanly (StopIteration).
+    Server errors are raised as GraspsimError.
+    """
+
+    def __init__(self, call: grpc.Call):
+        self._call = call
+        self._cancelled = False
+
+    def __iter__(self) -> Iterator[Snapshot]:
+        return self
+
+    def __next__(self) -> Snapshot:
+        try:
+            return Snapshot.from_proto(next(self._call))
+        except grpc.RpcError as err:
+            if self._cancelled and err.code() == grpc.StatusCode.CANCELLED:
+                raise StopIteration from None
+            raise from_rpc_error(err) from None
+
+    def cancel(self) -> None:
+        """Ends the stream; safe to call from another thread and more than once."""
+        self._cancelled = True
+        self._call.cancel()
+
+    close = cancel
+
+    def __enter__(self) -> SceneWatch:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.cancel()

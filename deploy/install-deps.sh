@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs everything graspsim needs on Debian 12, and nothing twice.
+# Idempotent: packages already present are skipped; a second run is quiet and takes about a second.
+set -euo pipefail
+
+DEBIAN_PACKAGES=(
+  build-essential cmake ninja-build ccache pkg-config
+  libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
+  libeigen3-dev libembree-dev libpcl-dev libopencv-dev libflann-dev libmodbus-dev
+  liburdfdom-dev libassimp-dev libqhull-dev libompl-dev libsqlite3-dev
+  libcpp-httplib-dev libgtest-dev libgmock-dev libbenchmark-dev octave
+  libssl-dev python3 python3-venv python3-pip
+)
+
+missing=()
+for pkg in "${DEBIAN_PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$pkg")
+  fi
+done
+
+if ((${#missing[@]})); then
+  echo "install-deps: installing ${#missing[@]} Debian packages: ${missing[*]}"
+  SUDO=""
+  if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  # The package lists may be stale or absent on a fresh machine; refresh once, only when we install.
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

@@ -1,0 +1,45 @@
+// graspsim-server: parse flags, start the gRPC server, wait for SIGTERM/SIGINT, drain, exit 0.
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+
+#include <pthread.h>
+
+#include "app/flags.h"
+#include "core/error.h"
+#include "core/log.h"
+
+int main(int argc, char** argv) {
+  graspsim::ServerFlags flags;
+  try {
+    flags = graspsim::ParseFlags(argc, argv);
+  } catch (const graspsim::Error& error) {
+    std::fprintf(stderr, "graspsim-server: %s\n", error.what());
+    return 2;
+  }
+  if (flags.help) {
+    std::fputs(graspsim::FlagsHelp().c_str(), stdout);
+    return 0;
+  }
+  graspsim::SetLogLevel(flags.log_level);
+
+  // Block the stop signals before gRPC starts its threads, so that only sigwait below receives them.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+
+  try {
+    graspsim::rpc::GraspsimServer server(flags.server);
+    int signal_number = 0;
+    sigwait(&stop_signals, &signal_number);
+    graspsim::Log(graspsim::LogLevel::kInfo, "stop signal", {{"signal", std::to_string(signal_number)}});
+    server.Shutdown();
+  } catch (const graspsim::Error& error) {
+    graspsim::Log(graspsim::LogLevel::kError, "cannot start", {{"error", error.what()}});
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,33 @@
+// Math types of the engine (Eigen, double precision). Poses are rigid transforms; quaternions are (w, x, y, z).
+#pragma once
+
+#include <Eigen/Geometry>
+
+namespace graspsim {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Quat = Eigen::Quaterniond;
+
+// A rigid transform x_parent = orientation * x_child + position.
+struct Pose {
+  Vec3 position = Vec3::Zero();
+  Quat orientation = Quat::Identity();
+
+  Pose operator*(const Pose& child) const {
+    return {position + orientation * child.position, (orientation * child.orientation).normalized()};
+  }
+  Vec3 operator*(const Vec3& point) const { return position + orientation * point; }
+  Pose Inverse() const {
+    const Quat inv = orientation.conjugate();
+    return {-(inv * position), inv};
+  }
+};
+
+// Rotation from URDF roll-pitch-yaw (fixed axes x, then y, then z), rad.
+inline Quat QuatFromRpy(double roll, double pitch, double yaw) {
+  return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
+              Eigen::AngleAxisd(roll, Vec3::UnitX()));
+}
+
+}  // namespace graspsim

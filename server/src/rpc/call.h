@@ -1,0 +1,40 @@
+// The one place where engine errors become gRPC statuses and where every request is logged.
+#pragma once
+
+#include <chrono>
+#include <exception>
+#include <new>
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "core/error.h"
+
+namespace graspsim::rpc {
+
+grpc::Status ToStatus(const Error& error);
+
+// One line per request: method, peer, status, duration. Debug level for successes and caller errors,
+// error level for INTERNAL.
+void LogRequest(const char* method, const grpc::ServerContextBase& context, const grpc::Status& status,
+                std::chrono::steady_clock::duration elapsed);
+
+// Runs a handler body; an Error becomes its status, anything else INTERNAL (never a crash).
+template <typename Body>
+grpc::Status Handle(const char* method, const grpc::ServerContextBase& context, Body&& body) {
+  const auto start = std::chrono::steady_clock::now();
+  grpc::Status status;
+  try {
+    body();
+  } catch (const Error& error) {
+    status = ToStatus(error);
+  } catch (const std::bad_alloc&) {
+    status = grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, std::string(method) + ": out of memory");
+  } catch (const std::exception& error) {
+    status = grpc::Status(grpc::StatusCode::INTERNAL, std::string(method) + ": " + error.what());
+  }
+  LogRequest(method, context, status, std::chrono::steady_clock::now() - start);
+  return status;
+}
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,281 @@
+#include "rpc/convert.h"
+
+#include <bit>
+#include <cstring>
+
+#include "core/error.h"
+#include "core/validate.h"
+
+namespace graspsim::rpc {
+
+// The wire carries little-endian arrays; memcpy is a correct decode only on little-endian hosts.
+static_assert(std::endian::native == std::endian::little, "graspsim's packed arrays assume a little-endian host");
+
+Vec3 FromProto(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+Pose PoseFromProto(const std::string& field, const v1::Pose& pose) {
+  Pose out;
+  out.position = FromProto(pose.position());
+  if (pose.has_orientation()) {
+    const auto& q = pose.orientation();
+    out.orientation = Quat(q.w(), q.x(), q.y(), q.z());
+  }
+  CheckPose(field, &out);
+  return out;
+}
+
+Inertial InertialFromProto(const std::string& field, const v1::Inertial& inertial) {
+  Inertial out;
+  CheckPositive(field + ".mass", inertial.mass());
+  out.mass = inertial.mass();
+  out.center_of_mass = FromProto(inertial.center_of_mass());
+  CheckFinite(field + ".center_of_mass", out.center_of_mass);
+  out.inertia << inertial.ixx(), inertial.ixy(), inertial.ixz(),  //
+      inertial.ixy(), inertial.iyy(), inertial.iyz(),             //
+      inertial.ixz(), inertial.iyz(), inertial.izz();
+  CheckInertia(field, out.inertia);
+  return out;
+}
+
+Material MaterialFromProto(const std::string& field, const v1::Material& material) {
+  CheckNonNegative(field + ".dynamic_friction", material.dynamic_friction());
+  CheckNonNegative(field + ".static_friction", material.static_friction());
+  if (material.static_friction() < material.dynamic_friction()) {
+    ThrowInvalidArgument(field + ": static_friction " + std::to_string(material.static_friction()) +
+                         " is below dynamic_friction " + std::to_string(material.dynamic_friction()));
+  }
+  return {material.static_friction(), material.dynamic_friction()};
+}
+
+TriangleMesh MeshFromProto(const std::string& field, const v1::MeshData& mesh, const Limits& limits) {
+  const std::string& vertices = mesh.vertices();
+  const std::string& triangles = mesh.triangles();
+  if (vertices.size() % 12 != 0) {
+    ThrowInvalidArgument(field + ".vertices: " + std::to_string(vertices.size()) +
+                         " bytes is not a multiple of 12 (three float32 per vertex)");
+  }
+  if (triangles.size() % 12 != 0) {
+    ThrowInvalidArgument(field + ".triangles: " + std::to_string(triangles.size()) +
+                         " bytes is not a multiple of 12 (three uint32 per triangle)");
+  }
+  // Checked before allocating, so an oversized mesh costs nothing.
+  if (triangles.size() / 12 > limits.max_triangles_per_mesh) {
+    ThrowResourceExhausted(field + ": mesh has " + std::to_string(triangles.size() / 12) +
+                           " triangles, above the limit of " + std::to_string(limits.max_triangles_per_mesh));
+  }
+  TriangleMesh out;
+  out.vertices.resize(vertices.size() / 12);
+  out.triangles.resize(triangles.size() / 12);
+  std::memcpy(out.vertices.data(), vertices.data(), vertices.size());
+  std::memcpy(out.triangles.data(), triangles.data(), triangles.size());
+  ValidateMesh(out, field, limits.max_triangles_per_mesh);
+  return out;
+}
+
+Geometry GeometryFromProto(const std::string& field, const v1::Geometry& geometry, const FileLookup& files,
+                           const Limits& limits) {
+  Geometry out;
+  out.origin = PoseFromProto(field + ".origin", geometry.origin());
+  Vec3 scale = Vec3::Ones();
+  if (geometry.has_scale()) {
+    scale = FromProto(geometry.scale());
+    for (int i = 0; i < 3; ++i) CheckPositive(field + ".scale." + "xyz"[i], scale[i]);
+  }
+  switch (geometry.shape_case()) {
+    case v1::Geometry::kBox:
+      out.kind = Geometry::Kind::kBox;
+      out.box_size = FromProto(geometry.box().size());
+      for (int i = 0; i < 3; ++i) CheckPositive(field + ".box.size." + "xyz"[i], out.box_size[i]);
+      break;
+    case v1::Geometry::kSphere:
+      out.kind = Geometry::Kind::kSphere;
+      CheckPositive(field + ".sphere.radius", geometry.sphere().radius());
+      out.radius = geometry.sphere().radius();
+      break;
+    case v1::Geometry::kCylinder:
+      out.kind = Geometry::Kind::kCylinder;
+      CheckPositive(field + ".cylinder.radius", geometry.cylinder().radius());
+      CheckPositive(field + ".cylinder.length", geometry.cylinder().length());
+      out.radius = geometry.cylinder().radius();
+      out.length = geometry.cylinder().length();
+      break;
+    case v1::Geometry::kMesh: {
+      out.kind = Geometry::Kind::kMesh;
+      TriangleMesh mesh = MeshFromProto(field + ".mesh", geometry.mesh(), limits);
+      for (auto& v : mesh.vertices) v = v.cwiseProduct(scale.cast<float>());
+      out.mesh = std::make_shared<const TriangleMesh>(std::move(mesh));
+      break;
+    }
+    case v1::Geometry::kMeshFile: {
+      out.kind = Geometry::Kind::kMesh;
+      const std::string& path = geometry.mesh_file();
+      CheckRelativePath(field + ".mesh_file", path);
+      const std::string* bytes = files(path);
+      if (!bytes) ThrowInvalidArgument(field + ".mesh_file: '" + path + "' was not uploaded to this scene");
+      out.mesh = std::make_shared<const TriangleMesh>(LoadMeshFile(field + ".mesh_file", path, *bytes, scale, limits));
+      out.mesh_file = path;
+      break;
+    }
+    case v1::Geometry::SHAPE_NOT_SET:
+      ThrowInvalidArgument(field + ": no shape given (box, sphere, cylinder, mesh or mesh_file)");
+  }
+  return out;
+}
+
+void ToProto(const Vec3& v, v1::Vec3* out) {
+  out->set_x(v.x());
+  out->set_y(v.y());
+  out->set_z(v.z());
+}
+
+void ToProto(const Pose& pose, v1::Pose* out) {
+  ToProto(pose.position, out->mutable_position());
+  auto* q = out->mutable_orientation();
+  q->set_w(pose.orientation.w());
+  q->set_x(pose.orientation.x());
+  q->set_y(pose.orientation.y());
+  q->set_z(pose.orientation.z());
+}
+
+void ToProto(const TriangleMesh& mesh, v1::MeshData* out) {
+  out->mutable_vertices()->assign(reinterpret_cast<const char*>(mesh.vertices.data()), 12 * mesh.vertices.size());
+  out->mutable_triangles()->assign(reinterpret_cast<const char*>(mesh.triangles.data()),
+                                   12 * mesh.triangles.size());
+}
+
+namespace {
+
+v1::BodyMotion MotionToProto(BodyMotion motion) {
+  switch (motion) {
+    case BodyMotion::kStatic: return v1::BODY_MOTION_STATIC;
+    case BodyMotion::kFree: return v1::BODY_MOTION_FREE;
+    case BodyMotion::kArticulated: return v1::BODY_MOTION_ARTICULATED;
+  }
+  return v1::BODY_MOTION_UNSPECIFIED;
+}
+
+v1::JointType JointTypeToProto(JointType type) {
+  switch (type) {
+    case JointType::kRevolute: return v1::JOINT_TYPE_REVOLUTE;
+    case JointType::kContinuous: return v1::JOINT_TYPE_CONTINUOUS;
+    case JointType::kPrismatic: return v1::JOINT_TYPE_PRISMATIC;
+    case JointType::kFixed: return v1::JOINT_TYPE_FIXED;
+  }
+  return v1::JOINT_TYPE_UNSPECIFIED;
+}
+
+void GeometryToProto(const Geometry& geometry, bool include_geometry, v1::Geometry* out) {
+  ToProto(geometry.origin, out->mutable_origin());
+  switch (geometry.kind) {
+    case Geometry::Kind::kBox: ToProto(geometry.box_size, out->mutable_box()->mutable_size()); break;
+    case Geometry::Kind::kSphere: out->mutable_sphere()->set_radius(geometry.radius); break;
+    case Geometry::Kind::kCylinder:
+      out->mutable_cylinder()->set_radius(geometry.radius);
+      out->mutable_cylinder()->set_length(geometry.length);
+      break;
+    case Geometry::Kind::kMesh:
+      // Meshes are big: sent only on request, otherwise named by their file when they came from one.
+      if (include_geometry) {
+        ToProto(*geometry.mesh, out->mutable_mesh());
+      } else if (!geometry.mesh_file.empty()) {
+        out->set_mesh_file(geometry.mesh_file);
+      }
+      break;
+  }
+}
+
+}  // namespace
+
+void ToProto(const BodySpec& body, const Pose& pose, bool include_geometry, v1::Body* out) {
+  out->set_id(body.id);
+  out->set_robot_id(body.robot_id);
+  out->set_motion(MotionToProto(body.motion));
+  uint32_t triangles = 0;
+  for (const Geometry& geometry : body.collision) {
+    GeometryToProto(geometry, include_geometry, out->add_collision());
+    if (geometry.mesh) triangles += geometry.mesh->TriangleCount();
+  }
+  out->set_triangle_count(triangles);
+  auto* inertial = out->mutable_inertial();
+  inertial->set_mass(body.inertial.mass);
+  ToProto(body.inertial.center_of_mass, inertial->mutable_center_of_mass());
+  const Mat3& I = body.inertial.inertia;
+  inertial->set_ixx(I(0, 0));
+  inertial->set_iyy(I(1, 1));
+  inertial->set_izz(I(2, 2));
+  inertial->set_ixy(I(0, 1));
+  inertial->set_ixz(I(0, 2));
+  inertial->set_iyz(I(1, 2));
+  out->mutable_material()->set_static_friction(body.material.static_friction);
+  out->mutable_material()->set_dynamic_friction(body.material.dynamic_friction);
+  ToProto(pose, out->mutable_pose());
+}
+
+void ToProto(const JointSpec& joint, double position, v1::Joint* out) {
+  out->set_id(joint.id);
+  out->set_robot_id(joint.robot_id);
+  out->set_type(JointTypeToProto(joint.type));
+  out->set_parent_body(joint.parent_body);
+  out->set_child_body(joint.child_body);
+  ToProto(joint.origin, out->mutable_origin());
+  ToProto(joint.axis, out->mutable_axis());
+  out->set_lower(joint.lower);
+  out->set_upper(joint.upper);
+  out->set_velocity_limit(joint.velocity_limit);
+  out->set_effort_limit(joint.effort_limit);
+  out->set_position(position);
+  if (joint.mimic) {
+    out->mutable_mimic()->set_joint_id(joint.mimic->joint_id);
+    out->mutable_mimic()->set_multiplier(joint.mimic->multiplier);
+    out->mutable_mimic()->set_offset(joint.mimic->offset);
+  }
+}
+
+void ToProto(const TactileArraySpec& pad, v1::TactileArray* out) {
+  out->set_id(pad.id);
+  out->set_body_id(pad.body_id);
+  ToProto(pad.origin, out->mutable_origin());
+  out->set_rows(pad.rows);
+  out->set_cols(pad.cols);
+  out->set_pitch(pad.pitch);
+  out->set_thickness(pad.thickness);
+}
+
+void ToProto(const RobotSpec& robot, v1::Robot* out) {
+  out->set_id(robot.id);
+  out->set_source(robot.source);
+  out->set_base_body(robot.base_body);
+  for (const auto& id : robot.body_ids) out->add_body_ids(id);
+  for (const auto& id : robot.joint_ids) out->add_joint_ids(id);
+  for (const auto& id : robot.tactile_array_ids) out->add_tactile_array_ids(id);
+}
+
+void SummaryToProto(const SceneView& view, v1::SceneSummary* out) {
+  out->set_id(view.id);
+  out->set_name(view.name);
+  out->set_body_count(view.model->bodies.size());
+  out->set_robot_count(view.model->robots.size());
+  out->set_revision(view.revision);
+  out->set_time(view.state.time);
+}
+
+void ToProto(const SceneView& view, bool include_geometry, v1::Scene* out) {
+  const SceneModel& model = *view.model;
+  SummaryToProto(view, out->mutable_summary());
+  for (size_t i = 0; i < model.bodies.size(); ++i) {
+    ToProto(model.bodies[i], view.state.body_poses[i], include_geometry, out->add_bodies());
+  }
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    ToProto(model.joints[j], view.state.joint_positions[j], out->add_joints());
+  }
+  for (const auto& robot : model.robots) ToProto(robot, out->add_robots());
+  for (const auto& pad : model.tactile_arrays) ToProto(pad, out->add_tactile_arrays());
+  for (const auto& [path, file] : view.files) {
+    auto* info = out->add_files();
+    info->set_path(path);
+    info->set_size(file.bytes->size());
+    info->set_sha256(file.sha256);
+  }
+}
+
+}  // namespace graspsim::rpc

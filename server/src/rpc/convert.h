@@ -1,0 +1,34 @@
+// Translation between protobuf messages and engine types. Every FromProto validates at the boundary and throws
+// Error naming the request field (e.g. "poses[2].pose.orientation") and the bad value.
+#pragma once
+
+#include <string>
+
+#include "graspsim/v1/common.pb.h"
+#include "graspsim/v1/scene.pb.h"
+#include "world/loaders.h"
+#include "world/scene.h"
+
+namespace graspsim::rpc {
+
+Vec3 FromProto(const v1::Vec3& v);
+// An absent orientation is the identity; a present one must be within 1e-3 of unit norm and is normalised.
+Pose PoseFromProto(const std::string& field, const v1::Pose& pose);
+Inertial InertialFromProto(const std::string& field, const v1::Inertial& inertial);
+Material MaterialFromProto(const std::string& field, const v1::Material& material);
+TriangleMesh MeshFromProto(const std::string& field, const v1::MeshData& mesh, const Limits& limits);
+// Loads mesh_file geometry from the scene's files.
+Geometry GeometryFromProto(const std::string& field, const v1::Geometry& geometry, const FileLookup& files,
+                           const Limits& limits);
+
+void ToProto(const Vec3& v, v1::Vec3* out);
+void ToProto(const Pose& pose, v1::Pose* out);
+void ToProto(const TriangleMesh& mesh, v1::MeshData* out);
+void ToProto(const BodySpec& body, const Pose& pose, bool include_geometry, v1::Body* out);
+void ToProto(const JointSpec& joint, double position, v1::Joint* out);
+void ToProto(const TactileArraySpec& pad, v1::TactileArray* out);
+void ToProto(const RobotSpec& robot, v1::Robot* out);
+void ToProto(const SceneView& view, bool include_geometry, v1::Scene* out);
+void SummaryToProto(const SceneView& view, v1::SceneSummary* out);
+
+}  // namespace graspsim::rpc

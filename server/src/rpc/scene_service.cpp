@@ -1,0 +1,309 @@
+#include "rpc/scene_service.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/sha256.h"
+#include "core/validate.h"
+#include "rpc/call.h"
+#include "rpc/convert.h"
+#include "rpc/watch_scene.h"
+
+namespace graspsim::rpc {
+namespace {
+
+// Built-in models carry no mesh files.
+const std::string* NoFile(const std::string&) { return nullptr; }
+
+FileLookup LookupIn(const std::map<std::string, StoredFile>& files) {
+  return [&files](const std::string& path) -> const std::string* {
+    auto it = files.find(path);
+    return it == files.end() ? nullptr : it->second.bytes.get();
+  };
+}
+
+const BuiltinModelInfo& FindBuiltin(const std::string& name, const std::string& kind) {
+  for (const auto& info : BuiltinModels()) {
+    if (info.name != name) continue;
+    if (info.kind != kind) {
+      ThrowInvalidArgument("builtin: '" + name + "' is a " + info.kind + " model; add it with " +
+                           (info.kind == "robot" ? "AddRobot" : "AddObject"));
+    }
+    return info;
+  }
+  BuiltinModelUrdf(name);  // throws kNotFound listing the known models
+  ThrowNotFound("builtin: '" + name + "' is not known");
+}
+
+// The body an id names for pose reads: an object, a robot (its base body) or any body.
+size_t BodyIndexForRead(const SceneView& view, const std::string& id) {
+  const SceneModel& model = *view.model;
+  if (auto robot = model.robot_index.find(id); robot != model.robot_index.end()) {
+    return model.body_index.at(model.robots[robot->second].base_body);
+  }
+  auto body = model.body_index.find(id);
+  if (body == model.body_index.end()) ThrowNotFound("body_ids: no body '" + id + "' in scene '" + view.id + "'");
+  return body->second;
+}
+
+}  // namespace
+
+grpc::Status SceneServiceImpl::CreateScene(grpc::ServerContext* context, const v1::CreateSceneRequest* request,
+                                           v1::Scene* response) {
+  return Handle("CreateScene", *context, [&] {
+    ToProto(registry_->Create(request->name())->View(), false, response);
+  });
+}
+
+grpc::Status SceneServiceImpl::ListScenes(grpc::ServerContext* context, const v1::ListScenesRequest*,
+                                          v1::ListScenesResponse* response) {
+  return Handle("ListScenes", *context, [&] {
+    for (const auto& scene : registry_->List()) SummaryToProto(scene->View(), response->add_scenes());
+  });
+}
+
+grpc::Status SceneServiceImpl::GetScene(grpc::ServerContext* context, const v1::GetSceneRequest* request,
+                                        v1::Scene* response) {
+  return Handle("GetScene", *context, [&] {
+    ToProto(registry_->Get(request->scene_id())->View(), request->include_geometry(), response);
+  });
+}
+
+grpc::Status SceneServiceImpl::DeleteScene(grpc::ServerContext* context, const v1::DeleteSceneRequest* request,
+                                           v1::DeleteSceneResponse*) {
+  return Handle("DeleteScene", *context, [&] { registry_->Delete(request->scene_id()); });
+}
+
+grpc::Status SceneServiceImpl::UploadFile(grpc::ServerContext* context,
+                                          grpc::ServerReader<v1::UploadFileChunk>* reader, v1::FileInfo* response) {
+  return Handle("UploadFile", *context, [&] {
+    v1::UploadFileChunk chunk;
+    if (!reader->Read(&chunk) || !chunk.has_header()) {
+      ThrowInvalidArgument("header: the first chunk of an upload must carry the header");
+    }
+    const v1::UploadFileHeader header = chunk.header();
+    auto scene = registry_->Get(header.scene_id());
+    CheckRelativePath("header.path", header.path());
+    const uint64_t limit = registry_->limits().max_upload_bytes;
+    if (header.total_size() > limit) {
+      ThrowResourceExhausted("header.total_size: " + std::to_string(header.total_size()) +
+                             " bytes is above the upload limit of " + std::to_string(limit));
+    }
+    const std::string expected_sha = header.sha256();
+    if (expected_sha.size() != 64 || expected_sha.find_first_not_of("0123456789abcdef") != std::string::npos) {
+      ThrowInvalidArgument("header.sha256: '" + expected_sha.substr(0, 80) + "' is not 64 lowercase hex digits");
+    }
+    auto bytes = std::make_shared<std::string>();
+    bytes->reserve(header.total_size());
+    // The header chunk may carry data too; later chunks must not repeat the header.
+    do {
+      if (bytes->size() && chunk.has_header()) ThrowInvalidArgument("header: sent again in a later chunk");
+      if (bytes->size() + chunk.data().size() > header.total_size()) {
+        ThrowInvalidArgument("data: more than header.total_size = " + std::to_string(header.total_size()) +
+                             " bytes received");
+      }
+      bytes->append(chunk.data());
+      chunk.Clear();
+    } while (reader->Read(&chunk));
+    if (bytes->size() != header.total_size()) {
+      ThrowInvalidArgument("header.total_size: " + std::to_string(header.total_size()) + " bytes announced, " +
+                           std::to_string(bytes->size()) + " received");
+    }
+    const std::string actual_sha = Sha256Hex(*bytes);
+    if (actual_sha != expected_sha) {
+      ThrowInvalidArgument("header.sha256: " + expected_sha + " announced, the received bytes hash to " + actual_sha);
+    }
+    scene->PutFile(header.path(), bytes, actual_sha);
+    response->set_path(header.path());
+    response->set_size(bytes->size());
+    response->set_sha256(actual_sha);
+  });
+}
+
+grpc::Status SceneServiceImpl::ListBuiltinModels(grpc::ServerContext* context, const v1::ListBuiltinModelsRequest*,
+                                                 v1::ListBuiltinModelsResponse* response) {
+  return Handle("ListBuiltinModels", *context, [&] {
+    for (const auto& info : BuiltinModels()) {
+      auto* model = response->add_models();
+      model->set_name(info.name);
+      model->set_kind(info.kind);
+      model->set_description(info.description);
+    }
+  });
+}
+
+grpc::Status SceneServiceImpl::AddObject(grpc::ServerContext* context, const v1::AddObjectRequest* request,
+                                         v1::Body* response) {
+  return Handle("AddObject", *context, [&] {
+    auto scene = registry_->Get(request->scene_id());
+    CheckName("name", request->name());
+    const Pose pose = PoseFromProto("pose", request->pose());
+    BodySpec body;
+    body.id = request->name();
+    body.motion = request->is_static() ? BodyMotion::kStatic : BodyMotion::kFree;
+    switch (request->source_case()) {
+      case v1::AddObjectRequest::kGeometry: {
+        if (!request->has_inertial()) ThrowInvalidArgument("inertial: required when the object is given by geometry");
+        const auto files = scene->Files();  // meshes are parsed outside the scene's lock
+        body.collision.push_back(
+            GeometryFromProto("geometry", request->geometry(), LookupIn(files), registry_->limits()));
+        break;
+      }
+      case v1::AddObjectRequest::kBuiltin: {
+        const BuiltinModelInfo& info = FindBuiltin(request->builtin(), "object");
+        RobotDescription model = LoadUrdf(BuiltinModelUrdf(info.name), NoFile, registry_->limits());
+        body.collision = std::move(model.links.front().collision);
+        body.inertial = model.links.front().inertial;
+        if (info.is_static) body.motion = BodyMotion::kStatic;
+        break;
+      }
+      case v1::AddObjectRequest::SOURCE_NOT_SET:
+        ThrowInvalidArgument("source: give geometry or builtin");
+    }
+    if (request->has_inertial()) body.inertial = InertialFromProto("inertial", request->inertial());
+    if (request->has_material()) body.material = MaterialFromProto("material", request->material());
+    ToProto(scene->AddObject(std::move(body), pose), pose, false, response);
+  });
+}
+
+grpc::Status SceneServiceImpl::AddRobot(grpc::ServerContext* context, const v1::AddRobotRequest* request,
+                                        v1::AddRobotResponse* response) {
+  return Handle("AddRobot", *context, [&] {
+    auto scene = registry_->Get(request->scene_id());
+    CheckName("name", request->name());
+    const Pose base_pose = PoseFromProto("base_pose", request->base_pose());
+    auto files = scene->Files();
+    for (int i = 0; i < request->files_size(); ++i) {
+      const auto& file = request->files(i);
+      CheckRelativePath("files[" + std::to_string(i) + "].path", file.path());
+      files[file.path()] = {std::make_shared<const std::string>(file.data()), ""};
+    }
+    std::string source;
+    RobotDescription description;
+    switch (request->source_case()) {
+      case v1::AddRobotRequest::kUrdf:
+        source = "urdf";
+        description = LoadUrdf(request->urdf(), LookupIn(files), registry_->limits());
+        break;
+      case v1::AddRobotRequest::kBuiltin:
+        source = "builtin:" + FindBuiltin(request->builtin(), "robot").name;
+        description = LoadUrdf(BuiltinModelUrdf(request->builtin()), LookupIn(files), registry_->limits());
+        break;
+      case v1::AddRobotRequest::SOURCE_NOT_SET:
+        ThrowInvalidArgument("source: give urdf or builtin");
+    }
+    const AddedRobot added = scene->AddRobot(request->name(), source, description, base_pose);
+    // Report the placed links as the scene holds them now.
+    const SceneView view = scene->View();
+    ToProto(added.robot, response->mutable_robot());
+    for (const auto& body : added.bodies) {
+      ToProto(body, view.state.body_poses[view.model->body_index.at(body.id)], false, response->add_bodies());
+    }
+    for (const auto& joint : added.joints) {
+      ToProto(joint, view.state.joint_positions[view.model->joint_index.at(joint.id)], response->add_joints());
+    }
+    for (const auto& pad : added.tactile_arrays) ToProto(pad, response->add_tactile_arrays());
+  });
+}
+
+grpc::Status SceneServiceImpl::RemoveBody(grpc::ServerContext* context, const v1::RemoveBodyRequest* request,
+                                          v1::RemoveBodyResponse* response) {
+  return Handle("RemoveBody", *context, [&] {
+    for (const auto& id : registry_->Get(request->scene_id())->Remove(request->id())) {
+      response->add_removed_body_ids(id);
+    }
+  });
+}
+
+grpc::Status SceneServiceImpl::SetBodyPoses(grpc::ServerContext* context, const v1::SetBodyPosesRequest* request,
+                                            v1::SetBodyPosesResponse* response) {
+  return Handle("SetBodyPoses", *context, [&] {
+    auto scene = registry_->Get(request->scene_id());
+    std::vector<std::pair<std::string, Pose>> poses;
+    for (int i = 0; i < request->poses_size(); ++i) {
+      const auto& entry = request->poses(i);
+      poses.emplace_back(entry.body_id(), PoseFromProto("poses[" + std::to_string(i) + "].pose", entry.pose()));
+    }
+    response->set_revision(scene->SetBodyPoses(poses));
+  });
+}
+
+grpc::Status SceneServiceImpl::GetBodyPoses(grpc::ServerContext* context, const v1::GetBodyPosesRequest* request,
+                                            v1::GetBodyPosesResponse* response) {
+  return Handle("GetBodyPoses", *context, [&] {
+    const SceneView view = registry_->Get(request->scene_id())->View();
+    auto add = [&](const std::string& id, size_t index) {
+      auto* entry = response->add_poses();
+      entry->set_body_id(id);
+      ToProto(view.state.body_poses[index], entry->mutable_pose());
+    };
+    if (request->body_ids().empty()) {
+      for (size_t i = 0; i < view.model->bodies.size(); ++i) add(view.model->bodies[i].id, i);
+    }
+    for (const auto& id : request->body_ids()) add(id, BodyIndexForRead(view, id));
+    response->set_revision(view.revision);
+    response->set_time(view.state.time);
+  });
+}
+
+grpc::Status SceneServiceImpl::SetJointPositions(grpc::ServerContext* context,
+                                                 const v1::SetJointPositionsRequest* request,
+                                                 v1::SetJointPositionsResponse* response) {
+  return Handle("SetJointPositions", *context, [&] {
+    auto scene = registry_->Get(request->scene_id());
+    std::vector<std::pair<std::string, double>> positions;
+    for (const auto& entry : request->positions()) positions.emplace_back(entry.joint_id(), entry.position());
+    response->set_revision(scene->SetJointPositions(positions));
+  });
+}
+
+grpc::Status SceneServiceImpl::GetJointPositions(grpc::ServerContext* context,
+                                                 const v1::GetJointPositionsRequest* request,
+                                                 v1::GetJointPositionsResponse* response) {
+  return Handle("GetJointPositions", *context, [&] {
+    const SceneView view = registry_->Get(request->scene_id())->View();
+    auto add = [&](const std::string& id, size_t index) {
+      auto* entry = response->add_positions();
+      entry->set_joint_id(id);
+      entry->set_position(view.state.joint_positions[index]);
+    };
+    if (request->joint_ids().empty()) {
+      for (size_t j = 0; j < view.model->joints.size(); ++j) add(view.model->joints[j].id, j);
+    }
+    for (const auto& id : request->joint_ids()) {
+      auto it = view.model->joint_index.find(id);
+      if (it == view.model->joint_index.end()) {
+        ThrowNotFound("joint_ids: no joint '" + id + "' in scene '" + view.id + "'");
+      }
+      add(id, it->second);
+    }
+    response->set_revision(view.revision);
+  });
+}
+
+grpc::ServerWriteReactor<v1::SceneSnapshot>* SceneServiceImpl::WatchScene(grpc::CallbackServerContext* context,
+                                                                          const v1::WatchSceneRequest* request) {
+  std::shared_ptr<Scene> scene;
+  double rate = watch_max_rate_hz_;
+  const grpc::Status status = Handle("WatchScene", *context, [&] {
+    const double requested = request->max_rate_hz();
+    if (!std::isfinite(requested) || requested < 0) {
+      ThrowInvalidArgument("max_rate_hz: " + std::to_string(requested) + " must be a finite number >= 0");
+    }
+    if (requested > 0) rate = std::min(requested, watch_max_rate_hz_);
+    scene = registry_->Get(request->scene_id());
+  });
+  if (!status.ok()) return FailedWatch(status);
+  return StartWatch(std::move(scene), std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate)));
+}
+
+grpc::Status SceneServiceImpl::StepSimulation(grpc::ServerContext* context, const v1::StepSimulationRequest*,
+                                              v1::StepSimulationResponse*) {
+  return Handle("StepSimulation", *context, [&] {
+    throw Error(ErrorCode::kUnimplemented,
+                "graspsim.v1.SceneService/StepSimulation is declared in API v1 but the physics engine is not "
+                "built yet");
+  });
+}
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,54 @@
+#include "rpc/server.h"
+
+#include <chrono>
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "rpc/scene_service.h"
+#include "rpc/unimplemented_services.h"
+
+namespace graspsim::rpc {
+
+GraspsimServer::GraspsimServer(const ServerOptions& options) : options_(options), registry_(options.limits) {
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+
+  services_.push_back(std::make_unique<SceneServiceImpl>(&registry_, options.watch_max_rate_hz));
+  services_.push_back(std::make_unique<PerceptionServiceStub>());
+  services_.push_back(std::make_unique<GraspServiceStub>());
+  services_.push_back(std::make_unique<TactileServiceStub>());
+  services_.push_back(std::make_unique<GatewayServiceStub>());
+
+  grpc::ServerBuilder builder;
+  // Loopback by default; wider addresses get TLS with the security issue.
+  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &port_);
+  builder.SetMaxReceiveMessageSize(options.max_message_bytes);
+  builder.SetMaxSendMessageSize(-1);  // a GetScene with geometry may be large; the client sets its own limit
+  for (auto& service : services_) builder.RegisterService(service.get());
+  server_ = builder.BuildAndStart();
+  if (!server_ || port_ == 0) {
+    throw Error(ErrorCode::kFailedPrecondition, "--listen: cannot listen on '" + options.listen + "'");
+  }
+  Log(LogLevel::kInfo, "listening", {{"address", options.listen}, {"port", std::to_string(port_)}});
+}
+
+GraspsimServer::~GraspsimServer() { Shutdown(); }
+
+void GraspsimServer::Shutdown() {
+  if (!server_) return;
+  Log(LogLevel::kInfo, "draining", {{"timeout_s", std::to_string(options_.drain_timeout_s)}});
+  server_->GetHealthCheckService()->Shutdown();
+  // Watch streams never end by themselves: end them first so that draining waits only for real work.
+  registry_.CloseAllWatchers("the server is shutting down");
+  const auto deadline =
+      std::chrono::system_clock::now() + std::chrono::duration<double>(options_.drain_timeout_s);
+  server_->Shutdown(std::chrono::time_point_cast<std::chrono::system_clock::duration>(deadline));
+  server_->Wait();
+  server_.reset();
+  Log(LogLevel::kInfo, "stopped");
+}
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,40 @@
+// The gRPC server: every v1 service, health checking and reflection, on one port.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "core/limits.h"
+#include "world/scene_registry.h"
+
+namespace graspsim::rpc {
+
+struct ServerOptions {
+  std::string listen = "127.0.0.1:50051";
+  int max_message_bytes = 4 << 20;
+  double watch_max_rate_hz = 60;
+  double drain_timeout_s = 10;
+  Limits limits;
+};
+
+class GraspsimServer {
+ public:
+  // Binds and starts serving; throws Error(kFailedPrecondition) when the address cannot be bound.
+  explicit GraspsimServer(const ServerOptions& options);
+  ~GraspsimServer();
+
+  int port() const { return port_; }
+  // Ends watcher streams, lets in-flight requests finish within drain_timeout_s, then stops.
+  void Shutdown();
+
+ private:
+  ServerOptions options_;
+  SceneRegistry registry_;
+  std::vector<std::unique_ptr<grpc::Service>> services_;
+  std::unique_ptr<grpc::Server> server_;
+  int port_ = 0;
+};
+
+}  // namespace graspsim::rpc

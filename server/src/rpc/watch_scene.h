@@ -1,0 +1,21 @@
+// WatchScene as a callback-API server stream: one reactor per viewer, never blocking a gRPC thread.
+#pragma once
+
+#include <chrono>
+#include <memory>
+
+#include <grpcpp/grpcpp.h>
+
+#include "graspsim/v1/scene.pb.h"
+#include "world/scene.h"
+
+namespace graspsim::rpc {
+
+// Streams `scene`'s snapshots, at most one per `min_interval`. The caller validated the request.
+grpc::ServerWriteReactor<v1::SceneSnapshot>* StartWatch(std::shared_ptr<Scene> scene,
+                                                        std::chrono::nanoseconds min_interval);
+
+// A stream that ends at once with `status` (a rejected request).
+grpc::ServerWriteReactor<v1::SceneSnapshot>* FailedWatch(const grpc::Status& status);
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,48 @@
+// The built-in model library: URDF files of server/models, compiled into the binary by
+// server/cmake/EmbedModels.cmake (which generates graspsim::embedded::ModelFiles()).
+#include <algorithm>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "world/loaders.h"
+
+namespace graspsim {
+namespace embedded {
+// File name ("table.urdf") → contents; defined in the build's generated builtin_models_data.cpp.
+const std::map<std::string, std::string>& ModelFiles();
+}  // namespace embedded
+
+const std::vector<BuiltinModelInfo>& BuiltinModels() {
+  static const std::vector<BuiltinModelInfo> models = {
+      {"schunk_pg70", "robot", false,
+       "Schunk PG 70 servo-electric parallel gripper (35 mm stroke per finger, 200 N) with a Weiss Robotics "
+       "DSA 9205 tactile sensor (6 x 14 texels, 3.4 mm pitch) on each finger; Schunk PG 70 and Weiss DSA 9205 "
+       "datasheets"},
+      {"table", "object", true, "Table, 1.2 x 0.8 m top with its upper surface 0.75 m above the floor, 20 kg"},
+      {"cube_5cm", "object", false, "Cube of 5 cm edge, 0.1 kg (density 800 kg/m^3, like hardwood)"},
+  };
+  return models;
+}
+
+const std::string& BuiltinModelUrdf(const std::string& name) {
+  const std::vector<BuiltinModelInfo>& models = BuiltinModels();
+  const bool known = std::any_of(models.begin(), models.end(), [&](const auto& m) { return m.name == name; });
+  if (!known) {
+    std::vector<std::string> names;
+    for (const BuiltinModelInfo& model : models) names.push_back(model.name);
+    std::sort(names.begin(), names.end());
+    std::string list;
+    for (const std::string& known_name : names) list += (list.empty() ? "" : ", ") + known_name;
+    ThrowNotFound("builtin model '" + name + "' is not known; known: " + list);
+  }
+  const auto& files = embedded::ModelFiles();
+  const auto file = files.find(name + ".urdf");
+  if (file == files.end()) {  // the build did not embed server/models/<name>.urdf
+    throw Error(ErrorCode::kInternal, "builtin model '" + name + "' has no embedded " + name + ".urdf");
+  }
+  return file->second;
+}
+
+}  // namespace graspsim

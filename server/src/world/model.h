@@ -1,0 +1,111 @@
+// The immutable part of a scene (MuJoCo's mjModel): bodies with geometry and mass, joints, robots, tactile
+// arrays. A SceneModel is built once per change and shared read-only (shared_ptr<const SceneModel>); every
+// accepted edit builds a new one, so a rejected edit leaves the old one untouched.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "core/mesh.h"
+
+namespace graspsim {
+
+struct Geometry {
+  enum class Kind { kBox, kSphere, kCylinder, kMesh };
+  Kind kind = Kind::kBox;
+  Vec3 box_size = Vec3::Zero();   // full edge lengths, m
+  double radius = 0;              // sphere and cylinder, m
+  double length = 0;              // cylinder along z, m
+  std::shared_ptr<const TriangleMesh> mesh;  // kMesh: already scaled, in the geometry frame
+  std::string mesh_file;          // kMesh: the uploaded file it came from, if any
+  Pose origin;                    // geometry frame in the body frame
+};
+
+struct Inertial {
+  double mass = 0;                // kg
+  Vec3 center_of_mass = Vec3::Zero();  // m, body frame
+  Mat3 inertia = Mat3::Zero();    // kg m^2 about the centre of mass, body frame
+};
+
+struct Material {
+  double static_friction = 0.6;
+  double dynamic_friction = 0.4;
+};
+
+enum class BodyMotion { kStatic, kFree, kArticulated };
+
+struct BodySpec {
+  std::string id;                 // "<object>" or "<robot>/<link>"
+  std::string robot_id;           // empty for objects
+  BodyMotion motion = BodyMotion::kFree;
+  std::vector<Geometry> collision;
+  Inertial inertial;
+  Material material;
+};
+
+enum class JointType { kRevolute, kContinuous, kPrismatic, kFixed };
+
+struct MimicSpec {
+  std::string joint_id;           // the leader
+  double multiplier = 1;
+  double offset = 0;
+};
+
+struct JointSpec {
+  std::string id;                 // "<robot>/<joint>"
+  std::string robot_id;
+  JointType type = JointType::kFixed;
+  std::string parent_body;
+  std::string child_body;
+  Pose origin;                    // joint frame in the parent body frame at zero position
+  Vec3 axis = Vec3::UnitX();      // unit, joint frame
+  double lower = 0, upper = 0;    // rad or m (ignored for continuous)
+  double velocity_limit = 0;      // rad/s or m/s; 0 = none given
+  double effort_limit = 0;        // N m or N; 0 = none given
+  std::optional<MimicSpec> mimic;
+};
+
+struct TactileArraySpec {
+  std::string id;                 // "<robot>/<sensor>"
+  std::string body_id;
+  Pose origin;                    // pad frame in the body frame: texels in x-y, sensing along +z
+  unsigned rows = 0, cols = 0;
+  double pitch = 0;               // m
+  double thickness = 0;           // m
+};
+
+struct RobotSpec {
+  std::string id;
+  std::string source;             // "builtin:<name>" or "urdf"
+  std::string base_body;
+  std::vector<std::string> body_ids;   // in topological order: parents before children
+  std::vector<std::string> joint_ids;  // in topological order
+  std::vector<std::string> tactile_array_ids;
+};
+
+// What a URDF (or a built-in model) describes, before it is placed in a scene. Ids here are the plain URDF
+// names; the scene prefixes them with "<robot>/".
+struct RobotDescription {
+  std::string name;               // the URDF's robot name
+  std::string root_link;
+  std::vector<BodySpec> links;    // topological order, root first; motion kArticulated
+  std::vector<JointSpec> joints;  // topological order; parent_body/child_body are link names
+  std::vector<TactileArraySpec> tactile_arrays;  // body_id is a link name
+};
+
+struct SceneModel {
+  std::vector<BodySpec> bodies;
+  std::vector<JointSpec> joints;
+  std::vector<RobotSpec> robots;
+  std::vector<TactileArraySpec> tactile_arrays;
+  std::map<std::string, size_t> body_index, joint_index, robot_index, tactile_index;
+
+  // Rebuilds the id → index maps after the vectors changed.
+  void Reindex();
+};
+
+}  // namespace graspsim

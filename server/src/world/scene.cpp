@@ -1,0 +1,302 @@
+#include "world/scene.h"
+
+#include <algorithm>
+#include <set>
+
+#include "core/error.h"
+#include "core/validate.h"
+
+namespace graspsim {
+namespace {
+
+std::string Quoted(const std::string& s) { return "'" + s + "'"; }
+
+bool IsFollower(const JointSpec& joint) { return joint.mimic.has_value(); }
+
+}  // namespace
+
+Scene::Scene(std::string id, std::string name, const Limits& limits)
+    : id_(std::move(id)), name_(std::move(name)), limits_(limits), model_(std::make_shared<SceneModel>()) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  PublishLocked();
+}
+
+SceneView Scene::View() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {id_, name_, revision_, model_, state_, files_};
+}
+
+uint64_t Scene::revision() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return revision_;
+}
+
+std::map<std::string, StoredFile> Scene::Files() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return files_;
+}
+
+void Scene::PutFile(const std::string& path, std::shared_ptr<const std::string> bytes, const std::string& sha256) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto existing = files_.find(path);
+  const uint64_t replaced = existing == files_.end() ? 0 : existing->second.bytes->size();
+  const uint64_t total = file_bytes_ - replaced + bytes->size();
+  if (total > limits_.max_scene_file_bytes) {
+    ThrowResourceExhausted("upload " + Quoted(path) + ": the scene's files would take " + std::to_string(total) +
+                           " bytes, above the limit of " + std::to_string(limits_.max_scene_file_bytes));
+  }
+  file_bytes_ = total;
+  files_[path] = {std::move(bytes), sha256};
+  ++revision_;  // files are part of the scene (GetScene lists them), but move nothing: no snapshot
+}
+
+void Scene::CheckIdFreeLocked(const std::string& field, const std::string& id) const {
+  if (model_->body_index.count(id) || model_->robot_index.count(id) || model_->joint_index.count(id) ||
+      model_->tactile_index.count(id)) {
+    throw Error(ErrorCode::kAlreadyExists, field + ": " + Quoted(id) + " already exists in scene " + Quoted(id_));
+  }
+}
+
+BodySpec Scene::AddObject(BodySpec body, const Pose& pose) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  CheckIdFreeLocked("name", body.id);
+  if (model_->bodies.size() + 1 > limits_.max_bodies_per_scene) {
+    ThrowResourceExhausted("name " + Quoted(body.id) + ": scene " + Quoted(id_) + " already has " +
+                           std::to_string(model_->bodies.size()) + " bodies, the limit is " +
+                           std::to_string(limits_.max_bodies_per_scene));
+  }
+  auto model = std::make_shared<SceneModel>(*model_);
+  model->bodies.push_back(body);
+  model->Reindex();
+  model_ = std::move(model);
+  state_.body_poses.push_back(pose);
+  CommitLocked();
+  return body;
+}
+
+AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, const RobotDescription& description,
+                           const Pose& base_pose) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::string prefix = name + "/";
+  CheckIdFreeLocked("name", name);
+  if (model_->bodies.size() + description.links.size() > limits_.max_bodies_per_scene) {
+    ThrowResourceExhausted("name " + Quoted(name) + ": adding " + std::to_string(description.links.size()) +
+                           " links to scene " + Quoted(id_) + " with " + std::to_string(model_->bodies.size()) +
+                           " bodies exceeds the limit of " + std::to_string(limits_.max_bodies_per_scene));
+  }
+  AddedRobot added;
+  added.robot.id = name;
+  added.robot.source = source;
+  added.robot.base_body = prefix + description.root_link;
+  for (BodySpec link : description.links) {
+    link.id = prefix + link.id;
+    link.robot_id = name;
+    link.motion = BodyMotion::kArticulated;
+    CheckIdFreeLocked("name", link.id);
+    added.robot.body_ids.push_back(link.id);
+    added.bodies.push_back(std::move(link));
+  }
+  for (JointSpec joint : description.joints) {
+    joint.id = prefix + joint.id;
+    joint.robot_id = name;
+    joint.parent_body = prefix + joint.parent_body;
+    joint.child_body = prefix + joint.child_body;
+    if (joint.mimic) joint.mimic->joint_id = prefix + joint.mimic->joint_id;
+    CheckIdFreeLocked("name", joint.id);
+    added.robot.joint_ids.push_back(joint.id);
+    added.joints.push_back(std::move(joint));
+  }
+  for (TactileArraySpec pad : description.tactile_arrays) {
+    pad.id = prefix + pad.id;
+    pad.body_id = prefix + pad.body_id;
+    CheckIdFreeLocked("name", pad.id);
+    added.robot.tactile_array_ids.push_back(pad.id);
+    added.tactile_arrays.push_back(std::move(pad));
+  }
+
+  auto model = std::make_shared<SceneModel>(*model_);
+  model->bodies.insert(model->bodies.end(), added.bodies.begin(), added.bodies.end());
+  model->joints.insert(model->joints.end(), added.joints.begin(), added.joints.end());
+  model->tactile_arrays.insert(model->tactile_arrays.end(), added.tactile_arrays.begin(), added.tactile_arrays.end());
+  model->robots.push_back(added.robot);
+  model->Reindex();
+
+  SceneState state = state_;
+  state.body_poses.resize(model->bodies.size(), base_pose);
+  // Joints start at zero clamped into their limits, so a gripper whose range excludes 0 starts valid.
+  for (const JointSpec& joint : added.joints) {
+    const bool limited = joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic;
+    state.joint_positions.push_back(limited ? std::clamp(0.0, joint.lower, joint.upper) : 0.0);
+  }
+  UpdateRobotLinkPoses(*model, model->robots.back(), &state);
+  model_ = std::move(model);
+  state_ = std::move(state);
+  CommitLocked();
+  return added;
+}
+
+std::vector<std::string> Scene::Remove(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::set<std::string> bodies, joints, pads;
+  if (auto robot = model_->robot_index.find(id); robot != model_->robot_index.end()) {
+    const RobotSpec& spec = model_->robots[robot->second];
+    bodies.insert(spec.body_ids.begin(), spec.body_ids.end());
+    joints.insert(spec.joint_ids.begin(), spec.joint_ids.end());
+    pads.insert(spec.tactile_array_ids.begin(), spec.tactile_array_ids.end());
+  } else if (auto body = model_->body_index.find(id); body != model_->body_index.end()) {
+    const BodySpec& spec = model_->bodies[body->second];
+    if (!spec.robot_id.empty()) {
+      throw Error(ErrorCode::kFailedPrecondition, "id: " + Quoted(id) + " is a link of robot " +
+                                                      Quoted(spec.robot_id) + "; remove the whole robot instead");
+    }
+    bodies.insert(id);
+  } else {
+    ThrowNotFound("id: no object or robot " + Quoted(id) + " in scene " + Quoted(id_));
+  }
+
+  auto model = std::make_shared<SceneModel>();
+  SceneState state;
+  state.time = state_.time;
+  for (size_t i = 0; i < model_->bodies.size(); ++i) {
+    if (bodies.count(model_->bodies[i].id)) continue;
+    model->bodies.push_back(model_->bodies[i]);
+    state.body_poses.push_back(state_.body_poses[i]);
+  }
+  for (size_t i = 0; i < model_->joints.size(); ++i) {
+    if (joints.count(model_->joints[i].id)) continue;
+    model->joints.push_back(model_->joints[i]);
+    state.joint_positions.push_back(state_.joint_positions[i]);
+  }
+  for (const auto& pad : model_->tactile_arrays) {
+    if (!pads.count(pad.id)) model->tactile_arrays.push_back(pad);
+  }
+  for (const auto& robot : model_->robots) {
+    if (robot.id != id) model->robots.push_back(robot);
+  }
+  model->Reindex();
+  model_ = std::move(model);
+  state_ = std::move(state);
+  CommitLocked();
+  return {bodies.begin(), bodies.end()};
+}
+
+size_t Scene::BodyIndexLocked(const std::string& id) const {
+  if (auto robot = model_->robot_index.find(id); robot != model_->robot_index.end()) {
+    return model_->body_index.at(model_->robots[robot->second].base_body);
+  }
+  auto body = model_->body_index.find(id);
+  if (body == model_->body_index.end()) ThrowNotFound("body_id: no body " + Quoted(id) + " in scene " + Quoted(id_));
+  return body->second;
+}
+
+size_t Scene::JointIndexLocked(const std::string& id) const {
+  auto joint = model_->joint_index.find(id);
+  if (joint == model_->joint_index.end()) {
+    ThrowNotFound("joint_id: no joint " + Quoted(id) + " in scene " + Quoted(id_));
+  }
+  return joint->second;
+}
+
+uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  SceneState state = state_;
+  std::set<std::string> moved_robots;
+  for (const auto& [id, pose] : poses) {
+    const size_t index = BodyIndexLocked(id);
+    const BodySpec& body = model_->bodies[index];
+    if (!body.robot_id.empty()) {
+      const RobotSpec& robot = model_->robots[model_->robot_index.at(body.robot_id)];
+      if (robot.base_body != body.id) {
+        throw Error(ErrorCode::kFailedPrecondition,
+                    "body_id: " + Quoted(id) + " is a link of robot " + Quoted(robot.id) +
+                        " placed by its joints; set the robot's base pose (id " + Quoted(robot.id) +
+                        ") or its joint positions");
+      }
+      moved_robots.insert(robot.id);
+    }
+    state.body_poses[index] = pose;
+  }
+  for (const std::string& robot : moved_robots) {
+    UpdateRobotLinkPoses(*model_, model_->robots[model_->robot_index.at(robot)], &state);
+  }
+  state_ = std::move(state);
+  CommitLocked();
+  return revision_;
+}
+
+uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, double>>& positions) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  SceneState state = state_;
+  std::set<std::string> moved_robots;
+  for (const auto& [id, position] : positions) {
+    const JointSpec& joint = model_->joints[JointIndexLocked(id)];
+    CheckFinite("positions[" + id + "].position", position);
+    if (joint.type == JointType::kFixed) {
+      ThrowInvalidArgument("joint_id: " + Quoted(id) + " is a fixed joint and has no position");
+    }
+    if (IsFollower(joint)) {
+      ThrowInvalidArgument("joint_id: " + Quoted(id) + " mimics " + Quoted(joint.mimic->joint_id) +
+                           "; set the leader instead");
+    }
+    state.joint_positions[model_->joint_index.at(id)] = position;
+    moved_robots.insert(joint.robot_id);
+  }
+  // Followers take their leader's value, then every limit is checked, followers included.
+  for (size_t j = 0; j < model_->joints.size(); ++j) {
+    const JointSpec& joint = model_->joints[j];
+    if (!moved_robots.count(joint.robot_id)) continue;
+    if (IsFollower(joint)) {
+      state.joint_positions[j] =
+          joint.mimic->multiplier * state.joint_positions[model_->joint_index.at(joint.mimic->joint_id)] +
+          joint.mimic->offset;
+    }
+    const bool limited = joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic;
+    const double q = state.joint_positions[j];
+    if (limited && (q < joint.lower - 1e-12 || q > joint.upper + 1e-12)) {
+      ThrowInvalidArgument("positions[" + joint.id + "].position: " + std::to_string(q) + " is outside the limits [" +
+                           std::to_string(joint.lower) + ", " + std::to_string(joint.upper) + "] of joint " +
+                           Quoted(joint.id));
+    }
+  }
+  for (const std::string& robot : moved_robots) {
+    UpdateRobotLinkPoses(*model_, model_->robots[model_->robot_index.at(robot)], &state);
+  }
+  state_ = std::move(state);
+  CommitLocked();
+  return revision_;
+}
+
+void Scene::CommitLocked() {
+  ++revision_;
+  PublishLocked();
+}
+
+void Scene::PublishLocked() {
+  auto snapshot = std::make_shared<SceneSnapshot>();
+  snapshot->sequence = ++snapshot_sequence_;
+  snapshot->revision = revision_;
+  snapshot->time = state_.time;
+  // Id lists change only with the model; reuse them between snapshots while they are the same.
+  std::vector<std::string> body_ids, joint_ids;
+  for (const auto& body : model_->bodies) body_ids.push_back(body.id);
+  for (const auto& joint : model_->joints) joint_ids.push_back(joint.id);
+  if (!snapshot_body_ids_ || *snapshot_body_ids_ != body_ids) {
+    snapshot_body_ids_ = std::make_shared<const std::vector<std::string>>(std::move(body_ids));
+  }
+  if (!snapshot_joint_ids_ || *snapshot_joint_ids_ != joint_ids) {
+    snapshot_joint_ids_ = std::make_shared<const std::vector<std::string>>(std::move(joint_ids));
+  }
+  snapshot->body_ids = snapshot_body_ids_;
+  snapshot->joint_ids = snapshot_joint_ids_;
+  snapshot->body_poses.reserve(7 * state_.body_poses.size());
+  for (const Pose& pose : state_.body_poses) {
+    const Quat& q = pose.orientation;
+    for (double v : {pose.position.x(), pose.position.y(), pose.position.z(), q.w(), q.x(), q.y(), q.z()}) {
+      snapshot->body_poses.push_back(v);
+    }
+  }
+  snapshot->joint_positions = state_.joint_positions;
+  hub_.Publish(std::move(snapshot));
+}
+
+}  // namespace graspsim

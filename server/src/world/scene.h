@@ -1,0 +1,94 @@
+// One scene: its model, its state, its uploaded files and its watchers, behind one lock. Every edit is
+// validated against a copy and swapped in whole, so a rejected edit changes nothing. Slow work (parsing
+// URDF and meshes) happens before the edit, outside the lock, so it never blocks other requests.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/limits.h"
+#include "world/loaders.h"
+#include "world/model.h"
+#include "world/snapshot_hub.h"
+#include "world/state.h"
+
+namespace graspsim {
+
+struct StoredFile {
+  std::shared_ptr<const std::string> bytes;
+  std::string sha256;
+};
+
+// A consistent copy of everything a reader needs, taken under the lock.
+struct SceneView {
+  std::string id, name;
+  uint64_t revision = 0;
+  std::shared_ptr<const SceneModel> model;
+  SceneState state;
+  std::map<std::string, StoredFile> files;
+};
+
+struct AddedRobot {
+  RobotSpec robot;
+  std::vector<BodySpec> bodies;
+  std::vector<JointSpec> joints;
+  std::vector<TactileArraySpec> tactile_arrays;
+};
+
+class Scene {
+ public:
+  Scene(std::string id, std::string name, const Limits& limits);
+
+  const std::string& id() const { return id_; }
+  SceneView View() const;
+  uint64_t revision() const;
+  SnapshotHub& snapshots() { return hub_; }
+
+  // Files: stored whole after the caller checked size and checksum; replaces a file of the same path.
+  void PutFile(const std::string& path, std::shared_ptr<const std::string> bytes, const std::string& sha256);
+  // The scene's files as they are now, for a loader running outside the lock.
+  std::map<std::string, StoredFile> Files() const;
+
+  // `body.id` is the object's name; motion kStatic or kFree. Errors: kAlreadyExists, kResourceExhausted.
+  BodySpec AddObject(BodySpec body, const Pose& pose);
+  // Places a loaded description under `name`: ids become "<name>/<urdf name>".
+  AddedRobot AddRobot(const std::string& name, const std::string& source, const RobotDescription& description,
+                      const Pose& base_pose);
+  // Removes an object or a whole robot; returns the removed body ids.
+  std::vector<std::string> Remove(const std::string& id);
+
+  // All or nothing. Ids: objects, robots (their base), robots' base bodies.
+  uint64_t SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses);
+  // All or nothing; limits checked; mimic joints follow their leader (setting a follower is an error).
+  uint64_t SetJointPositions(const std::vector<std::pair<std::string, double>>& positions);
+
+  // Ends every watcher's stream (scene deleted or server stopping).
+  void CloseWatchers(const std::string& reason) { hub_.Close(reason); }
+
+ private:
+  // Caller holds mutex_. Bumps the revision and publishes a snapshot to the watchers.
+  void CommitLocked();
+  void PublishLocked();
+  size_t BodyIndexLocked(const std::string& id) const;
+  size_t JointIndexLocked(const std::string& id) const;
+  void CheckIdFreeLocked(const std::string& field, const std::string& id) const;
+
+  const std::string id_, name_;
+  const Limits limits_;
+  mutable std::mutex mutex_;
+  std::shared_ptr<const SceneModel> model_;
+  SceneState state_;
+  std::map<std::string, StoredFile> files_;
+  uint64_t file_bytes_ = 0;
+  uint64_t revision_ = 0;
+  uint64_t snapshot_sequence_ = 0;
+  std::shared_ptr<const std::vector<std::string>> snapshot_body_ids_, snapshot_joint_ids_;
+  SnapshotHub hub_;
+};
+
+}  // namespace graspsim

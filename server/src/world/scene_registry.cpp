@@ -1,0 +1,52 @@
+#include "world/scene_registry.h"
+
+#include "core/error.h"
+
+namespace graspsim {
+
+std::shared_ptr<Scene> SceneRegistry::Create(const std::string& name) {
+  if (name.size() > 128) {
+    ThrowInvalidArgument("name: " + std::to_string(name.size()) + " characters, at most 128 allowed");
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (scenes_.size() >= limits_.max_scenes) {
+    ThrowResourceExhausted("the server already holds " + std::to_string(scenes_.size()) +
+                           " scenes, the limit (--max-scenes) is " + std::to_string(limits_.max_scenes));
+  }
+  const std::string id = "scene-" + std::to_string(next_id_++);
+  auto scene = std::make_shared<Scene>(id, name, limits_);
+  scenes_[id] = scene;
+  return scene;
+}
+
+std::shared_ptr<Scene> SceneRegistry::Get(const std::string& id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = scenes_.find(id);
+  if (it == scenes_.end()) ThrowNotFound("scene_id: no scene '" + id.substr(0, 80) + "'");
+  return it->second;
+}
+
+std::vector<std::shared_ptr<Scene>> SceneRegistry::List() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::shared_ptr<Scene>> scenes;
+  for (const auto& [id, scene] : scenes_) scenes.push_back(scene);
+  return scenes;
+}
+
+void SceneRegistry::Delete(const std::string& id) {
+  std::shared_ptr<Scene> scene;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = scenes_.find(id);
+    if (it == scenes_.end()) ThrowNotFound("scene_id: no scene '" + id.substr(0, 80) + "'");
+    scene = std::move(it->second);
+    scenes_.erase(it);
+  }
+  scene->CloseWatchers("scene '" + id + "' was deleted");
+}
+
+void SceneRegistry::CloseAllWatchers(const std::string& reason) {
+  for (const auto& scene : List()) scene->CloseWatchers(reason);
+}
+
+}  // namespace graspsim

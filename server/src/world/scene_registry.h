@@ -1,0 +1,38 @@
+// All scenes of a server. The registry lock guards only the id → scene map; each scene has its own lock, so a
+// slow request on one scene never blocks another.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/limits.h"
+#include "world/scene.h"
+
+namespace graspsim {
+
+class SceneRegistry {
+ public:
+  explicit SceneRegistry(const Limits& limits) : limits_(limits) {}
+
+  const Limits& limits() const { return limits_; }
+  // Errors: kInvalidArgument (name longer than 128 characters), kResourceExhausted (too many scenes).
+  std::shared_ptr<Scene> Create(const std::string& name);
+  // Error: kNotFound naming the id.
+  std::shared_ptr<Scene> Get(const std::string& id) const;
+  std::vector<std::shared_ptr<Scene>> List() const;
+  void Delete(const std::string& id);
+  // Ends every watcher stream of every scene (server shutdown).
+  void CloseAllWatchers(const std::string& reason);
+
+ private:
+  const Limits limits_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<Scene>> scenes_;
+  uint64_t next_id_ = 1;
+};
+
+}  // namespace graspsim

@@ -1,0 +1,50 @@
+// Fan-out of scene snapshots to any number of watchers. The hub keeps only the newest snapshot; a watcher is
+// told that a newer one exists and fetches it when it is ready to send, so a slow watcher skips snapshots
+// instead of queueing them, and never slows the scene or the other watchers.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace graspsim {
+
+struct SceneSnapshot {
+  uint64_t sequence = 0;  // per hub, +1 per publication
+  uint64_t revision = 0;
+  double time = 0;        // s
+  std::shared_ptr<const std::vector<std::string>> body_ids;
+  std::vector<double> body_poses;  // 7 per body: x y z qw qx qy qz
+  std::shared_ptr<const std::vector<std::string>> joint_ids;
+  std::vector<double> joint_positions;
+};
+
+class SnapshotWatcher {
+ public:
+  virtual ~SnapshotWatcher() = default;
+  // A newer snapshot is available. Called from the publishing thread: must not block.
+  virtual void OnSnapshotAvailable() = 0;
+  // The hub is closing (scene deleted, server shutting down); the watcher should end its stream.
+  virtual void OnHubClosed(const std::string& reason) = 0;
+};
+
+class SnapshotHub {
+ public:
+  void Publish(std::shared_ptr<const SceneSnapshot> snapshot);
+  std::shared_ptr<const SceneSnapshot> Latest() const;
+  // Returns false if the hub is already closed (the watcher is not added).
+  bool Subscribe(const std::shared_ptr<SnapshotWatcher>& watcher);
+  void Unsubscribe(const SnapshotWatcher* watcher);
+  void Close(const std::string& reason);
+  size_t WatcherCount() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::shared_ptr<const SceneSnapshot> latest_;
+  std::vector<std::weak_ptr<SnapshotWatcher>> watchers_;
+  bool closed_ = false;
+};
+
+}  // namespace graspsim

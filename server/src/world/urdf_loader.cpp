@@ -1,0 +1,497 @@
+// URDF text → RobotDescription, with urdfdom for the standard elements and TinyXML for what urdfdom does not
+// report well: XML syntax errors (line and column), the shape of the kinematic tree (urdfdom silently keeps the
+// last of two parents and only says "not a valid tree" for a cycle), and graspsim's <tactile_array> elements.
+#include <charconv>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include <console_bridge/console.h>
+#include <tinyxml.h>
+#include <urdf_model/model.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include "core/error.h"
+#include "core/validate.h"
+#include "world/loaders.h"
+
+namespace graspsim {
+namespace {
+
+// A link with neither inertial nor geometry is a frame (a tool point, a mounting flange). It gets the contract's
+// 1 g and the inertia of a 1 g solid sphere of 1 cm radius, 2/5 m r^2, so the body stays integrable.
+constexpr double kFrameLinkMass = 1e-3;                         // kg
+constexpr double kFrameLinkInertia = 0.4 * kFrameLinkMass * 1e-4;  // kg m^2
+// Far above any real tactile sensor; it only keeps a typo from allocating millions of texels downstream.
+constexpr unsigned kMaxTexelsPerSide = 1024;
+
+std::string Format(double value) {
+  std::ostringstream out;
+  out.precision(12);
+  out << value;
+  return out.str();
+}
+
+std::string Quoted(const std::string& name) { return "'" + name + "'"; }
+
+// urdfdom explains why it rejected a file only through console_bridge's log, and it even returns a model after
+// logging some errors (a collision element it could not parse is dropped). This handler records the error
+// messages of the parse running on the current thread and forwards every message to the handler installed
+// before it, so the server log still shows them.
+class UrdfdomErrorCapture final : public console_bridge::OutputHandler {
+ public:
+  // Runs urdfdom; on return *errors holds every error it logged on this thread ("; "-separated).
+  static urdf::ModelInterfaceSharedPtr Parse(const std::string& text, std::string* errors) {
+    static UrdfdomErrorCapture* const installed = new UrdfdomErrorCapture();  // process lifetime, never freed
+    (void)installed;
+    thread_errors_ = errors;
+    urdf::ModelInterfaceSharedPtr model;
+    try {
+      model = urdf::parseURDF(text);
+    } catch (const std::exception& e) {  // urdfdom throws for a few malformed attributes (e.g. version)
+      errors->append(errors->empty() ? e.what() : std::string("; ") + e.what());
+    }
+    thread_errors_ = nullptr;
+    return model;
+  }
+
+  void log(const std::string& text, console_bridge::LogLevel level, const char* filename, int line) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && thread_errors_ != nullptr) {
+      thread_errors_->append(thread_errors_->empty() ? text : "; " + text);
+    }
+    if (previous_ != nullptr) previous_->log(text, level, filename, line);
+  }
+
+ private:
+  UrdfdomErrorCapture() : previous_(console_bridge::getOutputHandler()) { console_bridge::useOutputHandler(this); }
+
+  console_bridge::OutputHandler* const previous_;
+  static thread_local std::string* thread_errors_;
+};
+
+thread_local std::string* UrdfdomErrorCapture::thread_errors_ = nullptr;
+
+Vec3 ToVec3(const urdf::Vector3& v) { return Vec3(v.x, v.y, v.z); }
+
+Pose ToPose(const std::string& field, const urdf::Pose& pose) {
+  Pose result{ToVec3(pose.position), Quat(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)};
+  CheckPose(field, &result);
+  return result;
+}
+
+// ---- The kinematic tree, read from the XML in document order -------------------------------------------------
+
+struct JointEdge {
+  std::string joint, parent, child;
+};
+
+struct TreeOrder {
+  std::string root;
+  std::vector<std::string> links;   // depth first from the root, children in document order
+  std::vector<std::string> joints;  // the joint into each link after the root, same order
+};
+
+std::string RequiredAttribute(const TiXmlElement& element, const char* attribute, const std::string& owner) {
+  const char* value = element.Attribute(attribute);
+  if (value == nullptr || *value == '\0') {
+    ThrowInvalidArgument("urdf: " + owner + " (line " + std::to_string(element.Row()) + ") has no " + attribute +
+                         " attribute");
+  }
+  return value;
+}
+
+std::string LinkOfChild(const TiXmlElement& joint, const char* tag, const std::string& owner) {
+  const TiXmlElement* element = joint.FirstChildElement(tag);
+  if (element == nullptr) ThrowInvalidArgument("urdf: " + owner + " has no <" + tag + "> element");
+  return RequiredAttribute(*element, "link", owner + " <" + tag + ">");
+}
+
+// One root, one parent per link, every link reachable: anything else is rejected naming the links involved.
+TreeOrder CheckTree(const TiXmlElement& robot) {
+  std::set<std::string> links;
+  for (const TiXmlElement* e = robot.FirstChildElement("link"); e != nullptr; e = e->NextSiblingElement("link")) {
+    const std::string name = RequiredAttribute(*e, "name", "<link>");
+    CheckName("urdf: link name", name);
+    if (!links.insert(name).second) ThrowInvalidArgument("urdf: link " + Quoted(name) + " is defined twice");
+  }
+  if (links.empty()) ThrowInvalidArgument("urdf: the robot has no <link> element");
+
+  std::vector<JointEdge> edges;
+  std::map<std::string, const JointEdge*> parent_joint_of;  // child link → the joint that moves it
+  std::set<std::string> joint_names;
+  for (const TiXmlElement* e = robot.FirstChildElement("joint"); e != nullptr; e = e->NextSiblingElement("joint")) {
+    const std::string name = RequiredAttribute(*e, "name", "<joint>");
+    CheckName("urdf: joint name", name);
+    if (!joint_names.insert(name).second) ThrowInvalidArgument("urdf: joint " + Quoted(name) + " is defined twice");
+    edges.push_back({name, LinkOfChild(*e, "parent", "joint " + Quoted(name)),
+                     LinkOfChild(*e, "child", "joint " + Quoted(name))});
+  }
+  for (const JointEdge& edge : edges) {
+    for (const std::string* link : {&edge.parent, &edge.child}) {
+      if (links.count(*link) == 0) {
+        ThrowInvalidArgument("urdf: joint " + Quoted(edge.joint) + " names link " + Quoted(*link) +
+                             ", which is not defined");
+      }
+    }
+    const auto [it, inserted] = parent_joint_of.emplace(edge.child, &edge);
+    if (!inserted) {
+      ThrowInvalidArgument("urdf: link " + Quoted(edge.child) + " is the child of two joints, " +
+                           Quoted(it->second->joint) + " and " + Quoted(edge.joint));
+    }
+  }
+  std::vector<std::string> roots;
+  for (const std::string& link : links) {
+    if (parent_joint_of.count(link) == 0) roots.push_back(link);
+  }
+  if (roots.size() > 1) {
+    ThrowInvalidArgument("urdf: the robot has more than one root link (" + Quoted(roots[0]) + " and " +
+                         Quoted(roots[1]) + "); every link but one must be the child of a joint");
+  }
+
+  TreeOrder order;
+  std::multimap<std::string, const JointEdge*> children;
+  for (const JointEdge& edge : edges) children.emplace(edge.parent, &edge);
+  if (!roots.empty()) {
+    order.root = roots[0];
+    std::vector<const JointEdge*> pending;
+    order.links.push_back(order.root);
+    auto push_children = [&](const std::string& link) {
+      const auto [first, last] = children.equal_range(link);
+      for (auto it = std::make_reverse_iterator(last); it != std::make_reverse_iterator(first); ++it) {
+        pending.push_back(it->second);
+      }
+    };
+    push_children(order.root);
+    while (!pending.empty()) {
+      const JointEdge* edge = pending.back();
+      pending.pop_back();
+      order.links.push_back(edge->child);
+      order.joints.push_back(edge->joint);
+      push_children(edge->child);
+    }
+  }
+  if (order.links.size() == links.size()) return order;
+
+  // With one parent per link, walking up from an unreachable link must come back to itself: that is the cycle.
+  std::set<std::string> reached(order.links.begin(), order.links.end());
+  std::string link;
+  for (const std::string& candidate : links) {
+    if (reached.count(candidate) == 0) link = candidate;
+  }
+  std::set<std::string> seen;
+  while (seen.insert(link).second) link = parent_joint_of.at(link)->parent;
+  std::string cycle;
+  const std::string start = link;
+  do {
+    const JointEdge* edge = parent_joint_of.at(link);
+    cycle += (cycle.empty() ? "" : ", ") + Quoted(edge->joint) + " (" + edge->parent + " -> " + edge->child + ")";
+    link = edge->parent;
+  } while (link != start);
+  ThrowInvalidArgument("urdf: the joints " + cycle + " form a cycle; a URDF must be a tree");
+}
+
+// ---- Links --------------------------------------------------------------------------------------------------
+
+// "package://pkg/meshes/a.stl" → "meshes/a.stl", "file:///x/a.stl" → "/x/a.stl".
+std::string StripMeshUri(const std::string& filename) {
+  constexpr std::string_view kPackage = "package://", kFile = "file://";
+  if (filename.starts_with(kPackage)) {
+    const size_t slash = filename.find('/', kPackage.size());
+    return slash == std::string::npos ? "" : filename.substr(slash + 1);
+  }
+  if (filename.starts_with(kFile)) return filename.substr(kFile.size());
+  return filename;
+}
+
+// Loads each (file, scale) once per URDF, however many links use it.
+class MeshSource {
+ public:
+  MeshSource(const FileLookup& files, const Limits& limits) : files_(files), limits_(limits) {}
+
+  void Load(const std::string& link, const urdf::Mesh& mesh, Geometry* geometry) {
+    const std::string stripped = StripMeshUri(mesh.filename);
+    const std::string basename = stripped.substr(stripped.find_last_of('/') + 1);
+    const std::string* bytes = nullptr;
+    for (const std::string& candidate : {stripped, basename}) {
+      bytes = (files_ && !candidate.empty()) ? files_(candidate) : nullptr;
+      if (bytes != nullptr) {
+        geometry->mesh_file = candidate;
+        break;
+      }
+    }
+    if (bytes == nullptr) {
+      ThrowInvalidArgument("urdf: link " + Quoted(link) + " mesh file " + Quoted(mesh.filename) +
+                           " was not uploaded");
+    }
+    const Vec3 scale = ToVec3(mesh.scale);
+    const auto key = std::make_tuple(geometry->mesh_file, scale.x(), scale.y(), scale.z());
+    auto& cached = cache_[key];
+    if (cached == nullptr) {
+      cached = std::make_shared<const TriangleMesh>(LoadMeshFile(
+          "urdf: link " + Quoted(link) + " mesh " + Quoted(mesh.filename), geometry->mesh_file, *bytes, scale,
+          limits_));
+    }
+    geometry->mesh = cached;
+  }
+
+ private:
+  const FileLookup& files_;
+  const Limits& limits_;
+  std::map<std::tuple<std::string, double, double, double>, std::shared_ptr<const TriangleMesh>> cache_;
+};
+
+Geometry ConvertCollision(const std::string& link, size_t index, const urdf::Collision& collision,
+                          MeshSource* meshes) {
+  const std::string field = "urdf: link " + Quoted(link) + " collision " + std::to_string(index);
+  Geometry geometry;
+  geometry.origin = ToPose(field + " origin", collision.origin);
+  if (collision.geometry == nullptr) ThrowInvalidArgument(field + " has no geometry");
+  switch (collision.geometry->type) {
+    case urdf::Geometry::BOX: {
+      geometry.kind = Geometry::Kind::kBox;
+      geometry.box_size = ToVec3(static_cast<const urdf::Box&>(*collision.geometry).dim);
+      for (int axis = 0; axis < 3; ++axis) CheckPositive(field + " box size", geometry.box_size[axis]);
+      break;
+    }
+    case urdf::Geometry::SPHERE:
+      geometry.kind = Geometry::Kind::kSphere;
+      geometry.radius = static_cast<const urdf::Sphere&>(*collision.geometry).radius;
+      CheckPositive(field + " sphere radius", geometry.radius);
+      break;
+    case urdf::Geometry::CYLINDER: {
+      const auto& cylinder = static_cast<const urdf::Cylinder&>(*collision.geometry);
+      geometry.kind = Geometry::Kind::kCylinder;
+      geometry.radius = cylinder.radius;
+      geometry.length = cylinder.length;
+      CheckPositive(field + " cylinder radius", geometry.radius);
+      CheckPositive(field + " cylinder length", geometry.length);
+      break;
+    }
+    case urdf::Geometry::MESH:
+      geometry.kind = Geometry::Kind::kMesh;
+      meshes->Load(link, static_cast<const urdf::Mesh&>(*collision.geometry), &geometry);
+      break;
+  }
+  return geometry;
+}
+
+Inertial ConvertInertial(const urdf::Link& link, bool has_collision) {
+  Inertial inertial;
+  if (link.inertial == nullptr) {
+    if (has_collision) {
+      ThrowInvalidArgument("urdf: link " + Quoted(link.name) +
+                           " has collision geometry but no <inertial>; give it a mass and an inertia");
+    }
+    inertial.mass = kFrameLinkMass;
+    inertial.inertia = Mat3::Identity() * kFrameLinkInertia;
+    return inertial;
+  }
+  const std::string field = "urdf: link " + Quoted(link.name) + " inertial";
+  const urdf::Inertial& in = *link.inertial;
+  CheckPositive(field + " mass (kg)", in.mass);
+  const Pose origin = ToPose(field + " origin", in.origin);
+  Mat3 tensor;  // in the inertial frame, which <origin> places in the body frame
+  tensor << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  const Mat3 rotation = origin.orientation.toRotationMatrix();
+  const Mat3 in_body = rotation * tensor * rotation.transpose();
+  inertial.mass = in.mass;
+  inertial.center_of_mass = origin.position;
+  inertial.inertia = 0.5 * (in_body + in_body.transpose());  // exact symmetry despite rounding
+  CheckInertia(field, inertial.inertia);
+  return inertial;
+}
+
+BodySpec ConvertLink(const urdf::Link& link, MeshSource* meshes) {
+  BodySpec body;
+  body.id = link.name;
+  body.motion = BodyMotion::kArticulated;
+  std::vector<urdf::CollisionSharedPtr> collisions = link.collision_array;
+  if (collisions.empty() && link.collision != nullptr) collisions.push_back(link.collision);
+  for (size_t i = 0; i < collisions.size(); ++i) {
+    body.collision.push_back(ConvertCollision(link.name, i, *collisions[i], meshes));
+  }
+  body.inertial = ConvertInertial(link, !body.collision.empty());
+  return body;
+}
+
+// ---- Joints -------------------------------------------------------------------------------------------------
+
+JointSpec ConvertJoint(const urdf::Joint& joint, const urdf::ModelInterface& model) {
+  const std::string field = "urdf: joint " + Quoted(joint.name);
+  JointSpec spec;
+  spec.id = joint.name;
+  spec.parent_body = joint.parent_link_name;
+  spec.child_body = joint.child_link_name;
+  spec.origin = ToPose(field + " origin", joint.parent_to_joint_origin_transform);
+  switch (joint.type) {
+    case urdf::Joint::REVOLUTE: spec.type = JointType::kRevolute; break;
+    case urdf::Joint::CONTINUOUS: spec.type = JointType::kContinuous; break;
+    case urdf::Joint::PRISMATIC: spec.type = JointType::kPrismatic; break;
+    case urdf::Joint::FIXED: spec.type = JointType::kFixed; break;
+    default:
+      ThrowInvalidArgument(field + " has type " +
+                           (joint.type == urdf::Joint::FLOATING ? std::string("floating")
+                            : joint.type == urdf::Joint::PLANAR ? std::string("planar")
+                                                                 : std::string("unknown")) +
+                           "; supported: revolute, continuous, prismatic, fixed");
+  }
+  if (spec.type == JointType::kFixed) return spec;
+
+  const Vec3 axis = ToVec3(joint.axis);
+  CheckFinite(field + " axis", axis);
+  if (axis.norm() < 1e-9) {
+    ThrowInvalidArgument(field + " axis (" + Format(axis.x()) + ", " + Format(axis.y()) + ", " + Format(axis.z()) +
+                         ") has zero length");
+  }
+  spec.axis = axis.normalized();
+
+  const bool needs_limits = spec.type == JointType::kRevolute || spec.type == JointType::kPrismatic;
+  if (needs_limits && joint.limits == nullptr) ThrowInvalidArgument(field + " has no <limit>");
+  if (joint.limits != nullptr) {
+    CheckNonNegative(field + " velocity limit", joint.limits->velocity);
+    CheckNonNegative(field + " effort limit", joint.limits->effort);
+    spec.velocity_limit = joint.limits->velocity;
+    spec.effort_limit = joint.limits->effort;
+    if (needs_limits) {
+      CheckFinite(field + " lower limit", joint.limits->lower);
+      CheckFinite(field + " upper limit", joint.limits->upper);
+      if (joint.limits->lower > joint.limits->upper) {
+        ThrowInvalidArgument(field + " lower limit " + Format(joint.limits->lower) + " is above its upper limit " +
+                             Format(joint.limits->upper));
+      }
+      spec.lower = joint.limits->lower;
+      spec.upper = joint.limits->upper;
+    }
+  }
+
+  if (joint.mimic != nullptr) {
+    const std::string& leader_name = joint.mimic->joint_name;
+    const urdf::JointConstSharedPtr leader = model.getJoint(leader_name);
+    if (leader == nullptr || leader_name == joint.name) {
+      ThrowInvalidArgument(field + " mimics joint " + Quoted(leader_name) + ", which " +
+                           (leader == nullptr ? "does not exist" : "is itself"));
+    }
+    // A leader that mimics another joint would need chains (or cycles) resolved downstream.
+    if (leader->mimic != nullptr) {
+      ThrowInvalidArgument(field + " mimics joint " + Quoted(leader_name) + ", which itself mimics " +
+                           Quoted(leader->mimic->joint_name) + "; mimic the leader directly");
+    }
+    CheckFinite(field + " mimic multiplier", joint.mimic->multiplier);
+    CheckFinite(field + " mimic offset", joint.mimic->offset);
+    spec.mimic = MimicSpec{leader_name, joint.mimic->multiplier, joint.mimic->offset};
+  }
+  return spec;
+}
+
+// ---- graspsim's <tactile_array> extension --------------------------------------------------------------------
+
+// Parses whitespace-separated numbers; NaN and Inf parse, so CheckFinite can name them.
+std::vector<double> ParseNumbers(const std::string& field, const std::string& text) {
+  std::vector<double> numbers;
+  std::istringstream words(text);
+  for (std::string word; words >> word;) {
+    double value = 0;
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+    if (error != std::errc() || end != word.data() + word.size()) {
+      ThrowInvalidArgument(field + ": " + Quoted(word) + " is not a number");
+    }
+    CheckFinite(field, value);
+    numbers.push_back(value);
+  }
+  return numbers;
+}
+
+double ParseOneNumber(const std::string& field, const std::string& text) {
+  const std::vector<double> numbers = ParseNumbers(field, text);
+  if (numbers.size() != 1) ThrowInvalidArgument(field + ": " + Quoted(text) + " is not one number");
+  return numbers[0];
+}
+
+Vec3 ParseVector(const std::string& field, const char* text) {
+  if (text == nullptr) return Vec3::Zero();
+  const std::vector<double> numbers = ParseNumbers(field, text);
+  if (numbers.size() != 3) ThrowInvalidArgument(field + ": " + Quoted(text) + " is not three numbers");
+  return Vec3(numbers[0], numbers[1], numbers[2]);
+}
+
+unsigned ParseTexelCount(const std::string& field, const std::string& text) {
+  unsigned value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || value == 0 || value > kMaxTexelsPerSide) {
+    ThrowInvalidArgument(field + ": " + Quoted(text) + " is not an integer in 1.." +
+                         std::to_string(kMaxTexelsPerSide));
+  }
+  return value;
+}
+
+std::vector<TactileArraySpec> ParseTactileArrays(const TiXmlElement& robot, const std::set<std::string>& links) {
+  std::vector<TactileArraySpec> arrays;
+  std::set<std::string> names;
+  for (const TiXmlElement* e = robot.FirstChildElement("tactile_array"); e != nullptr;
+       e = e->NextSiblingElement("tactile_array")) {
+    TactileArraySpec spec;
+    spec.id = RequiredAttribute(*e, "name", "<tactile_array>");
+    CheckName("urdf: tactile_array name", spec.id);
+    const std::string field = "urdf: tactile_array " + Quoted(spec.id);
+    if (!names.insert(spec.id).second) ThrowInvalidArgument(field + " is defined twice");
+    spec.body_id = RequiredAttribute(*e, "link", field);
+    if (links.count(spec.body_id) == 0) {
+      ThrowInvalidArgument(field + " is on link " + Quoted(spec.body_id) + ", which does not exist");
+    }
+    spec.rows = ParseTexelCount(field + " rows", RequiredAttribute(*e, "rows", field));
+    spec.cols = ParseTexelCount(field + " cols", RequiredAttribute(*e, "cols", field));
+    spec.pitch = ParseOneNumber(field + " pitch (m)", RequiredAttribute(*e, "pitch", field));
+    CheckPositive(field + " pitch (m)", spec.pitch);
+    spec.thickness = ParseOneNumber(field + " thickness (m)", RequiredAttribute(*e, "thickness", field));
+    CheckPositive(field + " thickness (m)", spec.thickness);
+    if (const TiXmlElement* origin = e->FirstChildElement("origin"); origin != nullptr) {
+      const Vec3 rpy = ParseVector(field + " origin rpy", origin->Attribute("rpy"));
+      spec.origin.position = ParseVector(field + " origin xyz", origin->Attribute("xyz"));
+      spec.origin.orientation = QuatFromRpy(rpy.x(), rpy.y(), rpy.z());
+    }
+    arrays.push_back(std::move(spec));
+  }
+  return arrays;
+}
+
+}  // namespace
+
+RobotDescription LoadUrdf(const std::string& urdf_text, const FileLookup& files, const Limits& limits) {
+  TiXmlDocument document;
+  document.Parse(urdf_text.c_str());
+  if (document.Error()) {
+    ThrowInvalidArgument("urdf: XML error at line " + std::to_string(document.ErrorRow()) + " column " +
+                         std::to_string(document.ErrorCol()) + ": " + document.ErrorDesc());
+  }
+  const TiXmlElement* robot = document.RootElement();
+  if (robot == nullptr || robot->ValueStr() != "robot") {
+    ThrowInvalidArgument("urdf: the root element is not <robot>");
+  }
+  const TreeOrder order = CheckTree(*robot);
+
+  std::string urdfdom_errors;
+  const urdf::ModelInterfaceSharedPtr model = UrdfdomErrorCapture::Parse(urdf_text, &urdfdom_errors);
+  if (model == nullptr || !urdfdom_errors.empty()) {
+    ThrowInvalidArgument("urdf: " + (urdfdom_errors.empty() ? std::string("urdfdom rejected the robot description")
+                                                            : urdfdom_errors));
+  }
+
+  RobotDescription description;
+  description.name = model->getName();
+  description.root_link = order.root;
+  MeshSource meshes(files, limits);
+  for (const std::string& link : order.links) description.links.push_back(ConvertLink(*model->getLink(link), &meshes));
+  for (const std::string& joint : order.joints) {
+    description.joints.push_back(ConvertJoint(*model->getJoint(joint), *model));
+  }
+  description.tactile_arrays =
+      ParseTactileArrays(*robot, std::set<std::string>(order.links.begin(), order.links.end()));
+  return description;
+}
+
+}  // namespace graspsim

@@ -1,0 +1,176 @@
+"""Client helpers without a server: poses, packing, mass properties, STL, upload chunks, errors."""
+import contextlib
+import hashlib
+import socket
+import struct
+
+import grpc
+import numpy as np
+import pytest
+
+import graspsim
+from graspsim import inertia, meshes
+from graspsim._upload import upload_chunks
+from graspsim._watch import Snapshot
+from graspsim.v1 import common_pb2, scene_pb2
+
+
+@contextlib.contextmanager
+def unused_port():
+    """A port on which nothing listens: bound, without listen(), for the duration of the block."""
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        yield sock.getsockname()[1]
+
+
+def test_pose_forms_agree():
+    expected = [0.1, 0.2, 0.3, 0.0, 1.0, 0.0, 0.0]
+    forms = [graspsim.Pose([0.1, 0.2, 0.3], [0, 1, 0, 0]), expected, np.array(expected),
+             ([0.1, 0.2, 0.3], (0, 1, 0, 0)), graspsim.Pose.from_array(expected).to_proto()]
+    for form in forms:
+        np.testing.assert_array_equal(graspsim.as_pose(form).as_array(), expected)
+
+
+def test_pose_rejects_wrong_shapes():
+    for bad in ([1, 2, 3], [1, 2, 3, 4, 5, 6, 7, 8], ([1, 2], [1, 0, 0, 0]), ([1, 2, 3], [1, 0, 0])):
+        with pytest.raises(ValueError):
+            graspsim.as_pose(bad)
+
+
+def test_pose_proto_keeps_zero_quaternion_and_nan():
+    msg = graspsim.Pose([np.nan, 0, 0], [0, 0, 0, 0]).to_proto()
+    assert msg.HasField("orientation") and msg.orientation.w == 0.0
+    assert np.isnan(msg.position.x)
+    back = scene_pb2.AddObjectRequest.FromString(scene_pb2.AddObjectRequest(pose=msg).SerializeToString()).pose
+    assert back.HasField("orientation")
+
+
+def test_absent_orientation_is_identity():
+    pose = graspsim.Pose.from_proto(common_pb2.Pose(position=common_pb2.Vec3(x=1.0)))
+    np.testing.assert_array_equal(pose.orientation, [1, 0, 0, 0])
+    np.testing.assert_array_equal(pose.matrix()[:3, 3], [1, 0, 0])
+
+
+def test_quaternion_about_x_flips_z():
+    q = graspsim.quaternion_about_axis([1, 0, 0], np.pi)
+    np.testing.assert_allclose(q, [0, 1, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(graspsim.quaternion_to_matrix(q), np.diag([1, -1, -1]), atol=1e-15)
+    q90 = graspsim.quaternion_about_axis([0, 0, 2], np.pi / 2)
+    np.testing.assert_allclose(graspsim.quaternion_to_matrix(q90) @ [1, 0, 0], [0, 1, 0], atol=1e-15)
+
+
+def test_pack_mesh_little_endian():
+    vertices, triangles = meshes.box_mesh([1, 2, 3])
+    msg = meshes.pack_mesh(vertices, triangles)
+    assert len(msg.vertices) == 8 * 12 and len(msg.triangles) == 12 * 12
+    assert struct.unpack_from("<3f", msg.vertices) == (-0.5, -1.0, -1.5)
+    assert struct.unpack_from("<3I", msg.triangles) == tuple(int(i) for i in triangles[0])
+    v, t = meshes.unpack_mesh(msg)
+    np.testing.assert_array_equal(v, vertices)
+    np.testing.assert_array_equal(t, triangles)
+    with pytest.raises(ValueError):
+        meshes.pack_mesh(np.zeros((4, 2)), triangles)
+
+
+def test_primitive_inertia_formulas():
+    np.testing.assert_allclose(inertia.box_inertia(12.0, (1, 2, 3)), np.diag([13.0, 10.0, 5.0]))
+    np.testing.assert_allclose(inertia.sphere_inertia(5.0, 2.0), 8.0 * np.eye(3))
+    np.testing.assert_allclose(inertia.cylinder_inertia(12.0, 1.0, 2.0), np.diag([7.0, 7.0, 6.0]))
+
+
+def test_mesh_inertia_matches_box_and_sphere():
+    vertices, triangles = meshes.box_mesh([0.1, 0.2, 0.3])
+    shifted = vertices + [1.0, -2.0, 0.5]
+    com, tensor = inertia.mesh_inertia(2.0, shifted, triangles)
+    np.testing.assert_allclose(com, [1.0, -2.0, 0.5], atol=1e-12)
+    np.testing.assert_allclose(tensor, inertia.box_inertia(2.0, [0.1, 0.2, 0.3]), atol=1e-12)
+    volume, _, _ = inertia.mesh_volume_properties(*meshes.uv_sphere(1.0, 64, 128))
+    assert volume == pytest.approx(4.0 / 3.0 * np.pi, rel=2e-3)
+    _, sphere = inertia.mesh_inertia(1.0, *meshes.uv_sphere(1.0, 64, 128))
+    np.testing.assert_allclose(sphere, 0.4 * np.eye(3), rtol=3e-3, atol=1e-6)
+
+
+def test_mesh_inertia_rejects_open_or_inverted_mesh():
+    vertices, triangles = meshes.box_mesh([1, 1, 1])
+    with pytest.raises(ValueError, match="closed"):
+        inertia.mesh_inertia(1.0, vertices, triangles[:, ::-1])
+    with pytest.raises(ValueError, match="closed"):
+        inertia.mesh_inertia(1.0, np.zeros((0, 3)), np.zeros((0, 3), dtype=np.uint32))
+
+
+def test_uv_sphere_counts():
+    vertices, triangles = meshes.uv_sphere(0.5, 11, 10)
+    assert len(triangles) == 200 and len(vertices) == 2 + 10 * 10
+    assert triangles.max() == len(vertices) - 1
+    np.testing.assert_allclose(np.linalg.norm(vertices, axis=1), 0.5)
+
+
+def test_binary_stl_layout():
+    vertices, triangles = meshes.box_mesh([2, 2, 2])
+    stl = meshes.to_stl(vertices, triangles)
+    assert len(stl) == 84 + 50 * 12
+    assert struct.unpack_from("<I", stl, 80) == (12,)
+    normal = struct.unpack_from("<3f", stl, 84)
+    corners = np.array(struct.unpack_from("<9f", stl, 96)).reshape(3, 3)
+    np.testing.assert_allclose(normal, [-1, 0, 0])
+    np.testing.assert_allclose(corners, vertices[triangles[0]])
+
+
+def test_upload_chunks_header_first_then_data():
+    data = bytes(range(256)) * 10
+    chunks = list(upload_chunks("s1", "meshes/a.stl", data, 1000))
+    assert [len(c.data) for c in chunks] == [1000, 1000, 560]
+    assert chunks[0].header.total_size == len(data)
+    assert chunks[0].header.sha256 == hashlib.sha256(data).hexdigest()
+    assert (chunks[0].header.scene_id, chunks[0].header.path) == ("s1", "meshes/a.stl")
+    assert not any(c.HasField("header") for c in chunks[1:])
+    assert b"".join(c.data for c in chunks) == data
+
+
+def test_upload_chunks_from_file_and_empty(tmp_path):
+    path = tmp_path / "f.bin"
+    path.write_bytes(b"x" * 10)
+    assert [len(c.data) for c in upload_chunks("s", "f.bin", path, 4)] == [4, 4, 2]
+    assert [len(c.data) for c in upload_chunks("s", "f.bin", str(path), 4)] == [4, 4, 2]
+    empty = list(upload_chunks("s", "e.bin", b"", 4))
+    assert len(empty) == 1 and empty[0].header.total_size == 0
+    with pytest.raises(ValueError):
+        list(upload_chunks("s", "e.bin", b"", 0))
+
+
+def test_snapshot_unpacks_packed_arrays():
+    poses = np.arange(14, dtype="<f8")
+    msg = scene_pb2.SceneSnapshot(sequence=3, revision=7, body_ids=["a", "b"], body_poses=poses.tobytes(),
+                                  joint_ids=["j"], joint_positions=np.array([0.5], "<f8").tobytes())
+    snap = Snapshot.from_proto(msg)
+    assert snap.poses.shape == (2, 7) and snap.poses.dtype == np.float64
+    np.testing.assert_array_equal(snap.pose("b").position, [7, 8, 9])
+    assert snap.joint_position("j") == 0.5 and (snap.sequence, snap.revision) == (3, 7)
+    with pytest.raises(ValueError):
+        Snapshot.from_proto(scene_pb2.SceneSnapshot(body_ids=["a"], body_poses=b"\0" * 8))
+
+
+def test_error_str_names_code():
+    err = graspsim.GraspsimError(grpc.StatusCode.NOT_FOUND, "scene 'x' not found")
+    assert str(err) == "NOT_FOUND: scene 'x' not found"
+    assert isinstance(err, Exception) and err.code == grpc.StatusCode.NOT_FOUND
+
+
+def test_add_object_argument_checks():
+    client = graspsim.Client(grpc.insecure_channel("127.0.0.1:1"))
+    with pytest.raises(ValueError, match="exactly one"):
+        client.add_object("s", "o", box=(1, 1, 1), sphere=1.0, mass=1.0)
+    with pytest.raises(ValueError, match="inertia"):
+        client.add_object("s", "o", mesh_file="a.stl", mass=1.0)
+    with pytest.raises(ValueError, match="symmetric"):
+        client.add_object("s", "o", box=(1, 1, 1), mass=1.0, inertia=[[1, 0.5, 0], [0, 1, 0], [0, 0, 1]])
+    with pytest.raises(ValueError, match="exactly one"):
+        client.add_robot("s", "r")
+    client.close()
+
+
+def test_connect_without_server_is_unavailable():
+    with unused_port() as port:
+        with pytest.raises(graspsim.GraspsimError) as info:
+            graspsim.connect(f"127.0.0.1:{port}", timeout=0.5)
+    assert info.value.code == grpc.StatusCode.UNAVAILABLE and "127.0.0.1" in info.value.message
