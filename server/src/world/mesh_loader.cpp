@@ -143,7 +143,7 @@ TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std
   merged.vertices.reserve(vertex_count);
   merged.triangles.reserve(triangle_count);
   for (const MeshInstance& instance : instances) AppendInstance(instance, scale, &merged);
-  ValidateMesh(merged, field, limits.max_triangles_per_mesh);
+  ValidateMesh(merged, field + ": mesh file '" + path + "'", limits.max_triangles_per_mesh);
   return merged;
 }
 

@@ -8,21 +8,12 @@
 
 #include "core/error.h"
 #include "core/mesh.h"
+#include "test_util.h"
 
 namespace graspsim {
 namespace {
 
-// Runs `fn`, expects an Error with `code` whose message contains every string in `parts`.
-template <typename Fn>
-void ExpectError(Fn fn, ErrorCode code, std::initializer_list<const char*> parts) {
-  try {
-    fn();
-    FAIL() << "no error thrown";
-  } catch (const Error& error) {
-    EXPECT_EQ(error.code(), code) << error.what();
-    for (const char* part : parts) EXPECT_NE(std::string(error.what()).find(part), std::string::npos) << error.what();
-  }
-}
+using test_util::ExpectError;
 
 TEST(Validate, FiniteRejectsNanAndInfNamingTheField) {
   ExpectError([] { CheckFinite("pose.position.x", std::nan("")); }, ErrorCode::kInvalidArgument,

@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""graspsim demo: a Schunk PG70 gripper above a 5 cm cube on a table.
+
+Stages: list the built-in models, build the scene, open the gripper, then print what the server holds
+(bodies, joints, tactile arrays, one live snapshot). Exits non-zero on any error.
+
+    python3 demo.py --server 127.0.0.1:50051
+"""
+import argparse
+import sys
+
+import numpy as np
+
+import graspsim
+from graspsim.v1 import common_pb2
+
+TABLE_TOP_Z = 0.75        # m, top surface of the built-in table placed at the origin
+CUBE_EDGE = 0.05          # m
+GRIPPER_HEIGHT = 0.25     # m above the table top
+FINGER_OPENING = 0.03     # m, finger_left_joint (finger_right_joint mimics it)
+POINTING_DOWN = graspsim.quaternion_about_axis([1, 0, 0], np.pi)  # gripper z (approach) = world -z
+
+
+def list_models(client: graspsim.Client) -> None:
+    print("built-in models:")
+    for model in client.builtin_models():
+        print(f"  {model.kind:<6} {model.name:<12} {model.description}")
+
+
+def build_scene(client: graspsim.Client) -> str:
+    """Creates scene "demo" with the table, the cube resting on it and the gripper above; returns its id."""
+    scene = client.create_scene("demo")
+    client.add_object(scene.id, "table", builtin="table")
+    client.add_object(scene.id, "cube_5cm", builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
+    gripper_pose = graspsim.Pose([0, 0, TABLE_TOP_Z + GRIPPER_HEIGHT], POINTING_DOWN)
+    client.add_robot(scene.id, "pg70", builtin="schunk_pg70", base_pose=gripper_pose)
+    print(f"\nscene {scene.name!r} created: id {scene.id}")
+    return scene.id
+
+
+def open_gripper(client: graspsim.Client, scene_id: str) -> None:
+    revision = client.set_joint_positions(scene_id, {"pg70/finger_left_joint": FINGER_OPENING})
+    print(f"gripper opened to {FINGER_OPENING * 1000:.0f} mm per finger (revision {revision})")
+
+
+def format_pose(pose: graspsim.Pose) -> str:
+    x, y, z = pose.position
+    return f"p=({x:+.4f}, {y:+.4f}, {z:+.4f}) m  q=({', '.join(f'{v:+.3f}' for v in pose.orientation)})"
+
+
+def print_bodies(scene) -> None:
+    print(f"\nbodies ({len(scene.bodies)}):")
+    for body in scene.bodies:
+        motion = common_pb2.BodyMotion.Name(body.motion).removeprefix("BODY_MOTION_").lower()
+        pose = graspsim.Pose.from_proto(body.pose)
+        print(f"  {body.id:<18} {motion:<11} {body.inertial.mass:7.3f} kg  {format_pose(pose)}")
+
+
+def print_joints(scene) -> None:
+    print(f"\njoints ({len(scene.joints)}):")
+    for joint in scene.joints:
+        kind = common_pb2.JointType.Name(joint.type).removeprefix("JOINT_TYPE_").lower()
+        unit = "m" if joint.type == common_pb2.JOINT_TYPE_PRISMATIC else "rad"
+        follows = f"  mimics {joint.mimic.joint_id}" if joint.mimic.joint_id else ""
+        limits = f"[{joint.lower:.4f}, {joint.upper:.4f}]"
+        print(f"  {joint.id:<24} {kind:<9} {joint.position:.4f} {unit}  limits {limits}{follows}")
+
+
+def print_tactile_arrays(scene) -> None:
+    print(f"\ntactile arrays ({len(scene.tactile_arrays)}):")
+    for pad in scene.tactile_arrays:
+        print(f"  {pad.id:<16} on {pad.body_id:<18} {pad.rows} rows x {pad.cols} cols, pitch {pad.pitch * 1000:.1f} mm")
+
+
+def print_snapshot(client: graspsim.Client, scene_id: str) -> None:
+    with client.watch_scene(scene_id) as watch:
+        snap = next(watch)
+    print(f"\nsnapshot {snap.sequence} (revision {snap.revision}, t = {snap.time:.3f} s): "
+          f"{len(snap.body_ids)} bodies, {len(snap.joint_ids)} joints")
+    for body_id, row in zip(snap.body_ids, snap.poses):
+        print(f"  {body_id:<18} z = {row[2]:.4f} m")
+    for joint_id, value in zip(snap.joint_ids, snap.joint_positions):
+        print(f"  {joint_id:<24} {value:.4f}")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--server", default="127.0.0.1:50051", help="host:port of graspsim-server")
+    parser.add_argument("--keep", action="store_true", help="keep the scene on the server (default: delete it)")
+    args = parser.parse_args(argv)
+    try:
+        with graspsim.connect(args.server) as client:
+            print(f"connected to graspsim at {args.server}")
+            list_models(client)
+            scene_id = build_scene(client)
+            open_gripper(client, scene_id)
+            scene = client.get_scene(scene_id)
+            print_bodies(scene)
+            print_joints(scene)
+            print_tactile_arrays(scene)
+            print_snapshot(client, scene_id)
+            if not args.keep:
+                client.delete_scene(scene_id)
+    except graspsim.GraspsimError as err:
+        print(f"demo failed: {err}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,33 @@
+"""Declared but not yet implemented: the four other services and StepSimulation answer UNIMPLEMENTED."""
+import grpc
+import pytest
+
+import graspsim
+from graspsim.v1 import (gateway_pb2, gateway_pb2_grpc, grasp_pb2, grasp_pb2_grpc, perception_pb2,
+                         perception_pb2_grpc, tactile_pb2, tactile_pb2_grpc)
+
+CALLS = {
+    "GatewayService.ListDevices": lambda ch: gateway_pb2_grpc.GatewayServiceStub(ch).ListDevices(
+        gateway_pb2.ListDevicesRequest(), timeout=10),
+    "GraspService.SimulateGrasp": lambda ch: grasp_pb2_grpc.GraspServiceStub(ch).SimulateGrasp(
+        grasp_pb2.SimulateGraspRequest(scene_id="s", body_id="b", hand_id="h"), timeout=10),
+    "PerceptionService.SegmentScene": lambda ch: perception_pb2_grpc.PerceptionServiceStub(ch).SegmentScene(
+        perception_pb2.SegmentSceneRequest(), timeout=10),
+    "TactileService.Sample": lambda ch: tactile_pb2_grpc.TactileServiceStub(ch).Sample(
+        tactile_pb2.SampleRequest(scene_id="s", sensor_id="x"), timeout=10),
+}
+
+
+@pytest.mark.parametrize("method", list(CALLS))
+def test_other_services_are_unimplemented(client, method):
+    with pytest.raises(grpc.RpcError) as info:
+        CALLS[method](client.channel)
+    assert info.value.code() == grpc.StatusCode.UNIMPLEMENTED
+    assert info.value.details(), f"{method}: UNIMPLEMENTED without a message"
+
+
+def test_step_simulation_is_unimplemented(client, scene_id):
+    with pytest.raises(graspsim.GraspsimError) as info:
+        client.step_simulation(scene_id, 0.01)
+    assert info.value.code == grpc.StatusCode.UNIMPLEMENTED and info.value.message
+    assert str(info.value).startswith("UNIMPLEMENTED: ")
