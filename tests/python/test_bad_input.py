@@ -42,36 +42,39 @@ def robot(sid, c, text):
 ODD_VERTICES = common_pb2.Geometry(mesh=common_pb2.MeshData(vertices=b"\0" * 100,
                                                             triangles=np.zeros(3, "<u4").tobytes()))
 CASES = {
-    "nan position": (IA, ["position", "nan"], lambda s, c: box(s, c, pose=[NAN, 0, 0, 1, 0, 0, 0])),
-    "inf position": (IA, ["position", "inf"], lambda s, c: box(s, c, pose=[0, INF, 0, 1, 0, 0, 0])),
-    "nan box size": (IA, ["size", "nan"], lambda s, c: box(s, c, size=(0.1, NAN, 0.1))),
-    "inf box size": (IA, ["size", "inf"], lambda s, c: box(s, c, size=(INF, 0.1, 0.1))),
-    "negative box size": (IA, ["size", "-0.1"], lambda s, c: box(s, c, size=(0.1, 0.1, -0.1))),
-    "nan mass": (IA, ["mass", "nan"], lambda s, c: box(s, c, mass=NAN)),
-    "inf mass": (IA, ["mass", "inf"], lambda s, c: box(s, c, mass=INF)),
-    "zero mass": (IA, ["mass", "0"], lambda s, c: box(s, c, mass=0.0)),
-    "negative mass": (IA, ["mass", "-2"], lambda s, c: box(s, c, mass=-2.0)),
-    "zero quaternion": (IA, ["orientation"], lambda s, c: box(s, c, pose=[0, 0, 1, 0, 0, 0, 0])),
-    "quaternion of norm 2": (IA, ["orientation"], lambda s, c: box(s, c, pose=[0, 0, 1, 2, 0, 0, 0])),
-    "negative inertia": (IA, ["inerti"], lambda s, c: box(s, c, inertia=np.diag([-1.0, 1.0, 1.0]))),
-    "inertia triangle inequality": (IA, ["inerti"], lambda s, c: box(s, c, inertia=np.diag([3.0, 1.0, 1.0]))),
+    "nan position": (IA, ["pose.position", "nan"], lambda s, c: box(s, c, pose=[NAN, 0, 0, 1, 0, 0, 0])),
+    "inf position": (IA, ["pose.position", "inf"], lambda s, c: box(s, c, pose=[0, INF, 0, 1, 0, 0, 0])),
+    "nan box size": (IA, ["geometry.box.size", "nan"], lambda s, c: box(s, c, size=(0.1, NAN, 0.1))),
+    "inf box size": (IA, ["geometry.box.size", "inf"], lambda s, c: box(s, c, size=(INF, 0.1, 0.1))),
+    "negative box size": (IA, ["geometry.box.size", "-0.1"], lambda s, c: box(s, c, size=(0.1, 0.1, -0.1))),
+    "nan mass": (IA, ["inertial.mass", "nan"], lambda s, c: box(s, c, mass=NAN)),
+    "inf mass": (IA, ["inertial.mass", "inf"], lambda s, c: box(s, c, mass=INF)),
+    "zero mass": (IA, ["inertial.mass", "0"], lambda s, c: box(s, c, mass=0.0)),
+    "negative mass": (IA, ["inertial.mass", "-2"], lambda s, c: box(s, c, mass=-2.0)),
+    "zero quaternion": (IA, ["pose.orientation", "norm 0"], lambda s, c: box(s, c, pose=[0, 0, 1, 0, 0, 0, 0])),
+    "quaternion of norm 2": (IA, ["pose.orientation", "norm 2"], lambda s, c: box(s, c, pose=[0, 0, 1, 2, 0, 0, 0])),
+    "negative inertia": (IA, ["inertial", "positive definite"], lambda s, c: box(
+        s, c, inertia=np.diag([-1.0, 1.0, 1.0]))),
+    "inertia triangle inequality": (IA, ["inertial", "triangle inequality"], lambda s, c: box(
+        s, c, inertia=np.diag([3.0, 1.0, 1.0]))),
     "geometry without inertial": (IA, ["inertial"], lambda s, c: lambda: c.add_object(s, "new", sphere=0.1)),
-    "static friction below dynamic": (IA, ["friction"], lambda s, c: lambda: c.add_object(
+    "static friction below dynamic": (IA, ["material", "static_friction", "0.2"], lambda s, c: lambda: c.add_object(
         s, "new", builtin="cube_5cm", friction=(0.2, 0.5))),
-    "mesh index out of range": (IA, ["triangle", "8"], lambda s, c: mesh(
+    "mesh index out of range": (IA, ["geometry.mesh", "index 8"], lambda s, c: mesh(
         s, c, CUBE[0], np.vstack([CUBE[1], [[0, 1, 8]]]))),
-    "empty mesh": (IA, ["mesh"], lambda s, c: mesh(s, c, np.zeros((0, 3)), np.zeros((0, 3)))),
-    "vertices bytes not a multiple of 12": (IA, ["vertices", "100"], lambda s, c: raw_add_object(s, c, ODD_VERTICES)),
-    "mesh file not uploaded": (NOT_FOUND, ["missing.stl"], lambda s, c: lambda: c.add_object(
+    "empty mesh": (IA, ["geometry.mesh", "empty"], lambda s, c: mesh(s, c, np.zeros((0, 3)), np.zeros((0, 3)))),
+    "vertices bytes not a multiple of 12": (IA, ["geometry.mesh.vertices", "100"], lambda s, c: raw_add_object(
+        s, c, ODD_VERTICES)),
+    "mesh file not uploaded": (IA, ["geometry.mesh_file", "missing.stl"], lambda s, c: lambda: c.add_object(
         s, "new", mesh_file="missing.stl", mass=1.0, inertia=UNIT_INERTIA)),
-    "urdf mesh not uploaded": (NOT_FOUND, ["missing.stl"], lambda s, c: robot(s, c, urdf(
+    "urdf mesh not uploaded": (IA, ["urdf", "missing.stl"], lambda s, c: robot(s, c, urdf(
         "bot", link("a", '<mesh filename="missing.stl"/>')))),
     "urdf does not parse": (IA, ["urdf"], lambda s, c: robot(s, c, "<robot name='bot'><link name='a'>")),
-    "urdf joint cycle": (IA, ["urdf"], lambda s, c: robot(s, c, urdf(
+    "urdf joint cycle": (IA, ["urdf", "cycle"], lambda s, c: robot(s, c, urdf(
         "bot", link("a"), link("b"), joint("ab", "a", "b"), joint("ba", "b", "a")))),
     "urdf missing parent link": (IA, ["urdf", "ghost"], lambda s, c: robot(s, c, urdf(
         "bot", link("a"), joint("j", "ghost", "a")))),
-    "duplicate object name": (EXISTS, ["cube"], lambda s, c: box(s, c, name="cube")),
+    "duplicate object name": (EXISTS, ["name", "cube"], lambda s, c: box(s, c, name="cube")),
     "object named like a robot": (EXISTS, ["pg70"], lambda s, c: box(s, c, name="pg70")),
     "duplicate robot name": (EXISTS, ["pg70"], lambda s, c: lambda: c.add_robot(s, "pg70", builtin="schunk_pg70")),
     "bad object name": (IA, ["name", "bad name!"], lambda s, c: box(s, c, name="bad name!")),

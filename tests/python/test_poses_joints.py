@@ -47,8 +47,8 @@ def test_static_body_can_be_posed(client, world):
 
 @pytest.mark.parametrize("bad, code, fragments", [
     ({"nope": POSE_A}, NOT_FOUND, ["nope"]),
-    ({"b": [np.nan, 0, 0, 1, 0, 0, 0]}, IA, ["position", "nan"]),
-    ({"b": [0, 0, 0, 0.5, 0, 0, 0]}, IA, ["orientation"]),
+    ({"b": [np.nan, 0, 0, 1, 0, 0, 0]}, IA, ["poses[1].pose.position", "nan"]),
+    ({"b": [0, 0, 0, 0.5, 0, 0, 0]}, IA, ["poses[1].pose.orientation", "0.5"]),
     ({"pg70/finger_left": POSE_A}, FAILED, ["pg70/finger_left"]),
 ])
 def test_bad_pose_batch_changes_nothing(client, world, bad, code, fragments):
@@ -86,6 +86,11 @@ def test_bad_joint_value_changes_nothing(client, world, value, code, fragments):
     client.set_joint_positions(world, {LEFT: 0.01})
     assert_rejected(client, world, code, fragments, lambda: client.set_joint_positions(world, {LEFT: value}))
     assert client.get_joint_positions(world, [LEFT]) == pytest.approx({LEFT: 0.01})
+
+
+def test_mimic_joint_cannot_be_set(client, world):
+    batch = {LEFT: 0.02, RIGHT: 0.01}
+    assert_rejected(client, world, IA, [RIGHT, LEFT], lambda: client.set_joint_positions(world, batch))
 
 
 def test_unknown_joint_in_batch_changes_nothing(client, world):

@@ -48,7 +48,7 @@ def test_upload_from_local_path_and_replace(client, scene_id, tmp_path):
 def test_wrong_sha256_is_rejected(client, scene_id):
     data = cube_stl()
     header = header_for(scene_id, "bad.stl", data, sha256=hashlib.sha256(b"other").hexdigest())
-    assert_rejected(client, scene_id, IA, ["sha256"], lambda: raw_upload(client, header, data, 300))
+    assert_rejected(client, scene_id, IA, ["header.sha256"], lambda: raw_upload(client, header, data, 300))
     assert "bad.stl" not in {f.path for f in client.get_scene(scene_id).files}
 
 
@@ -56,13 +56,13 @@ def test_wrong_sha256_is_rejected(client, scene_id):
 def test_total_size_mismatch_is_rejected(client, scene_id, size_delta):
     data = cube_stl()
     header = header_for(scene_id, "bad.stl", data, total_size=len(data) + size_delta)
-    assert_rejected(client, scene_id, IA, ["size"], lambda: raw_upload(client, header, data, 300))
+    assert_rejected(client, scene_id, IA, ["total_size"], lambda: raw_upload(client, header, data, 300))
 
 
 @pytest.mark.parametrize("path", ["../escape.stl", "/abs.stl", "", "a\\b.stl"])
 def test_bad_path_is_rejected(client, scene_id, path):
     data = cube_stl()
-    assert_rejected(client, scene_id, IA, ["path"], lambda: client.upload_file(scene_id, path, data))
+    assert_rejected(client, scene_id, IA, ["header.path"], lambda: client.upload_file(scene_id, path, data))
 
 
 def test_upload_above_max_upload_bytes(start_server):
@@ -71,6 +71,6 @@ def test_upload_above_max_upload_bytes(start_server):
         scene_id = client.create_scene("limit").id
         client.upload_file(scene_id, "small.bin", bytes(100000))
         data = np.random.default_rng(1).bytes(150000)
-        err = assert_rejected(client, scene_id, grpc.StatusCode.RESOURCE_EXHAUSTED, ["100000"],
+        err = assert_rejected(client, scene_id, grpc.StatusCode.RESOURCE_EXHAUSTED, ["header.total_size", "100000"],
                               lambda: client.upload_file(scene_id, "big.bin", data, chunk_size=32 << 10))
         assert "big.bin" not in {f.path for f in client.get_scene(scene_id).files}, str(err)

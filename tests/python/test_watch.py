@@ -61,13 +61,18 @@ class Watcher(threading.Thread):
         return any(r == revision for _, r, _ in self.received)
 
 
+# The never-reader's channel: a small stream window and no BDP probing, so that its flow-control window
+# fills after a few snapshots and the server must hold (and skip) further ones for it.
+STALLED_CHANNEL_OPTIONS = [("grpc.http2.bdp_probe", 0), ("grpc.http2.lookahead_bytes", 16384)]
+
+
 def test_many_watchers_and_one_that_never_reads(client, server, scene_id):
-    for i in range(200):  # ~13 kB snapshots: the never-reader's flow-control window fills after a few
+    for i in range(200):  # ~12 kB snapshots
         client.add_object(scene_id, f"ball{i:03d}", sphere=0.01, mass=0.01, pose=[0.01 * i, 0, 1, 1, 0, 0, 0])
-    with grpc.insecure_channel(server.address) as stalled_channel:
+    with grpc.insecure_channel(server.address, options=STALLED_CHANNEL_OPTIONS) as stalled_channel:
         stalled = scene_pb2_grpc.SceneServiceStub(stalled_channel).WatchScene(
             scene_pb2.WatchSceneRequest(scene_id=scene_id), timeout=120)
-        stalled.initial_metadata()  # the server has accepted the stream; it is never read from here on
+        stalled.initial_metadata()  # the server has accepted the stream; it is not read until the end
         watchers = [Watcher(client, scene_id) for _ in range(WATCHERS)]
         for w in watchers:
             w.start()
@@ -83,7 +88,14 @@ def test_many_watchers_and_one_that_never_reads(client, server, scene_id):
         for w in watchers:
             w.watch.cancel()
             w.join(10)
+        late = []
+        for snap in stalled:  # the slow reader catches up by skipping to the newest snapshot
+            late.append((snap.sequence, snap.revision))
+            if snap.revision == final:
+                break
         stalled.cancel()
+    assert late[-1][1] == final and len(late) < CHANGES, f"never-reader got {late}: queued, not skipped"
+    assert all(a[0] < b[0] for a, b in zip(late, late[1:])), f"never-reader sequences: {late}"
     for index, w in enumerate(watchers):
         assert w.error is None, f"watcher {index}: {w.error}"
         assert w.saw(final), f"watcher {index}: final revision {final} not seen; last {w.received[-1][:2]}"
@@ -91,4 +103,3 @@ def test_many_watchers_and_one_that_never_reads(client, server, scene_id):
         assert all(a < b for a, b in zip(sequences, sequences[1:])), f"watcher {index}: sequences {sequences}"
         revisions = [r for _, r, _ in w.received]
         assert revisions == sorted(revisions), f"watcher {index}: revisions went back: {revisions}"
-

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <assimp/Importer.hpp>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -118,7 +119,10 @@ TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std
                          aiProcess_ValidateDataStructure;  // rejects out-of-range indices of hostile files
   const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, extension.c_str());
   if (scene == nullptr || scene->mRootNode == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
-    const std::string reason = importer.GetErrorString();
+    // Assimp names a file read from memory "$$$___magic___$$$.<ext>"; the client knows it by its path.
+    std::string reason = importer.GetErrorString();
+    const std::string magic_name = AI_MEMORYIO_MAGIC_FILENAME "." + extension;
+    if (const size_t at = reason.find(magic_name); at != std::string::npos) reason.replace(at, magic_name.size(), path);
     ThrowInvalidArgument(field + ": mesh file '" + path + "' does not parse as ." + extension + ": " +
                          (reason.empty() ? "the file holds no scene" : reason));
   }

@@ -69,10 +69,12 @@ struct JointSpec {
   std::optional<MimicSpec> mimic;
 };
 
+// A pad's frame: origin at the centre of the sensing area on the surface it is mounted on; cols along x, rows
+// along y, the foam filling 0 <= z <= thickness and sensing along +z (toward what it touches).
 struct TactileArraySpec {
   std::string id;                 // "<robot>/<sensor>"
   std::string body_id;
-  Pose origin;                    // pad frame in the body frame: texels in x-y, sensing along +z
+  Pose origin;                    // pad frame in the body frame
   unsigned rows = 0, cols = 0;
   double pitch = 0;               // m
   double thickness = 0;           // m

@@ -1,6 +1,7 @@
 // URDF text → RobotDescription, with urdfdom for the standard elements and TinyXML for what urdfdom does not
 // report well: XML syntax errors (line and column), the shape of the kinematic tree (urdfdom silently keeps the
 // last of two parents and only says "not a valid tree" for a cycle), and graspsim's <tactile_array> elements.
+#include <algorithm>
 #include <charconv>
 #include <map>
 #include <memory>
@@ -25,7 +26,7 @@ namespace {
 
 // A link with neither inertial nor geometry is a frame (a tool point, a mounting flange). It gets the contract's
 // 1 g and the inertia of a 1 g solid sphere of 1 cm radius, 2/5 m r^2, so the body stays integrable.
-constexpr double kFrameLinkMass = 1e-3;                         // kg
+constexpr double kFrameLinkMass = 1e-3;                            // kg
 constexpr double kFrameLinkInertia = 0.4 * kFrameLinkMass * 1e-4;  // kg m^2
 // Far above any real tactile sensor; it only keeps a typo from allocating millions of texels downstream.
 constexpr unsigned kMaxTexelsPerSide = 1024;
@@ -47,13 +48,12 @@ class UrdfdomErrorCapture final : public console_bridge::OutputHandler {
  public:
   // Runs urdfdom; on return *errors holds every error it logged on this thread ("; "-separated).
   static urdf::ModelInterfaceSharedPtr Parse(const std::string& text, std::string* errors) {
-    static UrdfdomErrorCapture* const installed = new UrdfdomErrorCapture();  // process lifetime, never freed
-    (void)installed;
+    [[maybe_unused]] static UrdfdomErrorCapture* const installed = new UrdfdomErrorCapture();  // never freed
     thread_errors_ = errors;
     urdf::ModelInterfaceSharedPtr model;
     try {
       model = urdf::parseURDF(text);
-    } catch (const std::exception& e) {  // urdfdom throws for a few malformed attributes (e.g. version)
+    } catch (const std::exception& e) {  // urdfdom logs rather than throws, but nothing else may escape
       errors->append(errors->empty() ? e.what() : std::string("; ") + e.what());
     }
     thread_errors_ = nullptr;
@@ -105,44 +105,45 @@ std::string RequiredAttribute(const TiXmlElement& element, const char* attribute
   return value;
 }
 
-std::string LinkOfChild(const TiXmlElement& joint, const char* tag, const std::string& owner) {
+std::string LinkOf(const TiXmlElement& joint, const char* tag, const std::string& owner) {
   const TiXmlElement* element = joint.FirstChildElement(tag);
   if (element == nullptr) ThrowInvalidArgument("urdf: " + owner + " has no <" + tag + "> element");
   return RequiredAttribute(*element, "link", owner + " <" + tag + ">");
 }
 
-// One root, one parent per link, every link reachable: anything else is rejected naming the links involved.
+// One root, one parent per link, every link reachable from the root; anything else is rejected naming the links
+// and joints involved.
 TreeOrder CheckTree(const TiXmlElement& robot) {
-  std::set<std::string> links;
+  std::set<std::string> links, joint_names;
   for (const TiXmlElement* e = robot.FirstChildElement("link"); e != nullptr; e = e->NextSiblingElement("link")) {
     const std::string name = RequiredAttribute(*e, "name", "<link>");
     CheckName("urdf: link name", name);
     if (!links.insert(name).second) ThrowInvalidArgument("urdf: link " + Quoted(name) + " is defined twice");
   }
   if (links.empty()) ThrowInvalidArgument("urdf: the robot has no <link> element");
-
-  std::vector<JointEdge> edges;
-  std::map<std::string, const JointEdge*> parent_joint_of;  // child link → the joint that moves it
-  std::set<std::string> joint_names;
+  std::vector<JointEdge> joints;
   for (const TiXmlElement* e = robot.FirstChildElement("joint"); e != nullptr; e = e->NextSiblingElement("joint")) {
     const std::string name = RequiredAttribute(*e, "name", "<joint>");
     CheckName("urdf: joint name", name);
     if (!joint_names.insert(name).second) ThrowInvalidArgument("urdf: joint " + Quoted(name) + " is defined twice");
-    edges.push_back({name, LinkOfChild(*e, "parent", "joint " + Quoted(name)),
-                     LinkOfChild(*e, "child", "joint " + Quoted(name))});
+    const std::string owner = "joint " + Quoted(name);
+    joints.push_back({name, LinkOf(*e, "parent", owner), LinkOf(*e, "child", owner)});
   }
-  for (const JointEdge& edge : edges) {
-    for (const std::string* link : {&edge.parent, &edge.child}) {
+
+  std::map<std::string, const JointEdge*> parent_joint_of;  // link → the joint that moves it
+  std::multimap<std::string, const JointEdge*> child_joints_of;
+  for (const JointEdge& joint : joints) {
+    for (const std::string* link : {&joint.parent, &joint.child}) {
       if (links.count(*link) == 0) {
-        ThrowInvalidArgument("urdf: joint " + Quoted(edge.joint) + " names link " + Quoted(*link) +
+        ThrowInvalidArgument("urdf: joint " + Quoted(joint.joint) + " names link " + Quoted(*link) +
                              ", which is not defined");
       }
     }
-    const auto [it, inserted] = parent_joint_of.emplace(edge.child, &edge);
-    if (!inserted) {
-      ThrowInvalidArgument("urdf: link " + Quoted(edge.child) + " is the child of two joints, " +
-                           Quoted(it->second->joint) + " and " + Quoted(edge.joint));
+    if (const auto [it, inserted] = parent_joint_of.emplace(joint.child, &joint); !inserted) {
+      ThrowInvalidArgument("urdf: link " + Quoted(joint.child) + " is the child of two joints, " +
+                           Quoted(it->second->joint) + " and " + Quoted(joint.joint));
     }
+    child_joints_of.emplace(joint.parent, &joint);
   }
   std::vector<std::string> roots;
   for (const std::string& link : links) {
@@ -154,45 +155,27 @@ TreeOrder CheckTree(const TiXmlElement& robot) {
   }
 
   TreeOrder order;
-  std::multimap<std::string, const JointEdge*> children;
-  for (const JointEdge& edge : edges) children.emplace(edge.parent, &edge);
-  if (!roots.empty()) {
-    order.root = roots[0];
-    std::vector<const JointEdge*> pending;
-    order.links.push_back(order.root);
-    auto push_children = [&](const std::string& link) {
-      const auto [first, last] = children.equal_range(link);
-      for (auto it = std::make_reverse_iterator(last); it != std::make_reverse_iterator(first); ++it) {
-        pending.push_back(it->second);
-      }
-    };
-    push_children(order.root);
-    while (!pending.empty()) {
-      const JointEdge* edge = pending.back();
-      pending.pop_back();
-      order.links.push_back(edge->child);
-      order.joints.push_back(edge->joint);
-      push_children(edge->child);
+  if (!roots.empty()) order.root = roots[0];
+  for (std::vector<std::string> pending = roots; !pending.empty();) {  // depth first, without recursion
+    const std::string link = pending.back();
+    pending.pop_back();
+    order.links.push_back(link);
+    if (link != order.root) order.joints.push_back(parent_joint_of.at(link)->joint);
+    const auto [first, last] = child_joints_of.equal_range(link);
+    for (auto it = last; it != first;) pending.push_back((--it)->second->child);
+  }
+  if (order.links.size() < links.size()) {
+    // With one parent per link, walking up from a link the root does not reach must close a loop.
+    const std::set<std::string> reached(order.links.begin(), order.links.end());
+    std::string link = *std::find_if(links.begin(), links.end(), [&](const auto& l) { return !reached.count(l); });
+    for (std::set<std::string> seen; seen.insert(link).second;) link = parent_joint_of.at(link)->parent;
+    std::string cycle;
+    for (std::string at = link; cycle.empty() || at != link; at = parent_joint_of.at(at)->parent) {
+      cycle += (cycle.empty() ? "" : ", ") + Quoted(parent_joint_of.at(at)->joint);
     }
+    ThrowInvalidArgument("urdf: the joints " + cycle + " form a cycle; a URDF must be a tree");
   }
-  if (order.links.size() == links.size()) return order;
-
-  // With one parent per link, walking up from an unreachable link must come back to itself: that is the cycle.
-  std::set<std::string> reached(order.links.begin(), order.links.end());
-  std::string link;
-  for (const std::string& candidate : links) {
-    if (reached.count(candidate) == 0) link = candidate;
-  }
-  std::set<std::string> seen;
-  while (seen.insert(link).second) link = parent_joint_of.at(link)->parent;
-  std::string cycle;
-  const std::string start = link;
-  do {
-    const JointEdge* edge = parent_joint_of.at(link);
-    cycle += (cycle.empty() ? "" : ", ") + Quoted(edge->joint) + " (" + edge->parent + " -> " + edge->child + ")";
-    link = edge->parent;
-  } while (link != start);
-  ThrowInvalidArgument("urdf: the joints " + cycle + " form a cycle; a URDF must be a tree");
+  return order;
 }
 
 // ---- Links --------------------------------------------------------------------------------------------------
@@ -390,8 +373,8 @@ JointSpec ConvertJoint(const urdf::Joint& joint, const urdf::ModelInterface& mod
 
 // ---- graspsim's <tactile_array> extension --------------------------------------------------------------------
 
-// Parses whitespace-separated numbers; NaN and Inf parse, so CheckFinite can name them.
-std::vector<double> ParseNumbers(const std::string& field, const std::string& text) {
+// Parses exactly `count` whitespace-separated numbers. NaN and Inf parse, so CheckFinite can name them.
+std::vector<double> ParseNumbers(const std::string& field, const std::string& text, size_t count) {
   std::vector<double> numbers;
   std::istringstream words(text);
   for (std::string word; words >> word;) {
@@ -403,20 +386,10 @@ std::vector<double> ParseNumbers(const std::string& field, const std::string& te
     CheckFinite(field, value);
     numbers.push_back(value);
   }
+  if (numbers.size() != count) {
+    ThrowInvalidArgument(field + ": " + Quoted(text) + " is not " + std::to_string(count) + " number(s)");
+  }
   return numbers;
-}
-
-double ParseOneNumber(const std::string& field, const std::string& text) {
-  const std::vector<double> numbers = ParseNumbers(field, text);
-  if (numbers.size() != 1) ThrowInvalidArgument(field + ": " + Quoted(text) + " is not one number");
-  return numbers[0];
-}
-
-Vec3 ParseVector(const std::string& field, const char* text) {
-  if (text == nullptr) return Vec3::Zero();
-  const std::vector<double> numbers = ParseNumbers(field, text);
-  if (numbers.size() != 3) ThrowInvalidArgument(field + ": " + Quoted(text) + " is not three numbers");
-  return Vec3(numbers[0], numbers[1], numbers[2]);
 }
 
 unsigned ParseTexelCount(const std::string& field, const std::string& text) {
@@ -445,14 +418,19 @@ std::vector<TactileArraySpec> ParseTactileArrays(const TiXmlElement& robot, cons
     }
     spec.rows = ParseTexelCount(field + " rows", RequiredAttribute(*e, "rows", field));
     spec.cols = ParseTexelCount(field + " cols", RequiredAttribute(*e, "cols", field));
-    spec.pitch = ParseOneNumber(field + " pitch (m)", RequiredAttribute(*e, "pitch", field));
+    spec.pitch = ParseNumbers(field + " pitch (m)", RequiredAttribute(*e, "pitch", field), 1)[0];
     CheckPositive(field + " pitch (m)", spec.pitch);
-    spec.thickness = ParseOneNumber(field + " thickness (m)", RequiredAttribute(*e, "thickness", field));
+    spec.thickness = ParseNumbers(field + " thickness (m)", RequiredAttribute(*e, "thickness", field), 1)[0];
     CheckPositive(field + " thickness (m)", spec.thickness);
     if (const TiXmlElement* origin = e->FirstChildElement("origin"); origin != nullptr) {
-      const Vec3 rpy = ParseVector(field + " origin rpy", origin->Attribute("rpy"));
-      spec.origin.position = ParseVector(field + " origin xyz", origin->Attribute("xyz"));
-      spec.origin.orientation = QuatFromRpy(rpy.x(), rpy.y(), rpy.z());
+      const auto vector = [&](const char* attribute) {
+        const char* text = origin->Attribute(attribute);
+        if (text == nullptr) return Vec3::Zero().eval();
+        const std::vector<double> v = ParseNumbers(field + " origin " + attribute, text, 3);
+        return Vec3(v[0], v[1], v[2]);
+      };
+      const Vec3 rpy = vector("rpy");
+      spec.origin = {vector("xyz"), QuatFromRpy(rpy.x(), rpy.y(), rpy.z())};
     }
     arrays.push_back(std::move(spec));
   }
@@ -485,9 +463,19 @@ RobotDescription LoadUrdf(const std::string& urdf_text, const FileLookup& files,
   description.name = model->getName();
   description.root_link = order.root;
   MeshSource meshes(files, limits);
-  for (const std::string& link : order.links) description.links.push_back(ConvertLink(*model->getLink(link), &meshes));
+  // urdfdom and CheckTree read the same elements, so a name missing from urdfdom's model is a bug, not bad input.
+  const auto missing = [](const std::string& what) {
+    return Error(ErrorCode::kInternal, "urdf: urdfdom's model has no " + what);
+  };
+  for (const std::string& link : order.links) {
+    const urdf::LinkConstSharedPtr parsed = model->getLink(link);
+    if (parsed == nullptr) throw missing("link " + Quoted(link));
+    description.links.push_back(ConvertLink(*parsed, &meshes));
+  }
   for (const std::string& joint : order.joints) {
-    description.joints.push_back(ConvertJoint(*model->getJoint(joint), *model));
+    const urdf::JointConstSharedPtr parsed = model->getJoint(joint);
+    if (parsed == nullptr) throw missing("joint " + Quoted(joint));
+    description.joints.push_back(ConvertJoint(*parsed, *model));
   }
   description.tactile_arrays =
       ParseTactileArrays(*robot, std::set<std::string>(order.links.begin(), order.links.end()));
