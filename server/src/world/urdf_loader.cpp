@@ -18,6 +18,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "core/validate.h"
 #include "world/loaders.h"
 
@@ -42,8 +43,8 @@ std::string Quoted(const std::string& name) { return "'" + name + "'"; }
 
 // urdfdom explains why it rejected a file only through console_bridge's log, and it even returns a model after
 // logging some errors (a collision element it could not parse is dropped). This handler records the error
-// messages of the parse running on the current thread and forwards every message to the handler installed
-// before it, so the server log still shows them.
+// messages of the parse running on the current thread and forwards every message to the server's structured
+// log at debug level (the caller gets the errors in its status; console output would break the log's format).
 class UrdfdomErrorCapture final : public console_bridge::OutputHandler {
  public:
   // Runs urdfdom; on return *errors holds every error it logged on this thread ("; "-separated).
@@ -64,13 +65,12 @@ class UrdfdomErrorCapture final : public console_bridge::OutputHandler {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && thread_errors_ != nullptr) {
       thread_errors_->append(thread_errors_->empty() ? text : "; " + text);
     }
-    if (previous_ != nullptr) previous_->log(text, level, filename, line);
+    Log(LogLevel::kDebug, "urdfdom", {{"text", text}, {"source", std::string(filename) + ":" + std::to_string(line)}});
   }
 
  private:
-  UrdfdomErrorCapture() : previous_(console_bridge::getOutputHandler()) { console_bridge::useOutputHandler(this); }
+  UrdfdomErrorCapture() { console_bridge::useOutputHandler(this); }
 
-  console_bridge::OutputHandler* const previous_;
   static thread_local std::string* thread_errors_;
 };
 

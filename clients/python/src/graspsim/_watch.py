@@ -46,11 +46,11 @@ class Snapshot:
                    list(msg.joint_ids), joints)
 
     def pose(self, body_id: str) -> Pose:
-        """The world pose of one body (KeyError-like ValueError if absent)."""
+        """The world pose of one body; ValueError if the snapshot does not hold it."""
         return Pose.from_array(self.poses[self.body_ids.index(body_id)])
 
     def joint_position(self, joint_id: str) -> float:
-        """The position of one joint, rad or m."""
+        """The position of one joint, rad or m; ValueError if the snapshot does not hold it."""
         return float(self.joint_positions[self.joint_ids.index(joint_id)])
 
 
