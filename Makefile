@@ -2,6 +2,8 @@
 # Everything is installed by deploy/install-deps.sh (Debian packages) and pip (into build/venv).
 # A second run of either is quick and quiet: every step skips what is already done.
 
+SHELL := /bin/bash
+.SHELLFLAGS := -o pipefail -c
 BUILD := build
 VENV := $(BUILD)/venv
 PYTHON := $(VENV)/bin/python
@@ -21,7 +23,7 @@ $(BUILD)/build.ninja: CMakeLists.txt | deps
 	  || (cat $(BUILD)/cmake-configure.log; exit 1)
 
 build: deps $(BUILD)/build.ninja
-	@ninja -C $(BUILD) --quiet
+	@ninja -C $(BUILD) --quiet | sed '/^ninja: no work to do\.$$/d' 
 
 $(VENV)/.installed: $(PROTOS) $(CLIENT_FILES) | deps
 	@test -x $(PYTHON) || python3 -m venv $(VENV)

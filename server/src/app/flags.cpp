@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/format.h"
 
 namespace graspsim {
 namespace {
@@ -17,12 +18,6 @@ struct FlagSpec {
   std::function<std::string(const ServerFlags&)> show;
   std::function<void(const std::string&, ServerFlags*)> set;
 };
-
-std::string FormatNumber(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
 
 uint64_t ParseCount(const std::string& flag, const std::string& text, uint64_t min) {
   size_t used = 0;

@@ -1,21 +1,16 @@
 #include "core/validate.h"
 
 #include <cmath>
-#include <sstream>
 
 #include <Eigen/Eigenvalues>
 
 #include "core/error.h"
+#include "core/format.h"
 
 namespace graspsim {
 namespace {
 
-std::string Format(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
+std::string Format(double value) { return FormatNumber(value); }
 
 std::string Format(const Vec3& v) { return "(" + Format(v.x()) + ", " + Format(v.y()) + ", " + Format(v.z()) + ")"; }
 

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/validate.h"
 
 namespace graspsim::rpc {
@@ -41,8 +42,8 @@ Material MaterialFromProto(const std::string& field, const v1::Material& materia
   CheckNonNegative(field + ".dynamic_friction", material.dynamic_friction());
   CheckNonNegative(field + ".static_friction", material.static_friction());
   if (material.static_friction() < material.dynamic_friction()) {
-    ThrowInvalidArgument(field + ": static_friction " + std::to_string(material.static_friction()) +
-                         " is below dynamic_friction " + std::to_string(material.dynamic_friction()));
+    ThrowInvalidArgument(field + ": static_friction " + FormatNumber(material.static_friction()) +
+                         " is below dynamic_friction " + FormatNumber(material.dynamic_friction()));
   }
   return {material.static_friction(), material.dynamic_friction()};
 }

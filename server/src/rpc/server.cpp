@@ -6,6 +6,7 @@
 #include <grpcpp/health_check_service_interface.h>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/log.h"
 #include "rpc/scene_service.h"
 #include "rpc/unimplemented_services.h"
@@ -39,7 +40,7 @@ GraspsimServer::~GraspsimServer() { Shutdown(); }
 
 void GraspsimServer::Shutdown() {
   if (!server_) return;
-  Log(LogLevel::kInfo, "draining", {{"timeout_s", std::to_string(options_.drain_timeout_s)}});
+  Log(LogLevel::kInfo, "draining", {{"timeout_s", FormatNumber(options_.drain_timeout_s)}});
   server_->GetHealthCheckService()->Shutdown();
   // Watch streams never end by themselves: end them first so that draining waits only for real work.
   registry_.CloseAllWatchers("the server is shutting down");

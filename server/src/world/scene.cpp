@@ -4,6 +4,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/validate.h"
 
 namespace graspsim {
@@ -253,8 +254,8 @@ uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, doubl
     const bool limited = joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic;
     const double q = state.joint_positions[j];
     if (limited && (q < joint.lower - 1e-12 || q > joint.upper + 1e-12)) {
-      ThrowInvalidArgument("positions[" + joint.id + "].position: " + std::to_string(q) + " is outside the limits [" +
-                           std::to_string(joint.lower) + ", " + std::to_string(joint.upper) + "] of joint " +
+      ThrowInvalidArgument("positions[" + joint.id + "].position: " + FormatNumber(q) + " is outside the limits [" +
+                           FormatNumber(joint.lower) + ", " + FormatNumber(joint.upper) + "] of joint " +
                            Quoted(joint.id));
     }
   }

@@ -6,7 +6,6 @@
 #include <map>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -18,6 +17,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/log.h"
 #include "core/validate.h"
 #include "world/loaders.h"
@@ -32,12 +32,7 @@ constexpr double kFrameLinkInertia = 0.4 * kFrameLinkMass * 1e-4;  // kg m^2
 // Far above any real tactile sensor; it only keeps a typo from allocating millions of texels downstream.
 constexpr unsigned kMaxTexelsPerSide = 1024;
 
-std::string Format(double value) {
-  std::ostringstream out;
-  out.precision(12);
-  out << value;
-  return out.str();
-}
+std::string Format(double value) { return FormatNumber(value); }
 
 std::string Quoted(const std::string& name) { return "'" + name + "'"; }
 
@@ -443,8 +438,11 @@ RobotDescription LoadUrdf(const std::string& urdf_text, const FileLookup& files,
   TiXmlDocument document;
   document.Parse(urdf_text.c_str());
   if (document.Error()) {
-    ThrowInvalidArgument("urdf: XML error at line " + std::to_string(document.ErrorRow()) + " column " +
-                         std::to_string(document.ErrorCol()) + ": " + document.ErrorDesc());
+    // TinyXML reports row 0 when it cannot place the error (e.g. text that is not XML at all).
+    const std::string where = document.ErrorRow() > 0 ? " at line " + std::to_string(document.ErrorRow()) +
+                                                            " column " + std::to_string(document.ErrorCol())
+                                                      : "";
+    ThrowInvalidArgument("urdf: XML error" + where + ": " + document.ErrorDesc());
   }
   const TiXmlElement* robot = document.RootElement();
   if (robot == nullptr || robot->ValueStr() != "robot") {
