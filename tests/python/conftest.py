@@ -42,9 +42,13 @@ class ServerProcess:
         self.flags = list(flags)
         self.port = free_port()
         self.address = f"127.0.0.1:{self.port}"
+        # Each server gets its own HTTP port too, so that several can run at once.
+        self.http_port = free_port()
+        self.http_url = f"http://127.0.0.1:{self.http_port}"
         self.log_path = log_dir / f"graspsim-server-{self.port}.log"
         with open(self.log_path, "wb") as log:
-            self.process = subprocess.Popen([str(server_binary()), f"--listen={self.address}", *self.flags],
+            self.process = subprocess.Popen([str(server_binary()), f"--listen={self.address}",
+                                             f"--http-listen=127.0.0.1:{self.http_port}", *self.flags],
                                             stdout=log, stderr=subprocess.STDOUT)
         self._wait_serving()
 

@@ -52,6 +52,20 @@ const std::vector<FlagSpec>& Specs() {
       {"listen", "address to serve gRPC on, host:port (port 0 = any free port)",
        [](const ServerFlags& f) { return f.server.listen; },
        [](const std::string& v, ServerFlags* f) { f->server.listen = v; }},
+      {"http-listen", "address of the HTTP/JSON gateway (POST /v1/<Service>/<Method>), host:port, or off",
+       [](const ServerFlags& f) { return f.server.http_enabled ? f.server.http.listen : std::string("off"); },
+       [](const std::string& v, ServerFlags* f) {
+         f->server.http_enabled = v != "off";
+         if (f->server.http_enabled) f->server.http.listen = v;
+       }},
+      {"http-threads", "HTTP requests served at once (each open event stream holds one)",
+       [](const ServerFlags& f) { return std::to_string(f.server.http.threads); },
+       [](const std::string& v, ServerFlags* f) {
+         f->server.http.threads = static_cast<int>(std::min<uint64_t>(ParseCount("http-threads", v, 1), 4096));
+       }},
+      {"http-max-body-bytes", "largest HTTP request body, bytes",
+       [](const ServerFlags& f) { return std::to_string(f.server.http.max_body_bytes); },
+       [](const std::string& v, ServerFlags* f) { f->server.http.max_body_bytes = ParseCount("http-max-body-bytes", v, 1); }},
       {"log-level", "debug (one line per request), info, warn or error",
        [](const ServerFlags&) { return std::string("info"); },
        [](const std::string& v, ServerFlags* f) {

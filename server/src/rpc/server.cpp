@@ -34,6 +34,11 @@ GraspsimServer::GraspsimServer(const ServerOptions& options) : options_(options)
     throw Error(ErrorCode::kFailedPrecondition, "--listen: cannot listen on '" + options.listen + "'");
   }
   Log(LogLevel::kInfo, "listening", {{"address", options.listen}, {"port", std::to_string(port_)}});
+  if (options.http_enabled) {
+    grpc::ChannelArguments arguments;
+    arguments.SetMaxReceiveMessageSize(-1);  // the server's own limits apply; the gateway adds none
+    http_ = std::make_unique<HttpGateway>(server_->InProcessChannel(arguments), options.http);
+  }
 }
 
 GraspsimServer::~GraspsimServer() { Shutdown(); }
@@ -44,6 +49,7 @@ void GraspsimServer::Shutdown() {
   server_->GetHealthCheckService()->Shutdown();
   // Watch streams never end by themselves: end them first so that draining waits only for real work.
   registry_.CloseAllWatchers("the server is shutting down");
+  if (http_) http_->Stop();  // waits for HTTP requests in flight; they still reach the running gRPC server
   const auto deadline =
       std::chrono::system_clock::now() + std::chrono::duration<double>(options_.drain_timeout_s);
   server_->Shutdown(std::chrono::time_point_cast<std::chrono::system_clock::duration>(deadline));

@@ -7,6 +7,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "core/limits.h"
+#include "rpc/http_gateway.h"
 #include "world/scene_registry.h"
 
 namespace graspsim::rpc {
@@ -17,6 +18,8 @@ struct ServerOptions {
   double watch_max_rate_hz = 60;
   double drain_timeout_s = 10;
   Limits limits;
+  bool http_enabled = true;
+  HttpGatewayOptions http;
 };
 
 class GraspsimServer {
@@ -26,6 +29,7 @@ class GraspsimServer {
   ~GraspsimServer();
 
   int port() const { return port_; }
+  int http_port() const { return http_ ? http_->port() : 0; }
   // Ends watcher streams, lets in-flight requests finish within drain_timeout_s, then stops.
   void Shutdown();
 
@@ -34,6 +38,7 @@ class GraspsimServer {
   SceneRegistry registry_;
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> server_;
+  std::unique_ptr<HttpGateway> http_;
   int port_ = 0;
 };
 
