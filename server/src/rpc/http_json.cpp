@@ -9,6 +9,11 @@
 #include <google/protobuf/util/json_util.h>
 
 #include "core/error.h"
+#include "graspsim/v1/gateway.pb.h"
+#include "graspsim/v1/grasp.pb.h"
+#include "graspsim/v1/perception.pb.h"
+#include "graspsim/v1/scene.pb.h"
+#include "graspsim/v1/tactile.pb.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -33,10 +38,18 @@ const char* kStatusNames[] = {"OK",
                               "DATA_LOSS",
                               "UNAUTHENTICATED"};
 
-// The services a client may reach over HTTP: those of the API, not health or reflection.
-constexpr char kApiPackage[] = "graspsim.v1";
-constexpr const char* kServices[] = {"SceneService", "PerceptionService", "GraspService", "TactileService",
-                                     "GatewayService"};
+// The services a client may reach over HTTP: those of the API, not health or reflection. Each is taken from
+// its .proto file through one of its messages, which also links that file's descriptors into any binary.
+const std::vector<const pb::ServiceDescriptor*>& ApiServices() {
+  static const std::vector<const pb::ServiceDescriptor*> services = {
+      v1::CreateSceneRequest::descriptor()->file()->service(0),
+      v1::CompleteShapeRequest::descriptor()->file()->service(0),
+      v1::PlanGraspsRequest::descriptor()->file()->service(0),
+      v1::SampleRequest::descriptor()->file()->service(0),
+      v1::ListDevicesRequest::descriptor()->file()->service(0),
+  };
+  return services;
+}
 
 std::unique_ptr<pb::Message> NewMessage(const pb::Descriptor* type) {
   return std::unique_ptr<pb::Message>(pb::MessageFactory::generated_factory()->GetPrototype(type)->New());
@@ -121,10 +134,10 @@ pb::Message* ParseRequest(const pb::Descriptor* type, const std::string& json, c
 }  // namespace
 
 const pb::MethodDescriptor& FindMethod(const std::string& full_service, const std::string& method) {
-  const pb::ServiceDescriptor* service = pb::DescriptorPool::generated_pool()->FindServiceByName(full_service);
-  const pb::MethodDescriptor* found = service && service->file()->package() == kApiPackage
-                                          ? service->FindMethodByName(method)
-                                          : nullptr;
+  const pb::MethodDescriptor* found = nullptr;
+  for (const pb::ServiceDescriptor* service : ApiServices()) {
+    if (service->full_name() == full_service) found = service->FindMethodByName(method);
+  }
   if (!found) ThrowNotFound("path: no method " + full_service + "/" + method + " (GET /v1 lists them)");
   return *found;
 }
@@ -209,13 +222,9 @@ int HttpStatusFor(grpc::StatusCode code) {
 
 std::string ListMethodsJson() {
   std::string out = "{\"services\":[";
-  bool first_service = true;
-  for (const char* name : kServices) {
-    const pb::ServiceDescriptor* service =
-        pb::DescriptorPool::generated_pool()->FindServiceByName(std::string(kApiPackage) + "." + name);
-    if (!service) continue;
-    out += std::string(first_service ? "" : ",") + "{\"name\":\"" + service->full_name() + "\",\"methods\":[";
-    first_service = false;
+  for (const pb::ServiceDescriptor* service : ApiServices()) {
+    out += std::string(service == ApiServices().front() ? "" : ",") + "{\"name\":\"" + service->full_name() +
+           "\",\"methods\":[";
     for (int m = 0; m < service->method_count(); ++m) {
       const pb::MethodDescriptor* method = service->method(m);
       out += std::string(m ? "," : "") + "{\"name\":\"" + method->name() + "\",\"input\":\"" +
