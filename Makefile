@@ -11,7 +11,7 @@ SERVER := $(BUILD)/bin/graspsim-server
 PROTOS := $(wildcard proto/graspsim/v1/*.proto)
 CLIENT_FILES := clients/python/pyproject.toml clients/python/setup.py
 
-.PHONY: all deps build python demo test test-cpp test-python clean
+.PHONY: all deps build python demo test test-cpp test-python test-matlab clean
 all: build python
 
 deps:
@@ -41,7 +41,10 @@ test-cpp: build
 test-python: build python
 	@GRASPSIM_SERVER=$(abspath $(SERVER)) $(PYTHON) -m pytest -q tests/python
 
-test: test-cpp test-python
+test-matlab: build
+	@GRASPSIM_SERVER=$(abspath $(SERVER)) tests/matlab/run.sh
+
+test: test-cpp test-python test-matlab
 
 clean:
 	rm -rf $(BUILD)
