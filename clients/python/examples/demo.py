@@ -2,12 +2,15 @@
 """graspsim demo: a Schunk PG70 gripper above a 5 cm cube on a table.
 
 Stages: list the built-in models, build the scene, open the gripper, then print what the server holds
-(bodies, joints, tactile arrays, one live snapshot). Exits non-zero on any error.
+(bodies, joints, tactile arrays, one live snapshot), and read the same scene through the HTTP/JSON gateway
+that Matlab and browsers use. Exits non-zero on any error.
 
-    python3 demo.py --server 127.0.0.1:50051
+    python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080
 """
 import argparse
+import json
 import sys
+import urllib.request
 
 import numpy as np
 
@@ -83,9 +86,23 @@ def print_snapshot(client: graspsim.Client, scene_id: str) -> None:
         print(f"  {joint_id:<24} {value:.4f}")
 
 
+def read_over_http(http_url: str, scene_id: str) -> None:
+    """The gateway serves every RPC as JSON: the same scene, as a Matlab or browser client sees it."""
+    with urllib.request.urlopen(f"{http_url}/v1", timeout=10) as response:
+        methods = sum(len(service["methods"]) for service in json.load(response)["services"])
+    request = urllib.request.Request(f"{http_url}/v1/SceneService/GetScene",
+                                     data=json.dumps({"scene_id": scene_id}).encode(),
+                                     headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(request, timeout=10) as response:
+        summary = json.load(response)["summary"]
+    print(f"\nHTTP gateway {http_url}: {methods} methods; POST /v1/SceneService/GetScene -> "
+          f"{summary['body_count']} bodies, {summary['robot_count']} robot, revision {summary['revision']}")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--server", default="127.0.0.1:50051", help="host:port of graspsim-server")
+    parser.add_argument("--http", default="http://127.0.0.1:8080", help="URL of the server's HTTP/JSON gateway")
     parser.add_argument("--keep", action="store_true", help="keep the scene on the server (default: delete it)")
     args = parser.parse_args(argv)
     try:
@@ -99,9 +116,10 @@ def main(argv=None) -> int:
             print_joints(scene)
             print_tactile_arrays(scene)
             print_snapshot(client, scene_id)
+            read_over_http(args.http, scene_id)
             if not args.keep:
                 client.delete_scene(scene_id)
-    except graspsim.GraspsimError as err:
+    except (graspsim.GraspsimError, OSError) as err:
         print(f"demo failed: {err}", file=sys.stderr)
         return 1
     return 0
