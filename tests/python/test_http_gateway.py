@@ -100,6 +100,20 @@ def test_errors_carry_code_message_and_http_status_and_change_nothing(server, cl
     assert status == 501 and "bidirectional" in json.loads(text)["message"]
 
 
+def test_large_form_bodies_are_accepted(server, client, scene_id):
+    """Octave sends every request as a form; a mesh of ~3000 triangles is a ~77 kB payload (httplib alone: 8 kB)."""
+    vertices, triangles = meshes.uv_sphere(0.03, 40, 40)
+    packed = meshes.pack_mesh(vertices, triangles)
+    request = {"scene_id": scene_id, "name": "ball",
+               "geometry": {"mesh": {"vertices": base64.b64encode(packed.vertices).decode(),
+                                     "triangles": base64.b64encode(packed.triangles).decode()}},
+               "inertial": {"mass": 0.1, "ixx": 3.6e-5, "iyy": 3.6e-5, "izz": 3.6e-5}}
+    assert len(urllib.parse.urlencode({"payload": json.dumps(request)})) > 50_000
+    body = call(server, "SceneService/AddObject", request, form=True, query="envelope=1")
+    assert body["code"] == 0, body
+    assert body["response"]["triangle_count"] == len(triangles)
+
+
 def test_envelope_answers_200_with_the_status_inside(server, scene_id):
     ok = call(server, "SceneService/GetScene", {"scene_id": scene_id}, query="envelope=1", form=True)
     assert (ok["code"], ok["status"]) == (0, "OK") and ok["response"]["summary"]["id"] == scene_id

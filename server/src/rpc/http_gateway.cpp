@@ -116,11 +116,21 @@ struct HttpGateway::Impl {
     server.Get("/v1", [](const httplib::Request&, httplib::Response& res) {
       res.set_content(ListMethodsJson(), "application/json");
     });
+    // The body is read here rather than by httplib, which refuses form bodies above 8 KiB (its
+    // CPPHTTPLIB_FORM_URL_ENCODED_PAYLOAD_MAX_LENGTH, compiled into Debian's library) — and Octave sends every
+    // request as a form. set_payload_max_length still bounds every body.
     server.Post(R"(/v1/([A-Za-z0-9_.]+)/([A-Za-z0-9_]+))",
-                [this](const httplib::Request& req, httplib::Response& res) { HandleCall(req, res); });
+                [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& read) {
+                  std::string body;
+                  read([&body](const char* data, size_t length) {
+                    body.append(data, length);
+                    return true;
+                  });
+                  HandleCall(req, body, res);
+                });
   }
 
-  void HandleCall(const httplib::Request& req, httplib::Response& res);
+  void HandleCall(const httplib::Request& req, const std::string& body, httplib::Response& res);
   void Stream(std::shared_ptr<GenericCall> call, const pb::MethodDescriptor& method, const CallOptions& options,
               httplib::Response& res);
 
@@ -130,7 +140,7 @@ struct HttpGateway::Impl {
   int port = 0;
 };
 
-void HttpGateway::Impl::HandleCall(const httplib::Request& req, httplib::Response& res) {
+void HttpGateway::Impl::HandleCall(const httplib::Request& req, const std::string& body, httplib::Response& res) {
   CallOptions options;
   options.envelope = req.get_param_value("envelope") == "1" || req.get_param_value("envelope") == "true";
   try {
@@ -158,7 +168,7 @@ void HttpGateway::Impl::HandleCall(const httplib::Request& req, httplib::Respons
     }
     // Credentials travel as they would over gRPC, for the one interceptor that checks them.
     if (req.has_header("Authorization")) context->AddMetadata("authorization", req.get_header_value("Authorization"));
-    const std::vector<grpc::ByteBuffer> requests = RequestsFromHttp(method, req.get_header_value("Content-Type"), req.body);
+    const std::vector<grpc::ByteBuffer> requests = RequestsFromHttp(method, req.get_header_value("Content-Type"), body);
 
     auto call = std::make_shared<GenericCall>(&stub, "/" + service + "/" + method.name(), std::move(context));
     call->SendAll(requests);

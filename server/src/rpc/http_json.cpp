@@ -144,9 +144,10 @@ const pb::MethodDescriptor& FindMethod(const std::string& full_service, const st
 
 std::vector<grpc::ByteBuffer> RequestsFromHttp(const pb::MethodDescriptor& method, std::string_view content_type,
                                                const std::string& body) {
-  // curl -d and similar tools label a raw JSON body as a form: take a body that starts like JSON as JSON.
+  // curl -d and similar tools label a raw JSON body as a form: take a body that starts like JSON as JSON, and
+  // an empty body as the empty message.
   const size_t start = body.find_first_not_of(" \t\r\n");
-  const bool looks_like_json = start != std::string::npos && (body[start] == '{' || body[start] == '[');
+  const bool looks_like_json = start == std::string::npos || body[start] == '{' || body[start] == '[';
   const bool form = content_type.starts_with("application/x-www-form-urlencoded") && !looks_like_json;
   std::string json = form ? FormPayload(body) : body;
   if (json.find_first_not_of(" \t\r\n") == std::string::npos) json = method.client_streaming() ? "[]" : "{}";

@@ -66,6 +66,8 @@ TEST(HttpJson, FormPayloadIsDecoded) {
 TEST(HttpJson, EmptyBodyIsTheEmptyMessage) {
   const auto& method = FindMethod("graspsim.v1.SceneService", "ListScenes");
   EXPECT_EQ(RequestsFromHttp(method, "application/json", "").size(), 1u);
+  EXPECT_EQ(RequestsFromHttp(method, "application/x-www-form-urlencoded", "").size(), 1u);  // curl -d ''
+
   EXPECT_TRUE(RequestsFromHttp(FindMethod("graspsim.v1.SceneService", "UploadFile"), "", " ").empty());
 }
 

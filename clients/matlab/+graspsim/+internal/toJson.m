@@ -9,20 +9,20 @@ if isstruct(value)
     names = fieldnames(value);
     parts = cell(1, numel(names));
     for k = 1:numel(names)
-      parts{k} = [jsonString(names{k}) ':' toJson(value.(names{k}))];
+      parts{k} = [jsonString(names{k}) ':' graspsim.internal.toJson(value.(names{k}))];
     end
     text = ['{' strjoin(parts, ',') '}'];
   else
     parts = cell(1, numel(value));
     for k = 1:numel(value)
-      parts{k} = toJson(value(k));
+      parts{k} = graspsim.internal.toJson(value(k));
     end
     text = ['[' strjoin(parts, ',') ']'];
   end
 elseif iscell(value)
   parts = cell(1, numel(value));
   for k = 1:numel(value)
-    parts{k} = toJson(value{k});
+    parts{k} = graspsim.internal.toJson(value{k});
   end
   text = ['[' strjoin(parts, ',') ']'];
 elseif ischar(value)
@@ -35,7 +35,7 @@ elseif islogical(value) || isnumeric(value)
   else
     rows = cell(1, size(value, 1));
     for r = 1:size(value, 1)
-      rows{r} = toJson(value(r, :));
+      rows{r} = graspsim.internal.toJson(value(r, :));
     end
     text = ['[' strjoin(rows, ',') ']'];
   end
@@ -81,7 +81,7 @@ function text = jsonString(s)
 % code units, which are escaped as \uXXXX above 126 so that the body is plain ASCII.
 s = s(:).';
 codes = double(s);
-special = codes < 32 | codes == 34 | codes == 92 | (codes > 126 & ~isOctave());
+special = codes < 32 | codes == 34 | codes == 92 | (codes > 126 & ~graspsim.internal.isOctave());
 if ~any(special)
   text = ['"' s '"'];
   return;

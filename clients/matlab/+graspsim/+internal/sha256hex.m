@@ -1,7 +1,7 @@
 function hex = sha256hex(bytes)
 %SHA256HEX Lowercase hex SHA-256 of a uint8 array: Octave's hash(), else Java's MessageDigest (MATLAB).
 bytes = reshape(uint8(bytes), 1, []);
-if isOctave()
+if graspsim.internal.isOctave()
   hex = lower(hash('sha256', char(bytes)));
   return;
 end

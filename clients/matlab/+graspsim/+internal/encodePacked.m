@@ -6,5 +6,5 @@ values = cast(reshape(values.', 1, []), type);
 if endian == 'B'
   values = swapbytes(values);
 end
-text = encodeBytes(typecast(values, 'uint8'));
+text = graspsim.internal.encodeBytes(typecast(values, 'uint8'));
 end

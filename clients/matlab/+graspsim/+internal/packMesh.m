@@ -13,5 +13,6 @@ t = double(triangles);
 if any(t(:) < 0 | t(:) ~= round(t(:)) | t(:) > 4294967295)
   error('graspsim:badArgument', 'Triangles must hold 0-based vertex indices (integers >= 0)');
 end
-msg = struct('vertices', encodePacked(vertices, 'single'), 'triangles', encodePacked(t, 'uint32'));
+msg = struct('vertices', graspsim.internal.encodePacked(vertices, 'single'), ...
+             'triangles', graspsim.internal.encodePacked(t, 'uint32'));
 end

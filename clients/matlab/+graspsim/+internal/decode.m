@@ -1,0 +1,259 @@
+function out = decode(type, value)
+%DECODE MATLAB values of API messages as jsondecode gives them: an N-by-1 struct array with camelCase fields,
+%   numbers as double, poses 1-by-7, packed arrays as numeric arrays.
+%   type is the message name: 'SceneSummary', 'Body', 'Geometry', 'Joint', 'Robot', 'TactileArray',
+%   'FileInfo', 'BuiltinModel', 'BodyPose', 'JointPosition' or 'SceneSnapshot'. value is one decoded message
+%   (struct) or a decoded JSON array of them (struct array, cell array, or [] when empty: 0-by-1 result).
+%   Absent fields take their protobuf defaults, so struct() gives the default message.
+convert = converter(type);
+list = items(value);
+out = repmat(convert(struct()), 0, 1);
+for k = 1:numel(list)
+  out(k, 1) = convert(list{k});
+end
+end
+
+function convert = converter(type)
+switch type
+  case 'SceneSummary', convert = @sceneSummary;
+  case 'Body', convert = @body;
+  case 'Geometry', convert = @geometry;
+  case 'Joint', convert = @joint;
+  case 'Robot', convert = @robot;
+  case 'TactileArray', convert = @tactileArray;
+  case 'FileInfo', convert = @fileInfo;
+  case 'BuiltinModel', convert = @builtinModel;
+  case 'BodyPose', convert = @bodyPose;
+  case 'JointPosition', convert = @jointPosition;
+  case 'SceneSnapshot', convert = @sceneSnapshot;
+  otherwise, error('graspsim:badArgument', 'decode: unknown message type %s', type);
+end
+end
+
+% --- messages ---------------------------------------------------------------------------------------------
+
+function out = sceneSummary(msg)
+% id, name, bodyCount, robotCount, revision, time (s).
+out = struct('id', field(msg, 'id', ''), 'name', field(msg, 'name', ''), ...
+             'bodyCount', number(field(msg, 'body_count', 0)), 'robotCount', number(field(msg, 'robot_count', 0)), ...
+             'revision', number(field(msg, 'revision', 0)), 'time', number(field(msg, 'time', 0)));
+end
+
+function out = body(msg)
+% id, robotId, motion ('static', 'free', 'articulated'), pose 1-by-7 (world), mass (kg), centerOfMass 1-by-3
+% (m, body frame), inertia 3-by-3 (kg m^2 about the centre of mass), friction [static dynamic],
+% triangleCount, collision (Geometry array).
+inertial = field(msg, 'inertial', struct());
+material = field(msg, 'material', struct());
+ixy = number(field(inertial, 'ixy', 0));
+ixz = number(field(inertial, 'ixz', 0));
+iyz = number(field(inertial, 'iyz', 0));
+inertia = [number(field(inertial, 'ixx', 0)), ixy, ixz; ...
+           ixy, number(field(inertial, 'iyy', 0)), iyz; ...
+           ixz, iyz, number(field(inertial, 'izz', 0))];
+out = struct('id', field(msg, 'id', ''), 'robotId', field(msg, 'robot_id', ''), ...
+             'motion', enumName(field(msg, 'motion', ''), 'BODY_MOTION_'), ...
+             'pose', pose(field(msg, 'pose', struct())), ...
+             'mass', number(field(inertial, 'mass', 0)), ...
+             'centerOfMass', vec3(field(inertial, 'center_of_mass', struct()), [0 0 0]), ...
+             'inertia', inertia, ...
+             'friction', [number(field(material, 'static_friction', 0)), ...
+                          number(field(material, 'dynamic_friction', 0))], ...
+             'triangleCount', number(field(msg, 'triangle_count', 0)), ...
+             'collision', graspsim.internal.decode('Geometry', field(msg, 'collision', [])));
+end
+
+function out = geometry(msg)
+% type ('box', 'sphere', 'cylinder', 'mesh', 'meshFile' or '' when unset); size (box [x y z] full edges,
+% sphere r, cylinder [r l], m; [] otherwise); vertices N-by-3 double (m, the float32 values exactly) and
+% triangles M-by-3 double of 0-based indices for inline meshes; meshFile; origin 1-by-7; scale 1-by-3.
+out = struct('type', '', 'size', [], 'vertices', zeros(0, 3), 'triangles', zeros(0, 3), 'meshFile', '', ...
+             'origin', pose(field(msg, 'origin', struct())), 'scale', vec3(field(msg, 'scale', []), [1 1 1]));
+if isfield(msg, 'box')
+  out.type = 'box';
+  out.size = vec3(field(msg.box, 'size', struct()), [0 0 0]);
+elseif isfield(msg, 'sphere')
+  out.type = 'sphere';
+  out.size = number(field(msg.sphere, 'radius', 0));
+elseif isfield(msg, 'cylinder')
+  out.type = 'cylinder';
+  out.size = [number(field(msg.cylinder, 'radius', 0)), number(field(msg.cylinder, 'length', 0))];
+elseif isfield(msg, 'mesh')
+  out.type = 'mesh';
+  out.vertices = reshape(double(packed(field(msg.mesh, 'vertices', ''), 'single')), 3, []).';
+  out.triangles = reshape(double(packed(field(msg.mesh, 'triangles', ''), 'uint32')), 3, []).';
+elseif isfield(msg, 'mesh_file')
+  out.type = 'meshFile';
+  out.meshFile = msg.mesh_file;
+end
+end
+
+function out = joint(msg)
+% id, robotId, type ('revolute', 'continuous', 'prismatic', 'fixed'), parentBody, childBody, origin 1-by-7
+% (parent frame), axis 1-by-3, lower, upper, velocityLimit, effortLimit, position (rad or m), mimic (jointId
+% '' when the joint follows no other, multiplier, offset).
+mimic = field(msg, 'mimic', struct());
+out = struct('id', field(msg, 'id', ''), 'robotId', field(msg, 'robot_id', ''), ...
+             'type', enumName(field(msg, 'type', ''), 'JOINT_TYPE_'), ...
+             'parentBody', field(msg, 'parent_body', ''), 'childBody', field(msg, 'child_body', ''), ...
+             'origin', pose(field(msg, 'origin', struct())), 'axis', vec3(field(msg, 'axis', struct()), [0 0 0]), ...
+             'lower', number(field(msg, 'lower', 0)), 'upper', number(field(msg, 'upper', 0)), ...
+             'velocityLimit', number(field(msg, 'velocity_limit', 0)), ...
+             'effortLimit', number(field(msg, 'effort_limit', 0)), ...
+             'position', number(field(msg, 'position', 0)), ...
+             'mimic', struct('jointId', field(mimic, 'joint_id', ''), ...
+                             'multiplier', number(field(mimic, 'multiplier', 0)), ...
+                             'offset', number(field(mimic, 'offset', 0))));
+end
+
+function out = robot(msg)
+% id, source ('builtin:<name>' or 'urdf'), baseBody, bodyIds, jointIds, tactileArrayIds (N-by-1 cellstr).
+out = struct('id', field(msg, 'id', ''), 'source', field(msg, 'source', ''), ...
+             'baseBody', field(msg, 'base_body', ''), ...
+             'bodyIds', {stringList(field(msg, 'body_ids', []))}, ...
+             'jointIds', {stringList(field(msg, 'joint_ids', []))}, ...
+             'tactileArrayIds', {stringList(field(msg, 'tactile_array_ids', []))});
+end
+
+function out = tactileArray(msg)
+% id, bodyId, origin 1-by-7 (body frame; texels in its x-y plane, sensing along +z), rows (texels along y),
+% cols (along x), pitch (m), thickness (m).
+out = struct('id', field(msg, 'id', ''), 'bodyId', field(msg, 'body_id', ''), ...
+             'origin', pose(field(msg, 'origin', struct())), ...
+             'rows', number(field(msg, 'rows', 0)), 'cols', number(field(msg, 'cols', 0)), ...
+             'pitch', number(field(msg, 'pitch', 0)), 'thickness', number(field(msg, 'thickness', 0)));
+end
+
+function out = fileInfo(msg)
+% path, size (bytes), sha256 (lowercase hex).
+out = struct('path', field(msg, 'path', ''), 'size', number(field(msg, 'size', 0)), ...
+             'sha256', field(msg, 'sha256', ''));
+end
+
+function out = builtinModel(msg)
+% name, kind ('robot' or 'object'), description.
+out = struct('name', field(msg, 'name', ''), 'kind', field(msg, 'kind', ''), ...
+             'description', field(msg, 'description', ''));
+end
+
+function out = bodyPose(msg)
+% bodyId, pose 1-by-7.
+out = struct('bodyId', field(msg, 'body_id', ''), 'pose', pose(field(msg, 'pose', struct())));
+end
+
+function out = jointPosition(msg)
+% jointId, position (rad or m).
+out = struct('jointId', field(msg, 'joint_id', ''), 'position', number(field(msg, 'position', 0)));
+end
+
+function out = sceneSnapshot(msg)
+% sequence, revision, time (s), bodyIds (N-by-1 cellstr), poses N-by-7 in the order of bodyIds, jointIds
+% (J-by-1 cellstr), jointPositions J-by-1 (rad or m).
+bodyIds = stringList(field(msg, 'body_ids', []));
+jointIds = stringList(field(msg, 'joint_ids', []));
+poses = packed(field(msg, 'body_poses', ''), 'double');
+positions = packed(field(msg, 'joint_positions', ''), 'double');
+if numel(poses) ~= 7 * numel(bodyIds) || numel(positions) ~= numel(jointIds)
+  error('graspsim:INTERNAL', 'snapshot with %d body ids but %d pose values, %d joint ids but %d positions', ...
+        numel(bodyIds), numel(poses), numel(jointIds), numel(positions));
+end
+out = struct('sequence', number(field(msg, 'sequence', 0)), 'revision', number(field(msg, 'revision', 0)), ...
+             'time', number(field(msg, 'time', 0)), 'bodyIds', {bodyIds}, 'poses', reshape(poses, 7, []).', ...
+             'jointIds', {jointIds}, 'jointPositions', positions);
+end
+
+% --- pieces -----------------------------------------------------------------------------------------------
+
+function value = field(msg, name, default)
+% msg.(name), or default when absent (protobuf's JSON omits unset messages and oneof members).
+if isstruct(msg) && isfield(msg, name)
+  value = msg.(name);
+else
+  value = default;
+end
+end
+
+function value = number(x)
+% A double from a JSON number or from the strings protobuf uses for 64-bit integers and NaN/Infinity.
+if ischar(x)
+  value = str2double(x);
+elseif isempty(x)
+  value = 0;
+else
+  value = double(x);
+end
+end
+
+function list = items(x)
+% A decoded JSON array of objects as an N-by-1 cell of structs: jsondecode gives a struct array when the
+% objects have the same fields, a cell array when they differ (different oneof members), [] when empty.
+if isempty(x)
+  list = cell(0, 1);
+elseif iscell(x)
+  list = x(:);
+else
+  list = num2cell(x(:));
+end
+end
+
+function list = stringList(x)
+% A decoded JSON array of strings (a char row when it has one element after all, [] when empty) as an
+% N-by-1 cellstr.
+if isempty(x)
+  list = cell(0, 1);
+elseif ischar(x)
+  list = {x};
+else
+  list = x(:);
+end
+end
+
+function name = enumName(value, prefix)
+% A protobuf enum name without its prefix, in lower case: ('BODY_MOTION_FREE', 'BODY_MOTION_') -> 'free'.
+if isempty(value)
+  value = 'UNSPECIFIED';
+elseif ~ischar(value)
+  value = sprintf('%d', value);
+end
+if strncmp(value, prefix, numel(prefix))
+  value = value(numel(prefix) + 1:end);
+end
+name = lower(value);
+end
+
+function values = pose(msg)
+% 1-by-7 [x y z qw qx qy qz]; an absent position is the origin, an absent orientation the identity.
+values = [vec3(field(msg, 'position', struct()), [0 0 0]), [1 0 0 0]];
+if isfield(msg, 'orientation')
+  q = msg.orientation;
+  values(4:7) = [number(field(q, 'w', 0)), number(field(q, 'x', 0)), number(field(q, 'y', 0)), ...
+                 number(field(q, 'z', 0))];
+end
+end
+
+function values = vec3(msg, default)
+% 1-by-3 [x y z]; default when the message is absent.
+if ~isstruct(msg)
+  values = default;
+  return;
+end
+values = [number(field(msg, 'x', 0)), number(field(msg, 'y', 0)), number(field(msg, 'z', 0))];
+end
+
+function values = packed(text, type)
+% A column of class type ('double', 'single', 'uint32') from base64 of packed little-endian numbers.
+if isempty(text)
+  values = zeros(0, 1, type);
+  return;
+end
+bytes = reshape(uint8(matlab.net.base64decode(text)), 1, []);
+width = numel(typecast(zeros(1, 1, type), 'uint8'));
+if mod(numel(bytes), width) ~= 0
+  error('graspsim:INTERNAL', 'a packed %s array of %d bytes is not a multiple of %d', type, numel(bytes), width);
+end
+values = reshape(typecast(bytes, type), [], 1);
+[~, ~, endian] = computer();
+if endian == 'B'
+  values = swapbytes(values);
+end
+end

@@ -1,0 +1,497 @@
+classdef Client < handle
+  %CLIENT A connection to a graspsim server through its HTTP/JSON gateway (MATLAB and GNU Octave, pure .m).
+  %
+  %   c = graspsim.Client('http://127.0.0.1:8080')             % the server's --http-listen address
+  %   c = graspsim.Client('http://127.0.0.1:8080', 'Timeout', 120)
+  %
+  %   Units are SI (m, kg, s, rad). A pose is 1-by-7 [x y z qw qx qy qz] (position in m, unit quaternion
+  %   w, x, y, z); N poses are N-by-7. Ids are char rows; several ids are a cellstr (N-by-1 in results).
+  %   64-bit counters (revision, sequence, sizes) come back as double.
+  %
+  %   Errors: a request the server refuses raises error('graspsim:<STATUS>', message) with the gRPC status
+  %   name (graspsim:INVALID_ARGUMENT, graspsim:NOT_FOUND, graspsim:ALREADY_EXISTS, graspsim:FAILED_PRECONDITION,
+  %   graspsim:RESOURCE_EXHAUSTED, graspsim:UNIMPLEMENTED, ...) and the server's message, which names the
+  %   field and the bad value. graspsim:UNAVAILABLE means no server answered; graspsim:badArgument means the
+  %   client refused the arguments before sending anything (wrong sizes, unknown options).
+  %
+  %   Scenes:    createScene, listScenes, getScene, deleteScene
+  %   Files:     uploadFile, builtinModels
+  %   Bodies:    addObject, addRobot, removeBody
+  %   State:     setBodyPoses, getBodyPoses, setJointPositions, getJointPositions, watchScene, stepSimulation
+  %   Anything:  call(service, method, request), listMethods
+  %
+  %   See also graspsim.Client/addObject, graspsim.Client/call.
+
+  properties (SetAccess = private)
+    Url      % base URL of the gateway, e.g. 'http://127.0.0.1:8080'
+  end
+  properties
+    Timeout = 60  % s: the deadline of each call (the server gets it too, as timeout_s)
+  end
+
+  methods
+    function obj = Client(url, varargin)
+      %CLIENT c = graspsim.Client(url, 'Timeout', seconds). url defaults to 'http://127.0.0.1:8080';
+      %   'host:port' without a scheme means http. No request is sent until the first call.
+      if nargin < 1 || isempty(url)
+        url = 'http://127.0.0.1:8080';
+      end
+      if ~ischar(url)
+        error('graspsim:badArgument', 'url must be a char row such as ''http://127.0.0.1:8080''');
+      end
+      if isempty(regexp(url, '^[A-Za-z][A-Za-z0-9+.-]*://', 'once'))
+        url = ['http://' url];
+      end
+      while ~isempty(url) && url(end) == '/'
+        url = url(1:end - 1);
+      end
+      options = graspsim.internal.parseOptions(struct('Timeout', 60), varargin, 'graspsim.Client');
+      obj.Url = url;
+      obj.Timeout = options.Timeout;
+    end
+
+    function set.Timeout(obj, value)
+      if ~isnumeric(value) || ~isscalar(value) || ~(value > 0) || ~isfinite(value)
+        error('graspsim:badArgument', 'Timeout must be a positive finite number of seconds');
+      end
+      obj.Timeout = double(value);
+    end
+
+    % --- any method ---------------------------------------------------------------------------------------
+    function response = call(obj, service, method, request, varargin)
+      %CALL response = c.call(service, method, request): any method of the API, e.g.
+      %   c.call('SceneService', 'GetScene', struct('scene_id', id)).
+      %   request is a struct with the .proto's field names (or JSON text); absent fields are defaults.
+      %   Vectors of numbers are arrays, a 1-by-1 number a scalar: wrap repeated fields in a cell
+      %   ({'a'}, {struct(...)}) to send a one-element array. bytes fields are base64 text.
+      %   A client-streaming method takes a cell array of request structs (one per stream message).
+      %   The response is jsondecode's struct of the response message (snake_case fields, 64-bit integers
+      %   as char, enums by name, bytes as base64). A server-streaming method returns an N-by-1 cell array of
+      %   messages; end an endless stream (e.g. WatchScene) with 'MaxMessages', n (after n messages) and/or
+      %   'MaxSeconds', t (after t s; the stream then ends normally, unlike at the client's Timeout).
+      if nargin < 4 || isempty(request)
+        request = struct();
+      end
+      options = graspsim.internal.parseOptions(struct('MaxMessages', [], 'MaxSeconds', []), varargin, 'call');
+      query = '';
+      if ~isempty(options.MaxMessages)
+        query = sprintf('&max_messages=%d', round(options.MaxMessages));
+      end
+      if ~isempty(options.MaxSeconds)
+        query = sprintf('%s&max_seconds=%.17g', query, options.MaxSeconds);
+      end
+      envelope = graspsim.internal.post(obj, service, method, request, query, obj.Timeout);
+      graspsim.internal.raiseIfError(envelope);
+      if isfield(envelope, 'responses')
+        response = items(envelope.responses);
+      else
+        response = field(envelope, 'response', struct());
+      end
+    end
+
+    function services = listMethods(obj)
+      %LISTMETHODS The gateway's services and their methods (GET /v1), as jsondecode gives them.
+      try
+        text = webread([obj.Url '/v1'], weboptions('Timeout', obj.Timeout, 'ContentType', 'text'));
+      catch err
+        error('graspsim:UNAVAILABLE', 'no answer from the graspsim HTTP gateway at %s: %s', obj.Url, err.message);
+      end
+      services = jsondecode(char(text(:).'));
+    end
+
+    % --- scenes -------------------------------------------------------------------------------------------
+    function summary = createScene(obj, name)
+      %CREATESCENE summary = c.createScene(name): a new empty scene. summary.id is the server's scene id;
+      %   also name, bodyCount, robotCount, revision, time (s).
+      if nargin < 2
+        name = 'scene';
+      end
+      scene = obj.sceneCall('CreateScene', struct('name', name));
+      summary = graspsim.internal.decode('SceneSummary', field(scene, 'summary', struct()));
+    end
+
+    function summaries = listScenes(obj)
+      %LISTSCENES N-by-1 struct array of the summaries of every scene (id, name, bodyCount, robotCount,
+      %   revision, time).
+      response = obj.sceneCall('ListScenes', struct());
+      summaries = graspsim.internal.decode('SceneSummary', field(response, 'scenes', []));
+    end
+
+    function scene = getScene(obj, sceneId, varargin)
+      %GETSCENE scene = c.getScene(sceneId, 'IncludeGeometry', false): the whole scene, a struct with
+      %   summary, bodies, joints, robots, tactileArrays, files (struct arrays, N-by-1).
+      %   Body: id, robotId, motion ('static'|'free'|'articulated'), pose 1-by-7, mass, centerOfMass,
+      %     inertia 3-by-3, friction [static dynamic], triangleCount, collision (shapes: type, size,
+      %     vertices, triangles, meshFile, origin, scale).
+      %   With IncludeGeometry true, inline meshes come with vertices N-by-3 double (m; exactly the float32
+      %   values the server holds) and triangles M-by-3 double of 0-BASED vertex indices (add 1 for patch or
+      %   trisurf).
+      %   Joint: id, robotId, type, parentBody, childBody, origin, axis, lower, upper, velocityLimit,
+      %     effortLimit, position, mimic (jointId, multiplier, offset). Robot: id, source, baseBody, bodyIds,
+      %     jointIds, tactileArrayIds. Tactile array: id, bodyId, origin, rows, cols, pitch, thickness.
+      %     File: path, size, sha256.
+      options = graspsim.internal.parseOptions(struct('IncludeGeometry', false), varargin, 'getScene');
+      response = obj.sceneCall('GetScene', ...
+                       struct('scene_id', sceneId, 'include_geometry', logical(options.IncludeGeometry)));
+      scene = struct('summary', graspsim.internal.decode('SceneSummary', field(response, 'summary', struct())), ...
+                     'bodies', graspsim.internal.decode('Body', field(response, 'bodies', [])), ...
+                     'joints', graspsim.internal.decode('Joint', field(response, 'joints', [])), ...
+                     'robots', graspsim.internal.decode('Robot', field(response, 'robots', [])), ...
+                     'tactileArrays', graspsim.internal.decode('TactileArray', ...
+                                                               field(response, 'tactile_arrays', [])), ...
+                     'files', graspsim.internal.decode('FileInfo', field(response, 'files', [])));
+    end
+
+    function deleteScene(obj, sceneId)
+      %DELETESCENE c.deleteScene(sceneId): deletes a scene with everything in it.
+      obj.sceneCall('DeleteScene', struct('scene_id', sceneId));
+    end
+
+    % --- files and models ---------------------------------------------------------------------------------
+    function info = uploadFile(obj, sceneId, path, data, varargin)
+      %UPLOADFILE info = c.uploadFile(sceneId, path, data, 'ChunkSize', 1048576): stores a file in a scene.
+      %   path is how a URDF or 'MeshFile' names it (e.g. 'meshes/finger.stl'); data is the content
+      %   (uint8 vector) or the name of a local file (char). The file travels in chunks of ChunkSize bytes
+      %   with its size and SHA-256, which the server checks. Returns info.path, info.size, info.sha256.
+      options = graspsim.internal.parseOptions(struct('ChunkSize', 1048576), varargin, 'uploadFile');
+      bytes = graspsim.internal.readBytes(data, 'uploadFile data');
+      chunk = round(double(options.ChunkSize));
+      if ~(chunk > 0)
+        error('graspsim:badArgument', 'ChunkSize must be > 0 bytes');
+      end
+      header = struct('scene_id', sceneId, 'path', path, 'total_size', numel(bytes), ...
+                      'sha256', graspsim.internal.sha256hex(bytes));
+      starts = 1:chunk:max(numel(bytes), 1);
+      messages = cell(1, numel(starts));
+      for k = 1:numel(starts)
+        piece = bytes(starts(k):min(starts(k) + chunk - 1, numel(bytes)));
+        messages{k} = struct('data', graspsim.internal.encodeBytes(piece));
+      end
+      messages{1}.header = header;
+      info = graspsim.internal.decode('FileInfo', obj.sceneCall('UploadFile', messages));
+    end
+
+    function models = builtinModels(obj)
+      %BUILTINMODELS N-by-1 struct array of the server's built-in models: name, kind ('robot' for addRobot,
+      %   'object' for addObject), description.
+      response = obj.sceneCall('ListBuiltinModels', struct());
+      models = graspsim.internal.decode('BuiltinModel', field(response, 'models', []));
+    end
+
+    % --- bodies and robots --------------------------------------------------------------------------------
+    function body = addObject(obj, sceneId, name, varargin)
+      %ADDOBJECT body = c.addObject(sceneId, name, shape, value, ...): adds a rigid object; returns the body
+      %   as the server holds it (see getScene). Give exactly one shape:
+      %     'Builtin', 'cube_5cm'        a built-in object (its own mass and friction unless given)
+      %     'Box', [x y z]               full edge lengths, m
+      %     'Sphere', r                  m
+      %     'Cylinder', [r l]            along z, m
+      %     'Vertices', V, 'Triangles', T   inline mesh: V N-by-3 (m, sent as float32), T M-by-3 of 0-BASED
+      %                                  vertex indices, counter-clockwise seen from outside
+      %     'MeshFile', 'meshes/x.stl'   a file uploaded with uploadFile
+      %   Options:
+      %     'Mass', kg                   required with a shape (not with 'Builtin')
+      %     'Inertia', 3-by-3            kg m^2 about the centre of mass, symmetric. With a Mass but no Inertia
+      %                                  it is computed for uniform density: box m(b^2+c^2)/12 ..., sphere
+      %                                  2/5 m r^2, cylinder m r^2/2 about z and m(3r^2+l^2)/12 about x, y,
+      %                                  closed mesh by the divergence theorem (its centroid becomes the
+      %                                  centre of mass unless given). MeshFile and Builtin need Inertia.
+      %     'CenterOfMass', [x y z]      m, body frame
+      %     'Friction', [static dynamic] coefficients (default: the server's 0.6, 0.4 or the model's own)
+      %     'Pose', [x y z qw qx qy qz]  body frame in the world
+      %     'Static', true               a fixed body (a table)
+      defaults = struct('Builtin', [], 'Box', [], 'Sphere', [], 'Cylinder', [], 'Vertices', [], 'Triangles', [], ...
+                        'MeshFile', [], 'Mass', [], 'Inertia', [], 'CenterOfMass', [], 'Friction', [], ...
+                        'Pose', [], 'Static', false);
+      o = graspsim.internal.parseOptions(defaults, varargin, 'addObject');
+      [kind, value] = pickShape(o);
+      request = struct('scene_id', sceneId, 'name', name);
+      switch kind
+        case 'builtin'
+          request.builtin = value;
+        case 'box'
+          request.geometry = struct('box', struct('size', graspsim.internal.toVec3(value, 'Box')));
+        case 'sphere'
+          request.geometry = struct('sphere', struct('radius', value));
+        case 'cylinder'
+          request.geometry = struct('cylinder', struct('radius', value(1), 'length', value(2)));
+        case 'mesh'
+          request.geometry = struct('mesh', graspsim.internal.packMesh(value{1}, value{2}));
+        case 'meshFile'
+          request.geometry = struct('mesh_file', value);
+      end
+      inertial = makeInertial(kind, value, o.Mass, o.Inertia, o.CenterOfMass);
+      if ~isempty(inertial)
+        request.inertial = inertial;
+      end
+      if ~isempty(o.Friction)
+        if numel(o.Friction) ~= 2
+          error('graspsim:badArgument', 'Friction needs 2 values [static dynamic], got %d', numel(o.Friction));
+        end
+        request.material = struct('static_friction', o.Friction(1), 'dynamic_friction', o.Friction(2));
+      end
+      if ~isempty(o.Pose)
+        request.pose = graspsim.internal.toPose(o.Pose, 'Pose');
+      end
+      request.is_static = logical(o.Static);
+      body = graspsim.internal.decode('Body', obj.sceneCall('AddObject', request));
+    end
+
+    function robot = addRobot(obj, sceneId, name, varargin)
+      %ADDROBOT added = c.addRobot(sceneId, name, 'Builtin', 'schunk_pg70' | 'Urdf', text, ...): adds a
+      %   robot whose root link sits at 'BasePose' [x y z qw qx qy qz] (world; default the origin).
+      %   'Files', struct('path', {...}, 'data', {...}) sends small mesh files with the request (data uint8
+      %   or a local file name); bigger ones go through uploadFile first.
+      %   Returns a struct: robot (id, source, baseBody, bodyIds, jointIds, tactileArrayIds), bodies,
+      %   joints, tactileArrays (as in getScene). Body ids are '<name>/<link>', joint ids '<name>/<joint>'.
+      defaults = struct('Builtin', [], 'Urdf', [], 'BasePose', [], 'Files', []);
+      o = graspsim.internal.parseOptions(defaults, varargin, 'addRobot');
+      if isempty(o.Builtin) == isempty(o.Urdf)
+        error('graspsim:badArgument', 'addRobot: give exactly one of ''Builtin'', ''Urdf''');
+      end
+      request = struct('scene_id', sceneId, 'name', name);
+      if isempty(o.Urdf)
+        request.builtin = o.Builtin;
+      else
+        request.urdf = o.Urdf;
+      end
+      if ~isempty(o.BasePose)
+        request.base_pose = graspsim.internal.toPose(o.BasePose, 'BasePose');
+      end
+      if ~isempty(o.Files)
+        if ~isstruct(o.Files) || ~isfield(o.Files, 'path') || ~isfield(o.Files, 'data')
+          error('graspsim:badArgument', 'Files must be a struct array with fields path and data');
+        end
+        files = cell(1, numel(o.Files));
+        for k = 1:numel(o.Files)
+          bytes = graspsim.internal.readBytes(o.Files(k).data, sprintf('Files(%d).data', k));
+          files{k} = struct('path', o.Files(k).path, 'data', graspsim.internal.encodeBytes(bytes));
+        end
+        request.files = files;
+      end
+      response = obj.sceneCall('AddRobot', request);
+      robot = struct('robot', graspsim.internal.decode('Robot', field(response, 'robot', struct())), ...
+                     'bodies', graspsim.internal.decode('Body', field(response, 'bodies', [])), ...
+                     'joints', graspsim.internal.decode('Joint', field(response, 'joints', [])), ...
+                     'tactileArrays', graspsim.internal.decode('TactileArray', field(response, 'tactile_arrays', [])));
+    end
+
+    function removed = removeBody(obj, sceneId, id)
+      %REMOVEBODY removed = c.removeBody(sceneId, id): removes an object, or a robot (by robot id) with its
+      %   links, joints and sensors. Returns the removed body ids (N-by-1 cellstr).
+      response = obj.sceneCall('RemoveBody', struct('scene_id', sceneId, 'id', id));
+      removed = stringList(field(response, 'removed_body_ids', []));
+    end
+
+    % --- poses and joints ---------------------------------------------------------------------------------
+    function revision = setBodyPoses(obj, sceneId, ids, poses)
+      %SETBODYPOSES revision = c.setBodyPoses(sceneId, ids, poses): world poses by body id (an object, a
+      %   robot id or a robot's base body); ids a char or an N-cellstr, poses N-by-7. All or none apply.
+      ids = idList(ids, 'ids');
+      if size(poses, 2) ~= 7 && numel(poses) == 7
+        poses = reshape(poses, 1, 7);
+      end
+      if size(poses, 2) ~= 7 || size(poses, 1) ~= numel(ids)
+        error('graspsim:badArgument', 'poses must be %d-by-7 (one row [x y z qw qx qy qz] per id), got %s', ...
+              numel(ids), mat2str(size(poses)));
+      end
+      entries = cell(1, numel(ids));
+      for k = 1:numel(ids)
+        pose = graspsim.internal.toPose(poses(k, :), sprintf('poses(%d,:)', k));
+        entries{k} = struct('body_id', ids{k}, 'pose', pose);
+      end
+      response = obj.sceneCall('SetBodyPoses', struct('scene_id', sceneId, 'poses', {entries}));
+      revision = number(field(response, 'revision', 0));
+    end
+
+    function [ids, poses, revision, time] = getBodyPoses(obj, sceneId, ids)
+      %GETBODYPOSES [ids, poses, revision, time] = c.getBodyPoses(sceneId, ids): world poses (N-by-7
+      %   [x y z qw qx qy qz]) of the given bodies, in the order of the returned ids (N-by-1 cellstr).
+      %   ids omitted or {} = every body.
+      if nargin < 3
+        ids = {};
+      end
+      request = struct('scene_id', sceneId, 'body_ids', {idList(ids, 'ids')});
+      response = obj.sceneCall('GetBodyPoses', request);
+      list = graspsim.internal.decode('BodyPose', field(response, 'poses', []));
+      ids = {list.bodyId}.';
+      poses = reshape([list.pose], 7, []).';
+      revision = number(field(response, 'revision', 0));
+      time = number(field(response, 'time', 0));
+    end
+
+    function revision = setJointPositions(obj, sceneId, ids, values)
+      %SETJOINTPOSITIONS revision = c.setJointPositions(sceneId, ids, values): joint positions (rad or m)
+      %   by joint id ('<robot>/<joint>'); ids a char or an N-cellstr, values N numbers. All or none apply;
+      %   mimic joints follow their leader.
+      ids = idList(ids, 'ids');
+      if numel(values) ~= numel(ids) || ~isnumeric(values)
+        error('graspsim:badArgument', 'values must hold %d numbers (one per id), got %d', numel(ids), numel(values));
+      end
+      entries = cell(1, numel(ids));
+      for k = 1:numel(ids)
+        entries{k} = struct('joint_id', ids{k}, 'position', double(values(k)));
+      end
+      response = obj.sceneCall('SetJointPositions', struct('scene_id', sceneId, 'positions', {entries}));
+      revision = number(field(response, 'revision', 0));
+    end
+
+    function [ids, values, revision] = getJointPositions(obj, sceneId, ids)
+      %GETJOINTPOSITIONS [ids, values, revision] = c.getJointPositions(sceneId, ids): positions (N-by-1,
+      %   rad or m) in the order of the returned ids (N-by-1 cellstr). ids omitted or {} = every joint.
+      if nargin < 3
+        ids = {};
+      end
+      request = struct('scene_id', sceneId, 'joint_ids', {idList(ids, 'ids')});
+      response = obj.sceneCall('GetJointPositions', request);
+      list = graspsim.internal.decode('JointPosition', field(response, 'positions', []));
+      ids = {list.jointId}.';
+      values = reshape([list.position], [], 1);
+      revision = number(field(response, 'revision', 0));
+    end
+
+    % --- streams and simulation ---------------------------------------------------------------------------
+    function snapshots = watchScene(obj, sceneId, n, varargin)
+      %WATCHSCENE snapshots = c.watchScene(sceneId, n, 'MaxRateHz', 0, 'Timeout', c.Timeout): the next n
+      %   snapshots of the scene (the first comes at once, then one per change, at most MaxRateHz; 0 = the
+      %   server's default). Returns when n arrived, or after Timeout s with those that arrived by then.
+      %   n-by-1 struct array: sequence, revision, time (s), bodyIds, poses (N-by-7 [x y z qw qx qy qz]),
+      %   jointIds, jointPositions (J-by-1, rad or m).
+      if nargin < 3 || isempty(n)
+        n = 1;
+      end
+      o = graspsim.internal.parseOptions(struct('MaxRateHz', 0, 'Timeout', obj.Timeout), varargin, 'watchScene');
+      if ~(n >= 1) || n ~= round(n)
+        error('graspsim:badArgument', 'n must be a whole number of snapshots >= 1');
+      end
+      request = struct('scene_id', sceneId, 'max_rate_hz', double(o.MaxRateHz));
+      % max_seconds ends the stream normally (OK) when fewer than n snapshots came in time.
+      query = sprintf('&max_messages=%d&max_seconds=%.17g', n, o.Timeout);
+      envelope = graspsim.internal.post(obj, 'SceneService', 'WatchScene', request, query, o.Timeout);
+      graspsim.internal.raiseIfError(envelope);
+      snapshots = graspsim.internal.decode('SceneSnapshot', field(envelope, 'responses', []));
+    end
+
+    function result = stepSimulation(obj, sceneId, duration)
+      %STEPSIMULATION result = c.stepSimulation(sceneId, duration): advances the simulation by duration (s);
+      %   result.time (s), result.steps. The server answers UNIMPLEMENTED until the physics engine lands.
+      response = obj.sceneCall('StepSimulation', struct('scene_id', sceneId, 'duration', duration));
+      result = struct('time', number(field(response, 'time', 0)), 'steps', number(field(response, 'steps', 0)));
+    end
+  end
+
+  methods (Access = private)
+    function response = sceneCall(obj, method, request)
+      % A unary SceneService call: the response message as jsondecode gives it, or error graspsim:<STATUS>.
+      response = graspsim.internal.unary(obj, 'SceneService', method, request);
+    end
+  end
+end
+
+function [kind, value] = pickShape(o)
+% The one shape among the addObject options, as (kind, value); an error unless exactly one is given.
+given = cell(0, 2);
+if ~isempty(o.Builtin), given(end + 1, :) = {'builtin', o.Builtin}; end
+if ~isempty(o.Box), given(end + 1, :) = {'box', o.Box}; end
+if ~isempty(o.Sphere), given(end + 1, :) = {'sphere', o.Sphere}; end
+if ~isempty(o.Cylinder), given(end + 1, :) = {'cylinder', o.Cylinder}; end
+if ~isempty(o.Vertices) || ~isempty(o.Triangles), given(end + 1, :) = {'mesh', {o.Vertices, o.Triangles}}; end
+if ~isempty(o.MeshFile), given(end + 1, :) = {'meshFile', o.MeshFile}; end
+if size(given, 1) ~= 1
+  error('graspsim:badArgument', ...
+        'addObject: give exactly one shape (Builtin, Box, Sphere, Cylinder, Vertices+Triangles, MeshFile), got %d', ...
+        size(given, 1));
+end
+kind = given{1, 1};
+value = given{1, 2};
+counts = struct('box', 3, 'sphere', 1, 'cylinder', 2);
+if isfield(counts, kind) && numel(value) ~= counts.(kind)
+  error('graspsim:badArgument', 'addObject: %s needs %d value(s), got %d', kind, counts.(kind), numel(value));
+end
+if strcmp(kind, 'mesh') && (isempty(o.Vertices) || isempty(o.Triangles))
+  error('graspsim:badArgument', 'addObject: an inline mesh needs both Vertices (N-by-3) and Triangles (M-by-3)');
+end
+end
+
+function inertial = makeInertial(kind, value, mass, inertia, centerOfMass)
+% The Inertial message, or [] when no mass is given (a builtin keeps its own; a shape needs one and the
+% server says so).
+inertial = [];
+if isempty(mass)
+  if ~isempty(inertia) || ~isempty(centerOfMass)
+    error('graspsim:badArgument', 'addObject: Inertia and CenterOfMass need a Mass (kg)');
+  end
+  return;
+end
+if isempty(inertia)
+  [centerOfMass, inertia] = graspsim.internal.shapeInertia(kind, value, mass, centerOfMass);
+end
+if ~isequal(size(inertia), [3 3])
+  error('graspsim:badArgument', 'addObject: Inertia must be 3-by-3 (kg m^2), got %s', mat2str(size(inertia)));
+end
+inertia = double(inertia);
+if any(any(abs(inertia - inertia.') > 1e-12 * max([1; abs(inertia(:))])))
+  error('graspsim:badArgument', 'addObject: Inertia must be symmetric, got %s', mat2str(inertia));
+end
+inertial = struct('mass', double(mass), 'ixx', inertia(1, 1), 'iyy', inertia(2, 2), 'izz', inertia(3, 3), ...
+                  'ixy', inertia(1, 2), 'ixz', inertia(1, 3), 'iyz', inertia(2, 3));
+if ~isempty(centerOfMass)
+  inertial.center_of_mass = graspsim.internal.toVec3(centerOfMass, 'CenterOfMass');
+end
+end
+
+function ids = idList(ids, what)
+% Ids as a 1-by-N cellstr (a char row is one id).
+if ischar(ids)
+  ids = {ids};
+end
+if isempty(ids)
+  ids = {};
+end
+if ~iscellstr(ids)
+  error('graspsim:badArgument', '%s must be a char row or a cellstr of ids', what);
+end
+ids = reshape(ids, 1, []);
+end
+
+function value = field(msg, name, default)
+% msg.(name), or default when absent.
+if isstruct(msg) && isfield(msg, name)
+  value = msg.(name);
+else
+  value = default;
+end
+end
+
+function value = number(x)
+% A double from a JSON number or from the string protobuf uses for a 64-bit integer.
+if ischar(x)
+  value = str2double(x);
+elseif isempty(x)
+  value = 0;
+else
+  value = double(x);
+end
+end
+
+function list = items(x)
+% A decoded JSON array as an N-by-1 cell array (jsondecode gives a struct array, a cell array or []).
+if isempty(x)
+  list = cell(0, 1);
+elseif iscell(x)
+  list = x(:);
+else
+  list = num2cell(x(:));
+end
+end
+
+function list = stringList(x)
+% A decoded JSON array of strings as an N-by-1 cellstr.
+if isempty(x)
+  list = cell(0, 1);
+elseif ischar(x)
+  list = {x};
+else
+  list = x(:);
+end
+end

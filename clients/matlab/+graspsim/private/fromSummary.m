@@ -1,6 +1,0 @@
-function out = fromSummary(msg)
-%FROMSUMMARY A scene summary: id, name, bodyCount, robotCount, revision (double), time (s).
-out = struct('id', getField(msg, 'id', ''), 'name', getField(msg, 'name', ''), ...
-             'bodyCount', num(getField(msg, 'body_count', 0)), 'robotCount', num(getField(msg, 'robot_count', 0)), ...
-             'revision', num(getField(msg, 'revision', 0)), 'time', num(getField(msg, 'time', 0)));
-end

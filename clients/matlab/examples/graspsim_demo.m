@@ -1,0 +1,99 @@
+function graspsim_demo(url, keep)
+%GRASPSIM_DEMO graspsim demo: a Schunk PG70 gripper above a 5 cm cube on a table (MATLAB or GNU Octave).
+%
+%   graspsim_demo                      % server's HTTP gateway at http://127.0.0.1:8080
+%   graspsim_demo('http://127.0.0.1:8080')
+%   graspsim_demo('http://127.0.0.1:8080', true) % keep the scene on the server (default: delete it)
+%
+%   Stages: list the built-in models, build the scene, open the gripper, then print what the server holds
+%   (bodies, joints, tactile arrays, one live snapshot). Needs clients/matlab on the path:
+%   addpath('<repo>/clients/matlab'). A refused request raises graspsim:<STATUS> with the server's message.
+if nargin < 1 || isempty(url)
+  url = 'http://127.0.0.1:8080';
+end
+if nargin < 2
+  keep = false;
+end
+tableTopZ = 0.75;       % m, top surface of the built-in table placed at the origin
+cubeEdge = 0.05;        % m
+gripperHeight = 0.25;   % m above the table top
+fingerOpening = 0.03;   % m, finger_left_joint (finger_right_joint mimics it)
+pointingDown = [0 1 0 0];  % quaternion (w x y z): half a turn about x, gripper z (approach) = world -z
+
+c = graspsim.Client(url);
+fprintf('connected to graspsim at %s\n', url);
+listModels(c);
+
+scene = c.createScene('demo');
+c.addObject(scene.id, 'table', 'Builtin', 'table');
+c.addObject(scene.id, 'cube_5cm', 'Builtin', 'cube_5cm', 'Pose', [0 0 tableTopZ + cubeEdge / 2, 1 0 0 0]);
+c.addRobot(scene.id, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', [0 0 tableTopZ + gripperHeight, pointingDown]);
+fprintf('\nscene ''%s'' created: id %s\n', scene.name, scene.id);
+
+revision = c.setJointPositions(scene.id, {'pg70/finger_left_joint'}, fingerOpening);
+fprintf('gripper opened to %.0f mm per finger (revision %d)\n', fingerOpening * 1000, revision);
+
+state = c.getScene(scene.id);
+printBodies(state.bodies);
+printJoints(state.joints);
+printTactileArrays(state.tactileArrays);
+printSnapshot(c.watchScene(scene.id, 1));
+if ~keep
+  c.deleteScene(scene.id);
+end
+end
+
+function listModels(c)
+fprintf('built-in models:\n');
+models = c.builtinModels();
+for k = 1:numel(models)
+  fprintf('  %-6s %-12s %s\n', models(k).kind, models(k).name, models(k).description);
+end
+end
+
+function text = formatPose(pose)
+text = sprintf('p=(%+.4f, %+.4f, %+.4f) m  q=(%+.3f, %+.3f, %+.3f, %+.3f)', pose);
+end
+
+function printBodies(bodies)
+fprintf('\nbodies (%d):\n', numel(bodies));
+for k = 1:numel(bodies)
+  b = bodies(k);
+  fprintf('  %-18s %-11s %7.3f kg  %s\n', b.id, b.motion, b.mass, formatPose(b.pose));
+end
+end
+
+function printJoints(joints)
+fprintf('\njoints (%d):\n', numel(joints));
+for k = 1:numel(joints)
+  j = joints(k);
+  unit = 'rad';
+  if strcmp(j.type, 'prismatic')
+    unit = 'm';
+  end
+  follows = '';
+  if ~isempty(j.mimic.jointId)
+    follows = ['  mimics ' j.mimic.jointId];
+  end
+  fprintf('  %-24s %-9s %.4f %s  limits [%.4f, %.4f]%s\n', j.id, j.type, j.position, unit, j.lower, j.upper, follows);
+end
+end
+
+function printTactileArrays(pads)
+fprintf('\ntactile arrays (%d):\n', numel(pads));
+for k = 1:numel(pads)
+  p = pads(k);
+  fprintf('  %-16s on %-18s %d rows x %d cols, pitch %.1f mm\n', p.id, p.bodyId, p.rows, p.cols, p.pitch * 1000);
+end
+end
+
+function printSnapshot(snap)
+fprintf('\nsnapshot %d (revision %d, t = %.3f s): %d bodies, %d joints\n', snap.sequence, snap.revision, ...
+        snap.time, numel(snap.bodyIds), numel(snap.jointIds));
+for k = 1:numel(snap.bodyIds)
+  fprintf('  %-18s z = %.4f m\n', snap.bodyIds{k}, snap.poses(k, 3));
+end
+for k = 1:numel(snap.jointIds)
+  fprintf('  %-24s %.4f\n', snap.jointIds{k}, snap.jointPositions(k));
+end
+end

@@ -1,0 +1,121 @@
+"""Shared by the benchmarks: a graspsim-server of their own, machine facts, percentiles, channels."""
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import grpc
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[2]
+SERVER_BIN = Path(os.environ.get("GRASPSIM_SERVER", REPO / "build" / "bin" / "graspsim-server"))
+START_TIMEOUT_S = 30.0
+STOP_TIMEOUT_S = 30.0
+
+
+def log(*parts) -> None:
+    print(*parts, file=sys.stderr, flush=True)
+
+
+class Server:
+    """One graspsim-server on a free port; a context manager that stops it with SIGTERM and checks exit 0.
+
+    It listens on port 0 and we read the port it chose from its log line, so two runs never race for a port.
+    """
+
+    def __init__(self, *flags: str):
+        self.log_path = Path(tempfile.mkstemp(prefix="graspsim-bench-", suffix=".log")[1])
+        with open(self.log_path, "wb") as out:
+            self.process = subprocess.Popen([str(SERVER_BIN), "--listen=127.0.0.1:0", "--http-listen=off",
+                                             "--log-level=info", *flags], stdout=out, stderr=subprocess.STDOUT)
+        self.flags = flags
+        self.address = f"127.0.0.1:{self._wait_port()}"
+        self.exit_code = None
+
+    def _wait_port(self) -> int:
+        deadline = time.monotonic() + START_TIMEOUT_S
+        while time.monotonic() < deadline:
+            found = re.search(r"msg=listening .*port=(\d+)", self.log_path.read_text(errors="replace"))
+            if found:
+                return int(found.group(1))
+            if self.process.poll() is not None:
+                break
+            time.sleep(0.05)
+        self.process.kill()
+        raise RuntimeError(f"graspsim-server {self.flags} did not start:\n{self.log_tail()}")
+
+    def handler_seconds(self, method: str):
+        """Time (s) the server spent in each handler of method, in call order, from its debug log (the server
+        must run with --log-level=debug): where a call's time goes, server code or transport and client."""
+        text = self.log_path.read_text(errors="replace")
+        return [float(ms) / 1e3 for ms in re.findall(rf"msg=request method={method} .* ms=([\d.]+)", text)]
+
+    def log_tail(self, lines: int = 20) -> str:
+        return "\n".join(self.log_path.read_text(errors="replace").splitlines()[-lines:])
+
+    def stop(self) -> int:
+        if self.exit_code is None:
+            self.process.send_signal(signal.SIGTERM)
+            try:
+                self.exit_code = self.process.wait(STOP_TIMEOUT_S)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.exit_code = self.process.wait()
+                log(f"graspsim-server did not exit within {STOP_TIMEOUT_S} s of SIGTERM; killed")
+            if self.exit_code != 0:
+                log(f"graspsim-server exited with {self.exit_code} after SIGTERM:\n{self.log_tail()}")
+            else:
+                self.log_path.unlink()
+        return self.exit_code
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+
+def channel(address: str, *extra_options) -> grpc.Channel:
+    """A channel on its own TCP connection: grpc-python otherwise shares one connection between channels with
+    equal options, and separate clients (threads standing for viewers, processes) would not be separate."""
+    options = [("grpc.use_local_subchannel_pool", 1), ("grpc.max_receive_message_length", 256 << 20),
+               *extra_options]
+    ch = grpc.insecure_channel(address, options=options)
+    grpc.channel_ready_future(ch).result(timeout=10)
+    return ch
+
+
+def ms_stats(prefix: str, seconds) -> dict:
+    """{prefix_ms_p50, prefix_ms_p99, prefix_ms_max} of durations in s, rounded to µs."""
+    ms = np.asarray(seconds, dtype=np.float64) * 1e3
+    return {f"{prefix}_ms_p50": round(float(np.percentile(ms, 50)), 3),
+            f"{prefix}_ms_p99": round(float(np.percentile(ms, 99)), 3),
+            f"{prefix}_ms_max": round(float(ms.max()), 3)}
+
+
+def sleep_until(t: float) -> None:
+    delay = t - time.perf_counter()
+    if delay > 0:
+        time.sleep(delay)
+
+
+def machine() -> dict:
+    model = "unknown"
+    with open("/proc/cpuinfo") as f:
+        for line in f:
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    return {"nproc": len(os.sched_getaffinity(0)), "cpu": model}
+
+
+def commit() -> dict:
+    """The commit, and whether the working tree had uncommitted changes (then the figures are of HEAD + them)."""
+    def git(*args):
+        return subprocess.run(["git", "-C", str(REPO), *args], capture_output=True, text=True).stdout.strip()
+    return {"commit": git("rev-parse", "--short", "HEAD") or "unknown",
+            "tree_dirty": bool(git("status", "--porcelain", "--untracked-files=no"))}

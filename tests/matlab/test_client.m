@@ -1,0 +1,589 @@
+function failed = test_client(url)
+%TEST_CLIENT End-to-end tests of the Matlab/Octave client (clients/matlab) against a running graspsim server.
+%
+%   failed = test_client('http://127.0.0.1:8080')   % or the URL in the environment variable GRASPSIM_HTTP_URL
+%
+%   Each test is a local function test_*(c, sceneId) given a client and a fresh empty scene (deleted after).
+%   Prints one line per test and a summary "N passed, M failed"; returns M. tests/matlab/run.sh starts the
+%   server and runs this in GNU Octave. Uses clients/matlab and clients/matlab/examples (added to the path).
+if nargin < 1 || isempty(url)
+  url = getenv('GRASPSIM_HTTP_URL');
+end
+if isempty(url)
+  error('test_client: give the gateway URL or set GRASPSIM_HTTP_URL');
+end
+here = fileparts(mfilename('fullpath'));
+addpath(fullfile(here, '..', '..', 'clients', 'matlab'));
+addpath(fullfile(here, '..', '..', 'clients', 'matlab', 'examples'));
+
+tests = {@test_list_methods, @test_scene_lifecycle, @test_builtin_models, @test_text_round_trip, ...
+         @test_primitive_objects_and_inertia, @test_builtin_objects, @test_inline_mesh_round_trip, ...
+         @test_mesh_inertia_from_mass, @test_large_request_body, @test_upload_file_chunks, @test_upload_large_file_and_mesh_file, ...
+         @test_urdf_robot_with_files, @test_pg70_structure_and_tactile_arrays, @test_mimic_joint_follows, ...
+         @test_pose_round_trip, @test_joint_positions, @test_watch_scene, @test_remove_body, @test_generic_call, ...
+         @test_error_nan_pose, @test_error_bad_quaternion, @test_error_unknown_scene, @test_error_duplicate_name, ...
+         @test_error_joint_outside_limits, @test_error_step_simulation_unimplemented, ...
+         @test_error_other_services_unimplemented, @test_error_client_side_arguments, @test_error_unreachable_server, ...
+         @test_demo_runs};
+c = graspsim.Client(url, 'Timeout', 30);
+passed = 0;
+failed = 0;
+for k = 1:numel(tests)
+  name = func2str(tests{k});
+  sceneId = '';
+  try
+    scene = c.createScene(name);
+    sceneId = scene.id;
+    tests{k}(c, sceneId);
+    passed = passed + 1;
+    fprintf('  ok    %s\n', name);
+  catch err
+    failed = failed + 1;
+    fprintf('  FAIL  %s: [%s] %s\n', name, err.identifier, err.message);
+    if ~isempty(err.stack)
+      fprintf('        at %s line %d\n', err.stack(1).name, err.stack(1).line);
+    end
+  end
+  if ~isempty(sceneId)
+    try
+      c.deleteScene(sceneId);
+    catch err  %#ok<NASGU> a test may delete its own scene
+    end
+  end
+end
+fprintf('%d passed, %d failed\n', passed, failed);
+end
+
+% --- tests ------------------------------------------------------------------------------------------------
+
+function test_list_methods(c, ~)
+listing = c.listMethods();
+services = listing.services;
+names = {services.name};
+check(any(strcmp(names, 'graspsim.v1.SceneService')), 'SceneService not listed: %s', strjoin(names, ', '));
+scene = services(strcmp(names, 'graspsim.v1.SceneService'));
+methodList = methodNames(scene.methods);
+for m = {'CreateScene', 'GetScene', 'UploadFile', 'WatchScene', 'StepSimulation'}
+  check(any(strcmp(methodList, m{1})), '%s not listed', m{1});
+end
+end
+
+function test_scene_lifecycle(c, ~)
+a = c.createScene('lifecycle a');
+b = c.createScene('lifecycle b');
+check(ischar(a.id) && ~isempty(a.id) && ~strcmp(a.id, b.id), 'scene ids %s, %s', a.id, b.id);
+check(strcmp(a.name, 'lifecycle a') && a.bodyCount == 0 && a.robotCount == 0 && a.time == 0, 'summary of a new scene');
+check(isa(a.revision, 'double'), 'revision is %s, not double', class(a.revision));
+listed = c.listScenes();
+check(size(listed, 2) == 1 && listed(1).revision >= 0, 'listScenes gives an N-by-1 struct array');
+check(any(strcmp({listed.id}, a.id)) && any(strcmp({listed.id}, b.id)), 'listScenes misses the new scenes');
+scene = c.getScene(a.id);
+check(strcmp(scene.summary.id, a.id) && strcmp(scene.summary.name, 'lifecycle a'), 'getScene summary');
+check(isempty(scene.bodies) && isempty(scene.joints) && isempty(scene.robots) && isempty(scene.tactileArrays) ...
+      && isempty(scene.files), 'a new scene is empty');
+check(isfield(scene.bodies, 'pose') && isfield(scene.joints, 'mimic'), 'empty arrays keep their fields');
+c.deleteScene(a.id);
+c.deleteScene(b.id);
+expectError(@() c.getScene(a.id), 'graspsim:NOT_FOUND', {a.id});
+after = c.listScenes();
+check(~any(strcmp({after.id}, a.id)), 'deleted scene still listed');
+end
+
+function test_builtin_models(c, ~)
+models = c.builtinModels();
+names = {models.name};
+kinds = {models.kind};
+check(all(ismember({'table', 'cube_5cm', 'schunk_pg70'}, names)), 'models: %s', strjoin(names, ', '));
+check(strcmp(kinds{strcmp(names, 'schunk_pg70')}, 'robot') && strcmp(kinds{strcmp(names, 'table')}, 'object'), ...
+      'model kinds');
+check(~isempty(models(1).description), 'model descriptions');
+end
+
+function test_text_round_trip(c, ~)
+% Quotes, backslashes, control characters and non-ASCII text survive the JSON encoding both ways.
+name = ['quote " backslash \ tab' char(9) 'newline' char(10) 'percent %s end'];
+scene = c.createScene(name);
+back = c.getScene(scene.id);
+c.deleteScene(scene.id);
+check(strcmp(scene.name, name) && strcmp(back.summary.name, name), 'name came back as %s', back.summary.name);
+end
+
+function test_primitive_objects_and_inertia(c, sid)
+m = 2.5;
+box = c.addObject(sid, 'box', 'Box', [0.1 0.2 0.3], 'Mass', m, 'Friction', [0.9 0.7], 'Pose', [1 2 3 1 0 0 0]);
+check(strcmp(box.id, 'box') && strcmp(box.motion, 'free') && isempty(box.robotId), 'box body');
+near(box.inertia, diag([0.2^2 + 0.3^2, 0.1^2 + 0.3^2, 0.1^2 + 0.2^2]) * m / 12, 1e-15, 'box inertia');
+near(box.mass, m, 0, 'box mass');
+near(box.friction, [0.9 0.7], 0, 'box friction');
+near(box.pose, [1 2 3 1 0 0 0], 0, 'box pose');
+check(numel(box.collision) == 1 && strcmp(box.collision.type, 'box'), 'box geometry');
+near(box.collision.size, [0.1 0.2 0.3], 0, 'box size');
+
+sphere = c.addObject(sid, 'ball', 'Sphere', 0.04, 'Mass', 0.3, 'Static', true);
+near(sphere.inertia, eye(3) * 0.4 * 0.3 * 0.04^2, 1e-18, 'sphere inertia');
+check(strcmp(sphere.motion, 'static'), 'Static gives a static body, got %s', sphere.motion);
+check(strcmp(sphere.collision.type, 'sphere') && sphere.collision.size == 0.04, 'sphere geometry');
+
+r = 0.03;
+l = 0.12;
+can = c.addObject(sid, 'can', 'Cylinder', [r l], 'Mass', 0.4, 'CenterOfMass', [0 0 0.01]);
+side = 0.4 * (3 * r^2 + l^2) / 12;
+near(can.inertia, diag([side, side, 0.4 * r^2 / 2]), 1e-18, 'cylinder inertia');
+near(can.centerOfMass, [0 0 0.01], 0, 'cylinder centre of mass');
+near(can.collision.size, [r l], 0, 'cylinder size');
+
+given = [0.02 0.001 0; 0.001 0.03 0; 0 0 0.04];
+explicit = c.addObject(sid, 'explicit', 'Box', [0.1 0.1 0.1], 'Mass', 1, 'Inertia', given);
+near(explicit.inertia, given, 0, 'explicit inertia');
+scene = c.getScene(sid);
+check(isequal(sort({scene.bodies.id}), sort({'box', 'ball', 'can', 'explicit'})), 'getScene bodies');
+near(scene.bodies(strcmp({scene.bodies.id}, 'box')).inertia, box.inertia, 0, 'inertia in getScene');
+end
+
+function test_builtin_objects(c, sid)
+table = c.addObject(sid, 'table', 'Builtin', 'table');
+cube = c.addObject(sid, 'cube', 'Builtin', 'cube_5cm', 'Pose', [0 0 0.775 1 0 0 0], 'Friction', [0.5 0.3]);
+check(strcmp(table.motion, 'static') && table.mass > 0, 'the table is static with a mass');
+check(strcmp(cube.motion, 'free'), 'the cube is free');
+near(cube.mass, 0.1, 1e-12, 'cube mass');
+near(cube.friction, [0.5 0.3], 0, 'cube friction');
+near(cube.pose, [0 0 0.775 1 0 0 0], 1e-15, 'cube pose');
+end
+
+function test_inline_mesh_round_trip(c, sid)
+[v, t] = boxMesh([0.1 0.06 0.04]);
+v = v * diag([1.1 0.9 1.3]) + 0.1;  % values no float32 holds exactly
+body = c.addObject(sid, 'mesh', 'Vertices', v, 'Triangles', t, 'Mass', 0.2, 'Inertia', eye(3) * 1e-3);
+check(body.triangleCount == 12, 'triangleCount %d', body.triangleCount);
+plain = c.getScene(sid);
+check(isempty(plain.bodies(1).collision(1).vertices), 'no vertices without IncludeGeometry');
+scene = c.getScene(sid, 'IncludeGeometry', true);
+g = scene.bodies(1).collision(1);
+check(strcmp(g.type, 'mesh'), 'geometry type %s', g.type);
+check(isa(g.vertices, 'double') && isequal(size(g.vertices), [8 3]), 'vertices 8-by-3 double');
+check(isequal(g.vertices, double(single(v))), 'vertices differ from the float32 values sent');
+check(isequal(g.triangles, t), 'triangles (0-based) differ from those sent');
+end
+
+function test_mesh_inertia_from_mass(c, sid)
+% A box as a mesh, offset from the origin: the divergence theorem gives the box formula and its centre.
+edges = [0.125 0.25 0.5];  % exact in float32
+offset = [0.5 0.25 -0.125];
+[v, t] = boxMesh(edges);
+body = c.addObject(sid, 'meshbox', 'Vertices', bsxfun(@plus, v, offset), 'Triangles', t, 'Mass', 3);
+expected = diag([edges(2)^2 + edges(3)^2, edges(1)^2 + edges(3)^2, edges(1)^2 + edges(2)^2]) * 3 / 12;
+near(body.inertia, expected, 1e-12 * max(expected(:)), 'mesh inertia');
+near(body.centerOfMass, offset, 1e-15, 'mesh centroid');
+expectError(@() c.addObject(sid, 'inside-out', 'Vertices', v, 'Triangles', fliplr(t), 'Mass', 1), ...
+            'graspsim:badArgument', {'closed'});
+end
+
+function test_large_request_body(c, sid)
+% A 1200-triangle mesh: a request body of about 30 kB, far above small-form limits. Its inertia, computed by
+% the client from the mesh, is that of the cylinder it approximates.
+r = 0.04;
+l = 0.1;
+[v, t] = prismMesh(r, l, 300);
+body = c.addObject(sid, 'can', 'Vertices', v, 'Triangles', t, 'Mass', 0.5);
+check(body.triangleCount == 1200, 'triangleCount %d', body.triangleCount);
+side = 0.5 * (3 * r^2 + l^2) / 12;
+near(body.inertia, diag([side, side, 0.5 * r^2 / 2]), 1e-3 * side, 'prism inertia');
+scene = c.getScene(sid, 'IncludeGeometry', true);
+check(isequal(scene.bodies(1).collision(1).vertices, double(single(v))), 'vertices of the big mesh');
+check(isequal(scene.bodies(1).collision(1).triangles, t), 'triangles of the big mesh');
+end
+
+function test_upload_file_chunks(c, sid)
+data = uint8(mod((0:1000) * 7, 256));  % every byte value, 1001 bytes
+info = c.uploadFile(sid, 'blobs/bytes.bin', data, 'ChunkSize', 100);
+check(strcmp(info.path, 'blobs/bytes.bin') && info.size == 1001, 'file info %s %d', info.path, info.size);
+check(strcmp(info.sha256, sha256sum(data)), 'sha256 %s', info.sha256);
+empty = c.uploadFile(sid, 'blobs/empty.bin', zeros(0, 1, 'uint8'));
+check(empty.size == 0 && strcmp(empty.sha256, 'e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855'), ...
+      'empty file');
+scene = c.getScene(sid);
+files = scene.files;
+check(all(ismember({'blobs/bytes.bin', 'blobs/empty.bin'}, {files.path})), 'files listed in the scene');
+end
+
+function test_upload_large_file_and_mesh_file(c, sid)
+% 5 MiB, above the 4 MiB message limit: six 1 MiB chunks in one HTTP body. Then a local STL file by name.
+big = uint8(mod(floor((1:5 * 2^20) * 2.71828), 256));
+info = c.uploadFile(sid, 'blobs/big.bin', big);
+check(info.size == numel(big) && strcmp(info.sha256, sha256sum(big)), 'big upload');
+file = [tempname() '.stl'];
+fid = fopen(file, 'w');
+[v, t] = boxMesh([0.05 0.05 0.05]);
+fwrite(fid, stlBytes(v, t), 'uint8');
+fclose(fid);
+cleanup = onCleanup(@() delete(file));
+stl = c.uploadFile(sid, 'meshes/cube.stl', file);
+check(stl.size == 84 + 12 * 50, 'STL size %d', stl.size);
+body = c.addObject(sid, 'fromfile', 'MeshFile', 'meshes/cube.stl', 'Mass', 0.1, 'Inertia', eye(3) * 1e-4);
+check(body.triangleCount == 12 && strcmp(body.collision(1).type, 'meshFile') ...
+      && strcmp(body.collision(1).meshFile, 'meshes/cube.stl'), 'object from an uploaded mesh file');
+expectError(@() c.addObject(sid, 'm', 'MeshFile', 'meshes/cube.stl', 'Mass', 0.1), 'graspsim:badArgument', ...
+            {'inertia'});
+end
+
+function test_urdf_robot_with_files(c, sid)
+[v, t] = boxMesh([0.02 0.02 0.02]);
+files = struct('path', {'meshes/inline.stl'}, 'data', {stlBytes(v, t)});
+added = c.addRobot(sid, 'arm', 'Urdf', twoLinkUrdf('meshes/inline.stl'), 'Files', files, ...
+                   'BasePose', [0 0 0.5 1 0 0 0]);
+check(strcmp(added.robot.source, 'urdf') && strcmp(added.robot.baseBody, 'arm/base'), 'robot %s', added.robot.source);
+check(isequal(sort(added.robot.bodyIds), {'arm/arm'; 'arm/base'}), 'robot body ids');
+check(isequal(added.robot.jointIds, {'arm/shoulder'}), 'robot joint ids');
+counts = [added.bodies.triangleCount];
+check(isequal(sort(counts), [0 12]), 'triangle counts %s', mat2str(counts));
+check(strcmp(added.joints(1).type, 'revolute'), 'joint type %s', added.joints(1).type);
+near([added.joints(1).lower, added.joints(1).upper], [-1 1], 0, 'joint limits');
+near(added.joints(1).axis, [0 0 1], 0, 'joint axis');
+c.setJointPositions(sid, 'arm/shoulder', 0.5);
+[ids, values] = c.getJointPositions(sid);
+check(isequal(ids, {'arm/shoulder'}), 'joint ids');
+near(values, 0.5, 1e-15, 'joint position');
+end
+
+function test_pg70_structure_and_tactile_arrays(c, sid)
+base = [0.2 -0.1 1.0 quaternionAbout([1 0.3 0.2], 2.5)];
+added = c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', base);
+check(strcmp(added.robot.id, 'pg70') && strcmp(added.robot.source, 'builtin:schunk_pg70'), 'robot');
+check(isequal(sort(added.robot.bodyIds), {'pg70/base_link'; 'pg70/finger_left'; 'pg70/finger_right'}), 'bodies');
+check(isequal(sort(added.robot.tactileArrayIds), {'pg70/pad_left'; 'pg70/pad_right'}), 'pads');
+scene = c.getScene(sid);
+check(all(strcmp({scene.bodies.motion}, 'articulated')) && all(strcmp({scene.bodies.robotId}, 'pg70')), 'links');
+pads = scene.tactileArrays;
+check(numel(pads) == 2, '%d tactile arrays', numel(pads));
+for k = 1:2
+  check(pads(k).rows == 14 && pads(k).cols == 6, 'pad %s is %d x %d, not 14 x 6', pads(k).id, pads(k).rows, pads(k).cols);
+  near(pads(k).pitch, 0.0034, 1e-12, 'pad pitch');
+  check(ismember(pads(k).bodyId, {'pg70/finger_left', 'pg70/finger_right'}), 'pad body %s', pads(k).bodyId);
+  check(pads(k).thickness > 0 && numel(pads(k).origin) == 7, 'pad thickness and origin');
+end
+joints = scene.joints;
+left = joints(strcmp({joints.id}, 'pg70/finger_left_joint'));
+right = joints(strcmp({joints.id}, 'pg70/finger_right_joint'));
+check(strcmp(left.type, 'prismatic') && isempty(left.mimic.jointId), 'left finger joint');
+near([left.lower, left.upper], [0 0.035], 1e-12, 'finger limits');
+check(strcmp(right.mimic.jointId, 'pg70/finger_left_joint'), 'right finger mimics the left');
+near(right.mimic.multiplier, 1, 1e-12, 'mimic multiplier');
+baseBody = scene.bodies(strcmp({scene.bodies.id}, 'pg70/base_link'));
+near(baseBody.pose, base, 1e-12, 'base pose');
+end
+
+function test_mimic_joint_follows(c, sid)
+base = [0.2 -0.1 1.0 quaternionAbout([1 0.3 0.2], 2.5)];
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', base);
+fingers = {'pg70/finger_left', 'pg70/finger_right'};
+c.setJointPositions(sid, {'pg70/finger_left_joint'}, 0);
+[~, closed] = c.getBodyPoses(sid, fingers);
+c.setJointPositions(sid, 'pg70/finger_left_joint', 0.02);
+[ids, values] = c.getJointPositions(sid, {'pg70/finger_left_joint', 'pg70/finger_right_joint'});
+check(isequal(ids, {'pg70/finger_left_joint'; 'pg70/finger_right_joint'}), 'joint ids in request order');
+near(values, [0.02; 0.02], 1e-12, 'mimic joint position');
+[~, opened] = c.getBodyPoses(sid, fingers);
+R = rotationMatrix(base(4:7));
+moveLeft = R.' * (opened(1, 1:3) - closed(1, 1:3)).';  % in the gripper frame
+moveRight = R.' * (opened(2, 1:3) - closed(2, 1:3)).';
+s = sign(moveLeft(2));
+near(moveLeft.', [0 s * 0.02 0], 1e-9, 'left finger move');
+near(moveRight.', [0 -s * 0.02 0], 1e-9, 'right finger move');
+near(opened(:, 4:7), closed(:, 4:7), 1e-12, 'finger orientations');
+end
+
+function test_pose_round_trip(c, sid)
+ids = {'a', 'b', 'c'};
+for k = 1:3
+  c.addObject(sid, ids{k}, 'Sphere', 0.01, 'Mass', 0.1);
+end
+poses = [10 * sin([1:3; 4:6; 7:9]), zeros(3, 4)];  % arbitrary numbers with every digit used
+for k = 1:3
+  poses(k, 4:7) = quaternionAbout(cos(k * [1.1 2.3 3.7]), 1 + k);
+end
+poses(2, 1:3) = [1e-300, -123456.789012345678, 0.1];  % a tiny and a big number keep every digit
+r1 = c.setBodyPoses(sid, ids, poses);
+[back, got, r2, t] = c.getBodyPoses(sid, {'c', 'a', 'b'});
+check(isequal(back, {'c'; 'a'; 'b'}), 'ids in request order');
+near(got, poses([3 1 2], :), 1e-12, 'poses');
+check(got(3, 1) == 1e-300, 'a tiny coordinate became %g', got(3, 1));
+check(r2 == r1 && r1 >= 1 && t == 0, 'revision %g then %g, time %g', r1, r2, t);
+r3 = c.setBodyPoses(sid, 'b', [0 0 1 1 0 0 0]);
+check(r3 > r1, 'revision increases');
+[everyId, everyPose] = c.getBodyPoses(sid);
+check(isequal(sort(everyId), {'a'; 'b'; 'c'}) && size(everyPose, 1) == 3, 'every body without ids');
+near(everyPose(strcmp(everyId, 'b'), :), [0 0 1 1 0 0 0], 0, 'single pose');
+end
+
+function test_joint_positions(c, sid)
+c.addRobot(sid, 'arm', 'Urdf', twoLinkUrdf(''));
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70');
+r = c.setJointPositions(sid, {'arm/shoulder', 'pg70/finger_left_joint'}, [-0.75; 0.0123456789012345]);
+[ids, values, r2] = c.getJointPositions(sid);
+check(numel(ids) == 3 && r2 == r && size(values, 2) == 1, 'every joint, values N-by-1');
+near(values(strcmp(ids, 'arm/shoulder')), -0.75, 1e-15, 'arm');
+near(values(strcmp(ids, 'pg70/finger_left_joint')), 0.0123456789012345, 1e-15, 'finger');
+end
+
+function test_watch_scene(c, sid)
+c.addObject(sid, 'cube', 'Builtin', 'cube_5cm', 'Pose', [0.1 0.2 0.3 0 0 0 1]);
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', [0 0 1 0 1 0 0]);
+c.setJointPositions(sid, 'pg70/finger_left_joint', 0.01);
+[ids, poses, revision] = c.getBodyPoses(sid);
+snap = c.watchScene(sid, 1);
+check(numel(snap) == 1 && isa(snap.sequence, 'double') && snap.revision == revision, 'one snapshot');
+check(isequal(sort(snap.bodyIds), sort(ids)) && isequal(size(snap.poses), [numel(ids) 7]), 'snapshot bodies');
+for k = 1:numel(ids)
+  near(snap.poses(strcmp(snap.bodyIds, ids{k}), :), poses(k, :), 1e-12, ['snapshot pose of ' ids{k}]);
+end
+check(isequal(sort(snap.jointIds), {'pg70/finger_left_joint'; 'pg70/finger_right_joint'}), 'snapshot joints');
+near(snap.jointPositions, [0.01; 0.01], 1e-12, 'snapshot joint positions');
+% Nothing changes: of 3 snapshots only the first arrives within the timeout, and watchScene returns it.
+few = c.watchScene(sid, 3, 'Timeout', 1);
+check(numel(few) == 1 && few(1).revision == revision, 'watchScene after its timeout gave %d snapshots', numel(few));
+expectError(@() c.watchScene('no-such-scene', 1), 'graspsim:NOT_FOUND', {'no-such-scene'});
+end
+
+function test_remove_body(c, sid)
+c.addObject(sid, 'cube', 'Builtin', 'cube_5cm');
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70');
+removed = c.removeBody(sid, 'pg70');
+check(isequal(sort(removed), {'pg70/base_link'; 'pg70/finger_left'; 'pg70/finger_right'}), 'removed robot bodies');
+check(isequal(c.removeBody(sid, 'cube'), {'cube'}), 'removed object');
+scene = c.getScene(sid);
+check(isempty(scene.bodies) && isempty(scene.joints) && isempty(scene.tactileArrays), 'scene empty after removals');
+expectError(@() c.removeBody(sid, 'cube'), 'graspsim:NOT_FOUND', {'cube'});
+end
+
+function test_generic_call(c, sid)
+scene = c.call('SceneService', 'GetScene', struct('scene_id', sid));
+check(strcmp(scene.summary.id, sid) && ischar(scene.summary.revision), 'GetScene through call (uint64 as char)');
+full = c.call('graspsim.v1.SceneService', 'CreateScene', '{"name": "raw json"}');
+c.deleteScene(full.summary.id);
+check(strcmp(full.summary.name, 'raw json'), 'raw JSON request');
+body = c.call('SceneService', 'AddObject', struct('scene_id', sid, 'name', 'cube', 'builtin', 'cube_5cm'));
+check(strcmp(body.motion, 'BODY_MOTION_FREE'), 'enums by name: %s', body.motion);
+poses = c.call('SceneService', 'GetBodyPoses', struct('scene_id', sid, 'body_ids', {{'cube'}}));
+check(numel(poses.poses) == 1 && strcmp(poses.poses(1).body_id, 'cube'), 'one-element repeated field as a cell');
+snaps = c.call('SceneService', 'WatchScene', struct('scene_id', sid), 'MaxMessages', 1);
+check(iscell(snaps) && numel(snaps) == 1 && isfield(snaps{1}, 'body_poses'), 'server stream through call');
+snaps = c.call('SceneService', 'WatchScene', struct('scene_id', sid), 'MaxMessages', 5, 'MaxSeconds', 0.5);
+check(numel(snaps) == 1, 'MaxSeconds ends a stream: %d messages', numel(snaps));
+chunks = {struct('header', struct('scene_id', sid, 'path', 'x.txt', 'total_size', 3, ...
+                                  'sha256', sha256sum(uint8('abc'))), 'data', 'YWJj')};
+info = c.call('SceneService', 'UploadFile', chunks);
+check(strcmp(info.size, '3'), 'client stream through call');
+end
+
+function test_error_nan_pose(c, sid)
+c.addObject(sid, 'cube', 'Builtin', 'cube_5cm');
+before = c.getScene(sid, 'IncludeGeometry', true);
+err = expectError(@() c.addObject(sid, 'new', 'Box', [0.1 0.1 0.1], 'Mass', 1, 'Pose', [NaN 0 0 1 0 0 0]), ...
+                  'graspsim:INVALID_ARGUMENT', {'pose.position', 'nan'});
+check(~isempty(strfind(err.message, 'pose')), 'message names the pose');
+expectError(@() c.addObject(sid, 'new', 'Box', [0.1 Inf 0.1], 'Mass', 1), 'graspsim:INVALID_ARGUMENT', ...
+            {'geometry.box.size', 'inf'});
+% All or nothing: a batch with one bad pose changes nothing.
+expectError(@() c.setBodyPoses(sid, {'cube', 'cube'}, [0 0 2 1 0 0 0; 0 NaN 0 1 0 0 0]), ...
+            'graspsim:INVALID_ARGUMENT', {'pose', 'nan'});
+after = c.getScene(sid, 'IncludeGeometry', true);
+check(isequal(before.bodies, after.bodies) && before.summary.revision == after.summary.revision, ...
+      'a rejected request changed the scene');
+end
+
+function test_error_bad_quaternion(c, sid)
+expectError(@() c.addObject(sid, 'q', 'Builtin', 'cube_5cm', 'Pose', [0 0 1 2 0 0 0]), ...
+            'graspsim:INVALID_ARGUMENT', {'pose.orientation', 'norm 2'});
+end
+
+function test_error_unknown_scene(c, sid)
+expectError(@() c.getScene('no-such-scene'), 'graspsim:NOT_FOUND', {'no-such-scene'});
+expectError(@() c.addObject('no-such-scene', 'x', 'Builtin', 'cube_5cm'), 'graspsim:NOT_FOUND', {'no-such-scene'});
+expectError(@() c.deleteScene('no-such-scene'), 'graspsim:NOT_FOUND', {'no-such-scene'});
+expectError(@() c.addObject(sid, 'x', 'Builtin', 'no_such_model'), 'graspsim:NOT_FOUND', ...
+            {'no_such_model'});
+end
+
+function test_error_duplicate_name(c, sid)
+c.addObject(sid, 'cube', 'Builtin', 'cube_5cm');
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70');
+expectError(@() c.addObject(sid, 'cube', 'Box', [0.1 0.1 0.1], 'Mass', 1), 'graspsim:ALREADY_EXISTS', {'cube'});
+expectError(@() c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70'), 'graspsim:ALREADY_EXISTS', {'pg70'});
+end
+
+function test_error_joint_outside_limits(c, sid)
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70');
+c.setJointPositions(sid, 'pg70/finger_left_joint', 0.01);
+expectError(@() c.setJointPositions(sid, 'pg70/finger_left_joint', 0.5), 'graspsim:INVALID_ARGUMENT', ...
+            {'pg70/finger_left_joint', '0.5', 'limits'});
+expectError(@() c.setJointPositions(sid, 'pg70/finger_right_joint', 0.02), 'graspsim:INVALID_ARGUMENT', ...
+            {'mimics'});
+expectError(@() c.setJointPositions(sid, 'pg70/no_joint', 0.02), 'graspsim:NOT_FOUND', {'pg70/no_joint'});
+[~, values] = c.getJointPositions(sid, 'pg70/finger_left_joint');
+near(values, 0.01, 0, 'joint unchanged after rejected requests');
+end
+
+function test_error_step_simulation_unimplemented(c, sid)
+expectError(@() c.stepSimulation(sid, 0.01), 'graspsim:UNIMPLEMENTED', {'StepSimulation'});
+end
+
+function test_error_other_services_unimplemented(c, sid)
+expectError(@() c.call('GraspService', 'SimulateGrasp', struct('scene_id', sid)), 'graspsim:UNIMPLEMENTED', {});
+expectError(@() c.call('TactileService', 'Sample', struct()), 'graspsim:UNIMPLEMENTED', {});
+expectError(@() c.call('SceneService', 'NoSuchMethod', struct()), 'graspsim:NOT_FOUND', {'NoSuchMethod'});
+expectError(@() c.call('SceneService', 'GetScene', struct('scene_idd', sid)), 'graspsim:INVALID_ARGUMENT', ...
+            {'scene_idd'});
+end
+
+function test_error_client_side_arguments(c, sid)
+expectError(@() c.setBodyPoses(sid, {'a', 'b'}, [0 0 0 1 0 0 0]), 'graspsim:badArgument', {'2-by-7'});
+expectError(@() c.addObject(sid, 'x', 'Box', [1 1 1], 'Sphere', 1, 'Mass', 1), 'graspsim:badArgument', ...
+            {'exactly one shape'});
+expectError(@() c.addObject(sid, 'x', 'Box', [1 1], 'Mass', 1), 'graspsim:badArgument', {'box'});
+expectError(@() c.addObject(sid, 'x', 'Sphere', 1, 'Colour', 'red'), 'graspsim:badArgument', {'colour'});
+expectError(@() c.addObject(sid, 'x', 'Box', [1 1 1], 'Mass', 1, 'Inertia', [1 2 0; 0 1 0; 0 0 1]), ...
+            'graspsim:badArgument', {'symmetric'});
+expectError(@() c.addObject(sid, 'x', 'Vertices', zeros(3), 'Triangles', [0 1 2.5], 'Mass', 1, 'Inertia', eye(3)), ...
+            'graspsim:badArgument', {'0-based'});
+expectError(@() c.addRobot(sid, 'x'), 'graspsim:badArgument', {'builtin'});
+expectError(@() c.uploadFile(sid, 'x', '/no/such/file.stl'), 'graspsim:badArgument', {'/no/such/file.stl'});
+end
+
+function test_error_unreachable_server(~, ~)
+port = freePort();
+closed = graspsim.Client(sprintf('127.0.0.1:%d', port), 'Timeout', 2);
+expectError(@() closed.listScenes(), 'graspsim:UNAVAILABLE', {sprintf('%d', port)});
+end
+
+function test_demo_runs(c, ~)
+before = c.listScenes();
+output = evalc('graspsim_demo(c.Url)');
+for fragment = {'built-in models:', 'schunk_pg70', 'bodies (5):', 'pg70/finger_right_joint  prismatic 0.0300 m', ...
+                'mimics pg70/finger_left_joint', '14 rows x 6 cols', 'snapshot', 'cube_5cm           z = 0.7750 m'}
+  check(~isempty(strfind(output, fragment{1})), 'demo output lacks "%s":\n%s', fragment{1}, output);
+end
+after = c.listScenes();
+check(numel(after) == numel(before), 'the demo left its scene behind');
+end
+
+% --- helpers ----------------------------------------------------------------------------------------------
+
+function check(condition, varargin)
+if ~condition
+  error('test:failed', varargin{:});
+end
+end
+
+function near(actual, expected, tolerance, what)
+check(isequal(size(actual), size(expected)), '%s: size %s, expected %s', what, mat2str(size(actual)), ...
+      mat2str(size(expected)));
+difference = max(abs(actual(:) - expected(:)));
+check(isempty(difference) || difference <= tolerance, '%s: off by %g (tolerance %g): %s vs %s', what, difference, ...
+      tolerance, mat2str(actual, 6), mat2str(expected, 6));
+end
+
+function err = expectError(action, identifier, fragments)
+% action() raises identifier, and its message names every fragment (case-insensitive).
+try
+  action();
+catch err
+  check(strcmp(err.identifier, identifier), 'expected %s, got [%s] %s', identifier, err.identifier, err.message);
+  for k = 1:numel(fragments)
+    check(~isempty(strfind(lower(err.message), lower(fragments{k}))), 'message does not name "%s": %s', ...
+          fragments{k}, err.message);
+  end
+  return;
+end
+error('test:failed', 'expected %s, but the call succeeded', identifier);
+end
+
+function names = methodNames(methods)
+if iscell(methods)
+  names = cellfun(@(m) m.name, methods, 'UniformOutput', false);
+else
+  names = {methods.name};
+end
+end
+
+function [v, t] = boxMesh(edges)
+% A closed box of full edge lengths edges centred on the origin: 8 vertices, 12 counter-clockwise triangles
+% (0-based).
+h = edges(:).' / 2;
+v = [-1 -1 -1; 1 -1 -1; 1 1 -1; -1 1 -1; -1 -1 1; 1 -1 1; 1 1 1; -1 1 1] * diag(h);
+t = [0 2 1; 0 3 2; 4 5 6; 4 6 7; 0 1 5; 0 5 4; 2 3 7; 2 7 6; 0 4 7; 0 7 3; 1 2 6; 1 6 5];
+end
+
+function [v, t] = prismMesh(r, l, n)
+% A closed n-sided prism of radius r along z, length l, centred on the origin: centres of the bottom (index 0)
+% and top (1) faces, then the bottom ring (2 ... n+1) and the top ring (n+2 ... 2n+1); 4n triangles
+% counter-clockwise seen from outside.
+angles = (0:n - 1).' * 2 * pi / n;
+ring = [r * cos(angles), r * sin(angles)];
+v = [0 0 -l / 2; 0 0 l / 2; ring, -l / 2 * ones(n, 1); ring, l / 2 * ones(n, 1)];
+k = (0:n - 1).';
+next = mod(k + 1, n);
+bottom = 2 + k;
+bottomNext = 2 + next;
+top = 2 + n + k;
+topNext = 2 + n + next;
+t = [zeros(n, 1), bottomNext, bottom; ones(n, 1), top, topNext; bottom, bottomNext, topNext; bottom, topNext, top];
+end
+
+function bytes = stlBytes(v, t)
+% A binary STL of a mesh (vertices N-by-3, 0-based triangles M-by-3).
+n = size(t, 1);
+bytes = [zeros(1, 80, 'uint8'), typecast(uint32(n), 'uint8')];
+for k = 1:n
+  corners = v(t(k, :) + 1, :);
+  normal = cross(corners(2, :) - corners(1, :), corners(3, :) - corners(1, :));
+  record = single([normal / norm(normal), reshape(corners.', 1, [])]);
+  bytes = [bytes, typecast(record, 'uint8'), uint8([0 0])];  %#ok<AGROW>
+end
+end
+
+function text = twoLinkUrdf(meshPath)
+% base (a box) + arm on a revolute joint (limits [-1, 1] rad, axis z); the arm is the mesh at meshPath if given.
+inertial = '<inertial><mass value="0.5"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>';
+armShape = '<box size="0.05 0.05 0.2"/>';
+if ~isempty(meshPath)
+  armShape = sprintf('<mesh filename="%s"/>', meshPath);
+end
+link = @(name, shape) sprintf('<link name="%s">%s<collision><geometry>%s</geometry></collision></link>', ...
+                              name, inertial, shape);
+text = sprintf(['<?xml version="1.0"?>\n<robot name="arm">\n%s\n%s\n' ...
+                '<joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/>' ...
+                '<origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="10" velocity="1"/>' ...
+                '</joint>\n</robot>\n'], link('base', '<box size="0.1 0.1 0.1"/>'), link('arm', armShape));
+end
+
+function q = quaternionAbout(axis, angle)
+axis = axis / norm(axis);
+q = [cos(angle / 2), sin(angle / 2) * axis];
+end
+
+function R = rotationMatrix(q)
+q = q / norm(q);
+w = q(1); x = q(2); y = q(3); z = q(4);
+R = [1 - 2 * (y^2 + z^2), 2 * (x * y - w * z), 2 * (x * z + w * y);
+     2 * (x * y + w * z), 1 - 2 * (x^2 + z^2), 2 * (y * z - w * x);
+     2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x^2 + y^2)];
+end
+
+function hex = sha256sum(bytes)
+% SHA-256 computed outside the client: sha256sum(1) of a temporary file.
+file = tempname();
+fid = fopen(file, 'w');
+fwrite(fid, bytes, 'uint8');
+fclose(fid);
+[status, out] = system(sprintf('sha256sum "%s"', file));
+delete(file);
+check(status == 0, 'sha256sum failed: %s', out);
+hex = strtok(out);
+end
+
+function port = freePort()
+% A TCP port nothing listens on (bound and released by python3).
+[status, out] = system('python3 -c "import socket; s = socket.socket(); s.bind((''127.0.0.1'', 0)); print(s.getsockname()[1])"');
+check(status == 0, 'python3 failed: %s', out);
+port = str2double(strtrim(out));
+end
