@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Starts graspsim-server on its built-in defaults, runs the Python demo against it, stops the server with
+# Starts graspsim-server on its built-in defaults, runs the Python demo (and the Octave one) against it, stops the server with
 # SIGTERM (it drains and exits 0), and fails if either the demo or the server's exit fails.
 set -euo pipefail
 server=${1:?usage: run-demo.sh SERVER_BINARY PYTHON}
@@ -16,7 +16,16 @@ stop_server() {
 trap 'kill -TERM "$pid" 2>/dev/null || true' EXIT
 
 demo_status=0
-"$python" "$top/clients/python/examples/demo.py" --server 127.0.0.1:50051 || demo_status=$?
+"$python" "$top/clients/python/examples/demo.py" --server 127.0.0.1:50051 --http http://127.0.0.1:8080 || demo_status=$?
+# The same job from GNU Octave through the HTTP/JSON gateway (the Matlab client), when Octave is installed.
+if [[ $demo_status -eq 0 ]] && command -v octave >/dev/null; then
+  echo
+  echo "--- the same scene from GNU Octave (clients/matlab) ---"
+  # Octave 7.3 prints "ignoring const execution_exception" at exit after any webwrite: its own noise, dropped.
+  octave --no-gui --no-window-system --quiet --eval \
+    "addpath('$top/clients/matlab', '$top/clients/matlab/examples'); graspsim_demo('http://127.0.0.1:8080');" \
+    2> >(grep -v 'ignoring const execution_exception' >&2) || demo_status=$?
+fi
 server_status=0
 stop_server || server_status=$?
 trap - EXIT
