@@ -26,6 +26,8 @@ GraspsimServer::GraspsimServer(const ServerOptions& options) : options_(options)
   grpc::ServerBuilder builder;
   // Loopback by default; wider addresses get TLS with the security issue.
   builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &port_);
+  // Without this a second server on the same port would start and silently share its traffic (SO_REUSEPORT).
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(options.max_message_bytes);
   builder.SetMaxSendMessageSize(-1);  // a GetScene with geometry may be large; the client sets its own limit
   for (auto& service : services_) builder.RegisterService(service.get());
