@@ -46,7 +46,10 @@ class Server:
                 break
             time.sleep(0.05)
         self.process.kill()
-        raise RuntimeError(f"graspsim-server {self.flags} did not start:\n{self.log_tail()}")
+        self.process.wait()
+        tail = self.log_tail()
+        self.log_path.unlink()
+        raise RuntimeError(f"graspsim-server {self.flags} did not start:\n{tail}")
 
     def handler_seconds(self, method: str):
         """Time (s) the server spent in each handler of method, in call order, from its debug log (the server
@@ -67,7 +70,8 @@ class Server:
                 self.exit_code = self.process.wait()
                 log(f"graspsim-server did not exit within {STOP_TIMEOUT_S} s of SIGTERM; killed")
             if self.exit_code != 0:
-                log(f"graspsim-server exited with {self.exit_code} after SIGTERM:\n{self.log_tail()}")
+                log(f"graspsim-server exited with {self.exit_code} after SIGTERM (log kept: {self.log_path}):\n"
+                    f"{self.log_tail()}")
             else:
                 self.log_path.unlink()
         return self.exit_code
