@@ -48,7 +48,11 @@ UNKNOWN_SCENE_CALLS = {
     "set_joint_positions": lambda c: c.set_joint_positions(MISSING, {"pg70/finger_left_joint": 0.01}),
     "get_joint_positions": lambda c: c.get_joint_positions(MISSING),
     "watch_scene": lambda c: next(c.watch_scene(MISSING)),
-}  # StepSimulation is UNIMPLEMENTED for every scene until physics lands (test_unimplemented.py).
+    "step_simulation": lambda c: c.step_simulation(MISSING, steps=1),
+    "set_simulation_params": lambda c: c.set_simulation_params(MISSING, time_step=1e-3),
+    "get_simulation_params": lambda c: c.get_simulation_params(MISSING),
+    "set_actuator": lambda c: c.set_actuator(MISSING, "pg70/finger_left_joint", "velocity", 0.01),
+}
 
 
 @pytest.mark.parametrize("method", sorted(UNKNOWN_SCENE_CALLS))

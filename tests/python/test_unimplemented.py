@@ -1,8 +1,7 @@
-"""Declared but not yet implemented: the four other services and StepSimulation answer UNIMPLEMENTED."""
+"""Declared but not yet implemented: the four other services answer UNIMPLEMENTED, with a message."""
 import grpc
 import pytest
 
-import graspsim
 from graspsim.v1 import (gateway_pb2, gateway_pb2_grpc, grasp_pb2, grasp_pb2_grpc, perception_pb2,
                          perception_pb2_grpc, tactile_pb2, tactile_pb2_grpc)
 
@@ -25,9 +24,3 @@ def test_other_services_are_unimplemented(client, method):
     assert info.value.code() == grpc.StatusCode.UNIMPLEMENTED
     assert info.value.details(), f"{method}: UNIMPLEMENTED without a message"
 
-
-def test_step_simulation_is_unimplemented(client, scene_id):
-    with pytest.raises(graspsim.GraspsimError) as info:
-        client.step_simulation(scene_id, 0.01)
-    assert info.value.code == grpc.StatusCode.UNIMPLEMENTED and info.value.message
-    assert str(info.value).startswith("UNIMPLEMENTED: ")

@@ -104,6 +104,11 @@ const std::vector<FlagSpec>& Specs() {
       {"watch-max-rate-hz", "most snapshots per second a WatchScene stream gets, Hz",
        [](const ServerFlags& f) { return FormatNumber(f.server.watch_max_rate_hz); },
        [](const std::string& v, ServerFlags* f) { f->server.watch_max_rate_hz = ParsePositive("watch-max-rate-hz", v); }},
+      {"worker-threads", "threads that run request bodies (long simulation runs hold one each)",
+       [](const ServerFlags& f) { return std::to_string(f.server.worker_threads); },
+       [](const std::string& v, ServerFlags* f) {
+         f->server.worker_threads = static_cast<int>(std::min<uint64_t>(ParseCount("worker-threads", v, 1), 1024));
+       }},
       {"drain-timeout-s", "on SIGTERM, how long in-flight requests may finish before they are cancelled, s",
        [](const ServerFlags& f) { return FormatNumber(f.server.drain_timeout_s); },
        [](const std::string& v, ServerFlags* f) { f->server.drain_timeout_s = ParsePositive("drain-timeout-s", v); }},

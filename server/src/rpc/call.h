@@ -9,6 +9,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "core/error.h"
+#include "core/worker_pool.h"
 
 namespace graspsim::rpc {
 
@@ -35,6 +36,18 @@ grpc::Status Handle(const char* method, const grpc::ServerContextBase& context, 
   }
   LogRequest(method, context, status, std::chrono::steady_clock::now() - start);
   return status;
+}
+
+// A unary call of the callback API: the body runs on the worker pool (never on gRPC's own threads, which must
+// not block), and the call finishes with its status. Request and response stay valid until Finish.
+template <typename Body>
+grpc::ServerUnaryReactor* RunUnary(grpc::CallbackServerContext* context, const char* method, WorkerPool* pool,
+                                   Body&& body) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  pool->Post([reactor, context, method, body = std::forward<Body>(body)]() mutable {
+    reactor->Finish(Handle(method, *context, body));
+  });
+  return reactor;
 }
 
 }  // namespace graspsim::rpc

@@ -45,7 +45,18 @@ Material MaterialFromProto(const std::string& field, const v1::Material& materia
     ThrowInvalidArgument(field + ": static_friction " + FormatNumber(material.static_friction()) +
                          " is below dynamic_friction " + FormatNumber(material.dynamic_friction()));
   }
-  return {material.static_friction(), material.dynamic_friction()};
+  Material out{material.static_friction(), material.dynamic_friction()};
+  const std::pair<const char*, double*> contact[] = {
+      {"contact_stiffness", &out.contact_stiffness}, {"contact_damping", &out.contact_damping},
+      {"bristle_stiffness", &out.bristle_stiffness}, {"bristle_damping", &out.bristle_damping},
+      {"viscous_friction", &out.viscous_friction},   {"stribeck_velocity", &out.stribeck_velocity}};
+  const double values[] = {material.contact_stiffness(), material.contact_damping(), material.bristle_stiffness(),
+                           material.bristle_damping(),   material.viscous_friction(), material.stribeck_velocity()};
+  for (size_t i = 0; i < std::size(values); ++i) {
+    CheckNonNegative(field + "." + contact[i].first, values[i]);
+    *contact[i].second = values[i];
+  }
+  return out;
 }
 
 TriangleMesh MeshFromProto(const std::string& field, const v1::MeshData& mesh, const Limits& limits) {
@@ -207,8 +218,15 @@ void ToProto(const BodySpec& body, const Pose& pose, bool include_geometry, v1::
   inertial->set_ixy(I(0, 1));
   inertial->set_ixz(I(0, 2));
   inertial->set_iyz(I(1, 2));
-  out->mutable_material()->set_static_friction(body.material.static_friction);
-  out->mutable_material()->set_dynamic_friction(body.material.dynamic_friction);
+  auto* material = out->mutable_material();
+  material->set_static_friction(body.material.static_friction);
+  material->set_dynamic_friction(body.material.dynamic_friction);
+  material->set_contact_stiffness(body.material.contact_stiffness);
+  material->set_contact_damping(body.material.contact_damping);
+  material->set_bristle_stiffness(body.material.bristle_stiffness);
+  material->set_bristle_damping(body.material.bristle_damping);
+  material->set_viscous_friction(body.material.viscous_friction);
+  material->set_stribeck_velocity(body.material.stribeck_velocity);
   ToProto(pose, out->mutable_pose());
 }
 
@@ -264,10 +282,18 @@ void ToProto(const SceneView& view, bool include_geometry, v1::Scene* out) {
   const SceneModel& model = *view.model;
   SummaryToProto(view, out->mutable_summary());
   for (size_t i = 0; i < model.bodies.size(); ++i) {
-    ToProto(model.bodies[i], view.state.body_poses[i], include_geometry, out->add_bodies());
+    v1::Body* body = out->add_bodies();
+    ToProto(model.bodies[i], view.state.body_poses[i], include_geometry, body);
+    if (i < view.state.body_velocities.size()) {
+      ToProto(view.state.body_velocities[i].linear, body->mutable_velocity()->mutable_linear());
+      ToProto(view.state.body_velocities[i].angular, body->mutable_velocity()->mutable_angular());
+      body->set_sleeping(view.state.sleeping[i]);
+    }
   }
   for (size_t j = 0; j < model.joints.size(); ++j) {
-    ToProto(model.joints[j], view.state.joint_positions[j], out->add_joints());
+    v1::Joint* joint = out->add_joints();
+    ToProto(model.joints[j], view.state.joint_positions[j], joint);
+    if (j < view.state.joint_velocities.size()) joint->set_velocity(view.state.joint_velocities[j]);
   }
   for (const auto& robot : model.robots) ToProto(robot, out->add_robots());
   for (const auto& pad : model.tactile_arrays) ToProto(pad, out->add_tactile_arrays());

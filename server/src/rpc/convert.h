@@ -31,4 +31,11 @@ void ToProto(const RobotSpec& robot, v1::Robot* out);
 void ToProto(const SceneView& view, bool include_geometry, v1::Scene* out);
 void SummaryToProto(const SceneView& view, v1::SceneSummary* out);
 
+// Simulation parameters and actuators (convert_simulation.cpp). Fields left at 0 keep `defaults`.
+SimulationParams SimulationParamsFromProto(const std::string& field, const v1::SimulationParams& params,
+                                           const SimulationParams& defaults);
+void ToProto(const SimulationParams& params, v1::SimulationParams* out);
+DcMotorParams DcMotorFromProto(const std::string& field, const v1::DcMotor& motor);
+ActuatorCommand ActuatorCommandFromProto(const std::string& field, const v1::ActuatorCommand& command);
+
 }  // namespace graspsim::rpc

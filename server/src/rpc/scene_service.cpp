@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/sha256.h"
 #include "core/validate.h"
 #include "rpc/call.h"
 #include "rpc/convert.h"
+#include "rpc/upload_file.h"
 #include "rpc/watch_scene.h"
 
 namespace graspsim::rpc {
@@ -48,81 +48,43 @@ size_t BodyIndexForRead(const SceneView& view, const std::string& id) {
 
 }  // namespace
 
-grpc::Status SceneServiceImpl::CreateScene(grpc::ServerContext* context, const v1::CreateSceneRequest* request,
+grpc::ServerUnaryReactor* SceneServiceImpl::CreateScene(grpc::CallbackServerContext* context, const v1::CreateSceneRequest* request,
                                            v1::Scene* response) {
-  return Handle("CreateScene", *context, [&] {
+  return RunUnary(context, "CreateScene", pool_, [=, this] {
     ToProto(registry_->Create(request->name())->View(), false, response);
   });
 }
 
-grpc::Status SceneServiceImpl::ListScenes(grpc::ServerContext* context, const v1::ListScenesRequest*,
+grpc::ServerUnaryReactor* SceneServiceImpl::ListScenes(grpc::CallbackServerContext* context, const v1::ListScenesRequest*,
                                           v1::ListScenesResponse* response) {
-  return Handle("ListScenes", *context, [&] {
+  return RunUnary(context, "ListScenes", pool_, [=, this] {
     for (const auto& scene : registry_->List()) SummaryToProto(scene->View(), response->add_scenes());
   });
 }
 
-grpc::Status SceneServiceImpl::GetScene(grpc::ServerContext* context, const v1::GetSceneRequest* request,
+grpc::ServerUnaryReactor* SceneServiceImpl::GetScene(grpc::CallbackServerContext* context, const v1::GetSceneRequest* request,
                                         v1::Scene* response) {
-  return Handle("GetScene", *context, [&] {
+  return RunUnary(context, "GetScene", pool_, [=, this] {
     ToProto(registry_->Get(request->scene_id())->View(), request->include_geometry(), response);
   });
 }
 
-grpc::Status SceneServiceImpl::DeleteScene(grpc::ServerContext* context, const v1::DeleteSceneRequest* request,
+grpc::ServerUnaryReactor* SceneServiceImpl::DeleteScene(grpc::CallbackServerContext* context, const v1::DeleteSceneRequest* request,
                                            v1::DeleteSceneResponse*) {
-  return Handle("DeleteScene", *context, [&] { registry_->Delete(request->scene_id()); });
-}
-
-grpc::Status SceneServiceImpl::UploadFile(grpc::ServerContext* context,
-                                          grpc::ServerReader<v1::UploadFileChunk>* reader, v1::FileInfo* response) {
-  return Handle("UploadFile", *context, [&] {
-    v1::UploadFileChunk chunk;
-    if (!reader->Read(&chunk) || !chunk.has_header()) {
-      ThrowInvalidArgument("header: the first chunk of an upload must carry the header");
-    }
-    const v1::UploadFileHeader header = chunk.header();
-    auto scene = registry_->Get(header.scene_id());
-    CheckRelativePath("header.path", header.path());
-    const uint64_t limit = registry_->limits().max_upload_bytes;
-    if (header.total_size() > limit) {
-      ThrowResourceExhausted("header.total_size: " + std::to_string(header.total_size()) +
-                             " bytes is above the upload limit of " + std::to_string(limit));
-    }
-    const std::string expected_sha = header.sha256();
-    if (expected_sha.size() != 64 || expected_sha.find_first_not_of("0123456789abcdef") != std::string::npos) {
-      ThrowInvalidArgument("header.sha256: '" + expected_sha.substr(0, 80) + "' is not 64 lowercase hex digits");
-    }
-    auto bytes = std::make_shared<std::string>();
-    bytes->reserve(header.total_size());
-    // The header chunk may carry data too; later chunks must not repeat the header.
-    do {
-      if (bytes->size() && chunk.has_header()) ThrowInvalidArgument("header: sent again in a later chunk");
-      if (bytes->size() + chunk.data().size() > header.total_size()) {
-        ThrowInvalidArgument("data: more than header.total_size = " + std::to_string(header.total_size()) +
-                             " bytes received");
-      }
-      bytes->append(chunk.data());
-      chunk.Clear();
-    } while (reader->Read(&chunk));
-    if (bytes->size() != header.total_size()) {
-      ThrowInvalidArgument("header.total_size: " + std::to_string(header.total_size()) + " bytes announced, " +
-                           std::to_string(bytes->size()) + " received");
-    }
-    const std::string actual_sha = Sha256Hex(*bytes);
-    if (actual_sha != expected_sha) {
-      ThrowInvalidArgument("header.sha256: " + expected_sha + " announced, the received bytes hash to " + actual_sha);
-    }
-    scene->PutFile(header.path(), bytes, actual_sha);
-    response->set_path(header.path());
-    response->set_size(bytes->size());
-    response->set_sha256(actual_sha);
+  return RunUnary(context, "DeleteScene", pool_, [=, this] {
+    registry_->Delete(request->scene_id());
+    simulations_.Forget(request->scene_id());
   });
 }
 
-grpc::Status SceneServiceImpl::ListBuiltinModels(grpc::ServerContext* context, const v1::ListBuiltinModelsRequest*,
+grpc::ServerReadReactor<v1::UploadFileChunk>* SceneServiceImpl::UploadFile(grpc::CallbackServerContext* context,
+                                                                           v1::FileInfo* response) {
+  return StartUpload(context, registry_, pool_, response);
+}
+
+grpc::ServerUnaryReactor* SceneServiceImpl::ListBuiltinModels(grpc::CallbackServerContext* context, const v1::ListBuiltinModelsRequest*,
                                                  v1::ListBuiltinModelsResponse* response) {
-  return Handle("ListBuiltinModels", *context, [&] {
+  return RunUnary(context, "ListBuiltinModels", pool_, [=, this] {
     for (const auto& info : BuiltinModels()) {
       auto* model = response->add_models();
       model->set_name(info.name);
@@ -132,9 +94,9 @@ grpc::Status SceneServiceImpl::ListBuiltinModels(grpc::ServerContext* context, c
   });
 }
 
-grpc::Status SceneServiceImpl::AddObject(grpc::ServerContext* context, const v1::AddObjectRequest* request,
+grpc::ServerUnaryReactor* SceneServiceImpl::AddObject(grpc::CallbackServerContext* context, const v1::AddObjectRequest* request,
                                          v1::Body* response) {
-  return Handle("AddObject", *context, [&] {
+  return RunUnary(context, "AddObject", pool_, [=, this] {
     auto scene = registry_->Get(request->scene_id());
     CheckName("name", request->name());
     const Pose pose = PoseFromProto("pose", request->pose());
@@ -166,9 +128,9 @@ grpc::Status SceneServiceImpl::AddObject(grpc::ServerContext* context, const v1:
   });
 }
 
-grpc::Status SceneServiceImpl::AddRobot(grpc::ServerContext* context, const v1::AddRobotRequest* request,
+grpc::ServerUnaryReactor* SceneServiceImpl::AddRobot(grpc::CallbackServerContext* context, const v1::AddRobotRequest* request,
                                         v1::AddRobotResponse* response) {
-  return Handle("AddRobot", *context, [&] {
+  return RunUnary(context, "AddRobot", pool_, [=, this] {
     auto scene = registry_->Get(request->scene_id());
     CheckName("name", request->name());
     const Pose base_pose = PoseFromProto("base_pose", request->base_pose());
@@ -206,18 +168,18 @@ grpc::Status SceneServiceImpl::AddRobot(grpc::ServerContext* context, const v1::
   });
 }
 
-grpc::Status SceneServiceImpl::RemoveBody(grpc::ServerContext* context, const v1::RemoveBodyRequest* request,
+grpc::ServerUnaryReactor* SceneServiceImpl::RemoveBody(grpc::CallbackServerContext* context, const v1::RemoveBodyRequest* request,
                                           v1::RemoveBodyResponse* response) {
-  return Handle("RemoveBody", *context, [&] {
+  return RunUnary(context, "RemoveBody", pool_, [=, this] {
     for (const auto& id : registry_->Get(request->scene_id())->Remove(request->id())) {
       response->add_removed_body_ids(id);
     }
   });
 }
 
-grpc::Status SceneServiceImpl::SetBodyPoses(grpc::ServerContext* context, const v1::SetBodyPosesRequest* request,
+grpc::ServerUnaryReactor* SceneServiceImpl::SetBodyPoses(grpc::CallbackServerContext* context, const v1::SetBodyPosesRequest* request,
                                             v1::SetBodyPosesResponse* response) {
-  return Handle("SetBodyPoses", *context, [&] {
+  return RunUnary(context, "SetBodyPoses", pool_, [=, this] {
     auto scene = registry_->Get(request->scene_id());
     std::vector<std::pair<std::string, Pose>> poses;
     for (int i = 0; i < request->poses_size(); ++i) {
@@ -228,9 +190,9 @@ grpc::Status SceneServiceImpl::SetBodyPoses(grpc::ServerContext* context, const 
   });
 }
 
-grpc::Status SceneServiceImpl::GetBodyPoses(grpc::ServerContext* context, const v1::GetBodyPosesRequest* request,
+grpc::ServerUnaryReactor* SceneServiceImpl::GetBodyPoses(grpc::CallbackServerContext* context, const v1::GetBodyPosesRequest* request,
                                             v1::GetBodyPosesResponse* response) {
-  return Handle("GetBodyPoses", *context, [&] {
+  return RunUnary(context, "GetBodyPoses", pool_, [=, this] {
     const SceneView view = registry_->Get(request->scene_id())->View();
     auto add = [&](const std::string& id, size_t index) {
       auto* entry = response->add_poses();
@@ -246,10 +208,10 @@ grpc::Status SceneServiceImpl::GetBodyPoses(grpc::ServerContext* context, const 
   });
 }
 
-grpc::Status SceneServiceImpl::SetJointPositions(grpc::ServerContext* context,
+grpc::ServerUnaryReactor* SceneServiceImpl::SetJointPositions(grpc::CallbackServerContext* context,
                                                  const v1::SetJointPositionsRequest* request,
                                                  v1::SetJointPositionsResponse* response) {
-  return Handle("SetJointPositions", *context, [&] {
+  return RunUnary(context, "SetJointPositions", pool_, [=, this] {
     auto scene = registry_->Get(request->scene_id());
     std::vector<std::pair<std::string, double>> positions;
     for (const auto& entry : request->positions()) positions.emplace_back(entry.joint_id(), entry.position());
@@ -257,10 +219,10 @@ grpc::Status SceneServiceImpl::SetJointPositions(grpc::ServerContext* context,
   });
 }
 
-grpc::Status SceneServiceImpl::GetJointPositions(grpc::ServerContext* context,
+grpc::ServerUnaryReactor* SceneServiceImpl::GetJointPositions(grpc::CallbackServerContext* context,
                                                  const v1::GetJointPositionsRequest* request,
                                                  v1::GetJointPositionsResponse* response) {
-  return Handle("GetJointPositions", *context, [&] {
+  return RunUnary(context, "GetJointPositions", pool_, [=, this] {
     const SceneView view = registry_->Get(request->scene_id())->View();
     auto add = [&](const std::string& id, size_t index) {
       auto* entry = response->add_positions();
@@ -295,15 +257,6 @@ grpc::ServerWriteReactor<v1::SceneSnapshot>* SceneServiceImpl::WatchScene(grpc::
   });
   if (!status.ok()) return FailedWatch(status);
   return StartWatch(std::move(scene), std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate)));
-}
-
-grpc::Status SceneServiceImpl::StepSimulation(grpc::ServerContext* context, const v1::StepSimulationRequest*,
-                                              v1::StepSimulationResponse*) {
-  return Handle("StepSimulation", *context, [&] {
-    throw Error(ErrorCode::kUnimplemented,
-                "graspsim.v1.SceneService/StepSimulation is declared in API v1 but the physics engine is not "
-                "built yet");
-  });
 }
 
 }  // namespace graspsim::rpc

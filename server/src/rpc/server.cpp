@@ -13,11 +13,12 @@
 
 namespace graspsim::rpc {
 
-GraspsimServer::GraspsimServer(const ServerOptions& options) : options_(options), registry_(options.limits) {
+GraspsimServer::GraspsimServer(const ServerOptions& options)
+    : options_(options), registry_(options.limits), pool_(options.worker_threads) {
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
 
-  services_.push_back(std::make_unique<SceneServiceImpl>(&registry_, options.watch_max_rate_hz));
+  services_.push_back(std::make_unique<SceneServiceImpl>(&registry_, &pool_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<PerceptionServiceStub>());
   services_.push_back(std::make_unique<GraspServiceStub>());
   services_.push_back(std::make_unique<TactileServiceStub>());

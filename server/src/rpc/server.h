@@ -7,6 +7,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "core/limits.h"
+#include "core/worker_pool.h"
 #include "rpc/http_gateway.h"
 #include "world/scene_registry.h"
 
@@ -17,6 +18,7 @@ struct ServerOptions {
   int max_message_bytes = 4 << 20;
   double watch_max_rate_hz = 60;
   double drain_timeout_s = 10;
+  int worker_threads = 16;  // request bodies run here, off gRPC's threads
   Limits limits;
   bool http_enabled = true;
   HttpGatewayOptions http;
@@ -36,6 +38,7 @@ class GraspsimServer {
  private:
   ServerOptions options_;
   SceneRegistry registry_;
+  WorkerPool pool_;
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<HttpGateway> http_;

@@ -3,16 +3,26 @@
 #include <string>
 
 #include "rpc/call.h"
+#include "rpc/failed_call.h"
 
 namespace graspsim::rpc {
 namespace {
 
-grpc::Status NotBuiltYet(const grpc::ServerContext& context, const char* method, const char* capability) {
+grpc::Status NotBuiltYet(const Context& context, const char* method, const char* capability) {
   const grpc::Status status(grpc::StatusCode::UNIMPLEMENTED,
                             std::string("graspsim.v1.") + method + " is declared in API v1 but not implemented yet: " +
                                 capability + " is a later issue");
   LogRequest(method, context, status, {});
   return status;
+}
+
+template <typename Response>
+Writer<Response>* NotBuiltYetStream(Context* context, const char* method, const char* capability) {
+  return new FailedWriter<Response>(NotBuiltYet(*context, method, capability));
+}
+
+Unary* NotBuiltYetUnary(Context* context, const char* method, const char* capability) {
+  return FailedUnary(context, NotBuiltYet(*context, method, capability));
 }
 
 constexpr char kShapeCompletion[] = "shape completion";
@@ -23,57 +33,47 @@ constexpr char kGateway[] = "the hardware gateway";
 
 }  // namespace
 
-grpc::Status PerceptionServiceStub::CompleteShape(grpc::ServerContext* c, const v1::CompleteShapeRequest*,
-                                                  grpc::ServerWriter<v1::CompleteShapeProgress>*) {
-  return NotBuiltYet(*c, "PerceptionService/CompleteShape", kShapeCompletion);
+Writer<v1::CompleteShapeProgress>* PerceptionServiceStub::CompleteShape(Context* c, const v1::CompleteShapeRequest*) {
+  return NotBuiltYetStream<v1::CompleteShapeProgress>(c, "PerceptionService/CompleteShape", kShapeCompletion);
 }
-grpc::Status PerceptionServiceStub::SegmentScene(grpc::ServerContext* c, const v1::SegmentSceneRequest*,
-                                                 v1::SegmentSceneResponse*) {
-  return NotBuiltYet(*c, "PerceptionService/SegmentScene", kShapeCompletion);
+Unary* PerceptionServiceStub::SegmentScene(Context* c, const v1::SegmentSceneRequest*, v1::SegmentSceneResponse*) {
+  return NotBuiltYetUnary(c, "PerceptionService/SegmentScene", kShapeCompletion);
 }
 
-grpc::Status GraspServiceStub::PlanGrasps(grpc::ServerContext* c, const v1::PlanGraspsRequest*,
-                                          grpc::ServerWriter<v1::PlanGraspsProgress>*) {
-  return NotBuiltYet(*c, "GraspService/PlanGrasps", kGraspPlanning);
+Writer<v1::PlanGraspsProgress>* GraspServiceStub::PlanGrasps(Context* c, const v1::PlanGraspsRequest*) {
+  return NotBuiltYetStream<v1::PlanGraspsProgress>(c, "GraspService/PlanGrasps", kGraspPlanning);
 }
-grpc::Status GraspServiceStub::SimulateGrasp(grpc::ServerContext* c, const v1::SimulateGraspRequest*, v1::Grasp*) {
-  return NotBuiltYet(*c, "GraspService/SimulateGrasp", kGraspPlanning);
+Unary* GraspServiceStub::SimulateGrasp(Context* c, const v1::SimulateGraspRequest*, v1::Grasp*) {
+  return NotBuiltYetUnary(c, "GraspService/SimulateGrasp", kGraspPlanning);
 }
-grpc::Status GraspServiceStub::PlanArmPath(grpc::ServerContext* c, const v1::PlanArmPathRequest*,
-                                           v1::PlanArmPathResponse*) {
-  return NotBuiltYet(*c, "GraspService/PlanArmPath", kMotionPlanning);
+Unary* GraspServiceStub::PlanArmPath(Context* c, const v1::PlanArmPathRequest*, v1::PlanArmPathResponse*) {
+  return NotBuiltYetUnary(c, "GraspService/PlanArmPath", kMotionPlanning);
 }
-grpc::Status GraspServiceStub::PickAndPlace(grpc::ServerContext* c, const v1::PickAndPlaceRequest*,
-                                            grpc::ServerWriter<v1::PickAndPlaceProgress>*) {
-  return NotBuiltYet(*c, "GraspService/PickAndPlace", kMotionPlanning);
+Writer<v1::PickAndPlaceProgress>* GraspServiceStub::PickAndPlace(Context* c, const v1::PickAndPlaceRequest*) {
+  return NotBuiltYetStream<v1::PickAndPlaceProgress>(c, "GraspService/PickAndPlace", kMotionPlanning);
 }
 
-grpc::Status TactileServiceStub::Sample(grpc::ServerContext* c, const v1::SampleRequest*, v1::SensorReading*) {
-  return NotBuiltYet(*c, "TactileService/Sample", kTactile);
+Unary* TactileServiceStub::Sample(Context* c, const v1::SampleRequest*, v1::SensorReading*) {
+  return NotBuiltYetUnary(c, "TactileService/Sample", kTactile);
 }
-grpc::Status TactileServiceStub::Stream(grpc::ServerContext* c, const v1::StreamRequest*,
-                                        grpc::ServerWriter<v1::SensorReading>*) {
-  return NotBuiltYet(*c, "TactileService/Stream", kTactile);
+Writer<v1::SensorReading>* TactileServiceStub::Stream(Context* c, const v1::StreamRequest*) {
+  return NotBuiltYetStream<v1::SensorReading>(c, "TactileService/Stream", kTactile);
 }
-grpc::Status TactileServiceStub::GetTactileImage(grpc::ServerContext* c, const v1::GetTactileImageRequest*,
-                                                 v1::TactileImage*) {
-  return NotBuiltYet(*c, "TactileService/GetTactileImage", kTactile);
+Unary* TactileServiceStub::GetTactileImage(Context* c, const v1::GetTactileImageRequest*, v1::TactileImage*) {
+  return NotBuiltYetUnary(c, "TactileService/GetTactileImage", kTactile);
 }
-grpc::Status TactileServiceStub::RunWorkCycle(grpc::ServerContext* c, const v1::RunWorkCycleRequest*,
-                                              grpc::ServerWriter<v1::WorkCycleProgress>*) {
-  return NotBuiltYet(*c, "TactileService/RunWorkCycle", kTactile);
+Writer<v1::WorkCycleProgress>* TactileServiceStub::RunWorkCycle(Context* c, const v1::RunWorkCycleRequest*) {
+  return NotBuiltYetStream<v1::WorkCycleProgress>(c, "TactileService/RunWorkCycle", kTactile);
 }
 
-grpc::Status GatewayServiceStub::Connect(grpc::ServerContext* c,
-                                         grpc::ServerReaderWriter<v1::GatewayCommand, v1::GatewayMessage>*) {
-  return NotBuiltYet(*c, "GatewayService/Connect", kGateway);
+grpc::ServerBidiReactor<v1::GatewayMessage, v1::GatewayCommand>* GatewayServiceStub::Connect(Context* c) {
+  return new FailedBidi<v1::GatewayMessage, v1::GatewayCommand>(NotBuiltYet(*c, "GatewayService/Connect", kGateway));
 }
-grpc::Status GatewayServiceStub::ListDevices(grpc::ServerContext* c, const v1::ListDevicesRequest*,
-                                             v1::ListDevicesResponse*) {
-  return NotBuiltYet(*c, "GatewayService/ListDevices", kGateway);
+Unary* GatewayServiceStub::ListDevices(Context* c, const v1::ListDevicesRequest*, v1::ListDevicesResponse*) {
+  return NotBuiltYetUnary(c, "GatewayService/ListDevices", kGateway);
 }
-grpc::Status GatewayServiceStub::SendCommand(grpc::ServerContext* c, const v1::DeviceCommand*, v1::CommandResult*) {
-  return NotBuiltYet(*c, "GatewayService/SendCommand", kGateway);
+Unary* GatewayServiceStub::SendCommand(Context* c, const v1::DeviceCommand*, v1::CommandResult*) {
+  return NotBuiltYetUnary(c, "GatewayService/SendCommand", kGateway);
 }
 
 }  // namespace graspsim::rpc

@@ -9,38 +9,38 @@
 
 namespace graspsim::rpc {
 
-class PerceptionServiceStub final : public v1::PerceptionService::Service {
+using Context = grpc::CallbackServerContext;
+using Unary = grpc::ServerUnaryReactor;
+template <typename Response>
+using Writer = grpc::ServerWriteReactor<Response>;
+
+class PerceptionServiceStub final : public v1::PerceptionService::CallbackService {
  public:
-  grpc::Status CompleteShape(grpc::ServerContext*, const v1::CompleteShapeRequest*,
-                             grpc::ServerWriter<v1::CompleteShapeProgress>*) override;
-  grpc::Status SegmentScene(grpc::ServerContext*, const v1::SegmentSceneRequest*,
-                            v1::SegmentSceneResponse*) override;
+  Writer<v1::CompleteShapeProgress>* CompleteShape(Context*, const v1::CompleteShapeRequest*) override;
+  Unary* SegmentScene(Context*, const v1::SegmentSceneRequest*, v1::SegmentSceneResponse*) override;
 };
 
-class GraspServiceStub final : public v1::GraspService::Service {
+class GraspServiceStub final : public v1::GraspService::CallbackService {
  public:
-  grpc::Status PlanGrasps(grpc::ServerContext*, const v1::PlanGraspsRequest*,
-                          grpc::ServerWriter<v1::PlanGraspsProgress>*) override;
-  grpc::Status SimulateGrasp(grpc::ServerContext*, const v1::SimulateGraspRequest*, v1::Grasp*) override;
-  grpc::Status PlanArmPath(grpc::ServerContext*, const v1::PlanArmPathRequest*, v1::PlanArmPathResponse*) override;
-  grpc::Status PickAndPlace(grpc::ServerContext*, const v1::PickAndPlaceRequest*,
-                            grpc::ServerWriter<v1::PickAndPlaceProgress>*) override;
+  Writer<v1::PlanGraspsProgress>* PlanGrasps(Context*, const v1::PlanGraspsRequest*) override;
+  Unary* SimulateGrasp(Context*, const v1::SimulateGraspRequest*, v1::Grasp*) override;
+  Unary* PlanArmPath(Context*, const v1::PlanArmPathRequest*, v1::PlanArmPathResponse*) override;
+  Writer<v1::PickAndPlaceProgress>* PickAndPlace(Context*, const v1::PickAndPlaceRequest*) override;
 };
 
-class TactileServiceStub final : public v1::TactileService::Service {
+class TactileServiceStub final : public v1::TactileService::CallbackService {
  public:
-  grpc::Status Sample(grpc::ServerContext*, const v1::SampleRequest*, v1::SensorReading*) override;
-  grpc::Status Stream(grpc::ServerContext*, const v1::StreamRequest*, grpc::ServerWriter<v1::SensorReading>*) override;
-  grpc::Status GetTactileImage(grpc::ServerContext*, const v1::GetTactileImageRequest*, v1::TactileImage*) override;
-  grpc::Status RunWorkCycle(grpc::ServerContext*, const v1::RunWorkCycleRequest*,
-                            grpc::ServerWriter<v1::WorkCycleProgress>*) override;
+  Unary* Sample(Context*, const v1::SampleRequest*, v1::SensorReading*) override;
+  Writer<v1::SensorReading>* Stream(Context*, const v1::StreamRequest*) override;
+  Unary* GetTactileImage(Context*, const v1::GetTactileImageRequest*, v1::TactileImage*) override;
+  Writer<v1::WorkCycleProgress>* RunWorkCycle(Context*, const v1::RunWorkCycleRequest*) override;
 };
 
-class GatewayServiceStub final : public v1::GatewayService::Service {
+class GatewayServiceStub final : public v1::GatewayService::CallbackService {
  public:
-  grpc::Status Connect(grpc::ServerContext*, grpc::ServerReaderWriter<v1::GatewayCommand, v1::GatewayMessage>*) override;
-  grpc::Status ListDevices(grpc::ServerContext*, const v1::ListDevicesRequest*, v1::ListDevicesResponse*) override;
-  grpc::Status SendCommand(grpc::ServerContext*, const v1::DeviceCommand*, v1::CommandResult*) override;
+  grpc::ServerBidiReactor<v1::GatewayMessage, v1::GatewayCommand>* Connect(Context*) override;
+  Unary* ListDevices(Context*, const v1::ListDevicesRequest*, v1::ListDevicesResponse*) override;
+  Unary* SendCommand(Context*, const v1::DeviceCommand*, v1::CommandResult*) override;
 };
 
 }  // namespace graspsim::rpc

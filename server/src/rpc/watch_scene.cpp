@@ -4,6 +4,8 @@
 
 #include <grpcpp/alarm.h>
 
+#include "rpc/failed_call.h"
+
 namespace graspsim::rpc {
 namespace {
 
@@ -133,12 +135,6 @@ void SnapshotStream::FinishLocked(grpc::Status status) {
   reactor_->Finish(status);
 }
 
-class FailedReactor : public grpc::ServerWriteReactor<v1::SceneSnapshot> {
- public:
-  explicit FailedReactor(const grpc::Status& status) { Finish(status); }
-  void OnDone() override { delete this; }
-};
-
 }  // namespace
 
 grpc::ServerWriteReactor<v1::SceneSnapshot>* StartWatch(std::shared_ptr<Scene> scene,
@@ -147,7 +143,7 @@ grpc::ServerWriteReactor<v1::SceneSnapshot>* StartWatch(std::shared_ptr<Scene> s
 }
 
 grpc::ServerWriteReactor<v1::SceneSnapshot>* FailedWatch(const grpc::Status& status) {
-  return new FailedReactor(status);
+  return new FailedWriter<v1::SceneSnapshot>(status);
 }
 
 }  // namespace graspsim::rpc

@@ -11,6 +11,7 @@
 
 #include "core/math.h"
 #include "core/mesh.h"
+#include "world/simulation_params.h"
 
 namespace graspsim {
 
@@ -31,9 +32,16 @@ struct Inertial {
   Mat3 inertia = Mat3::Zero();    // kg m^2 about the centre of mass, body frame
 };
 
+// Surface properties of a body. Contact parameters left at 0 take the scene's defaults (SimulationParams).
 struct Material {
   double static_friction = 0.6;
   double dynamic_friction = 0.4;
+  double contact_stiffness = 0;   // k, N/m per contact point
+  double contact_damping = 0;     // c, N s/m
+  double bristle_stiffness = 0;   // LuGre σ0, N/m
+  double bristle_damping = 0;     // LuGre σ1, N s/m
+  double viscous_friction = 0;    // c_t, N s/m
+  double stribeck_velocity = 0;   // v_s, m/s
 };
 
 enum class BodyMotion { kStatic, kFree, kArticulated };
@@ -104,6 +112,7 @@ struct SceneModel {
   std::vector<JointSpec> joints;
   std::vector<RobotSpec> robots;
   std::vector<TactileArraySpec> tactile_arrays;
+  SimulationParams simulation;
   std::map<std::string, size_t> body_index, joint_index, robot_index, tactile_index;
 
   // Rebuilds the id → index maps after the vectors changed.

@@ -10,6 +10,14 @@
 namespace graspsim {
 namespace {
 
+// Sizes the per-body and per-joint dynamic state (velocities, sleep) to the model; new entries are at rest.
+void SizeDynamicState(const SceneModel& model, SceneState* state) {
+  state->body_velocities.resize(model.bodies.size());
+  state->sleeping.resize(model.bodies.size(), false);
+  state->rest_time.resize(model.bodies.size(), 0);
+  state->joint_velocities.resize(model.joints.size(), 0);
+}
+
 std::string Quoted(const std::string& s) { return "'" + s + "'"; }
 
 bool IsFollower(const JointSpec& joint) { return joint.mimic.has_value(); }
@@ -71,6 +79,7 @@ BodySpec Scene::AddObject(BodySpec body, const Pose& pose) {
   model->Reindex();
   model_ = std::move(model);
   state_.body_poses.push_back(pose);
+  SizeDynamicState(*model_, &state_);
   CommitLocked();
   return body;
 }
@@ -130,6 +139,7 @@ AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, c
     state.joint_positions.push_back(limited ? std::clamp(0.0, joint.lower, joint.upper) : 0.0);
   }
   UpdateRobotLinkPoses(*model, model->robots.back(), &state);
+  SizeDynamicState(*model, &state);
   model_ = std::move(model);
   state_ = std::move(state);
   CommitLocked();
@@ -156,18 +166,30 @@ std::vector<std::string> Scene::Remove(const std::string& id) {
   }
 
   auto model = std::make_shared<SceneModel>();
+  model->simulation = model_->simulation;
   SceneState state;
   state.time = state_.time;
+  state.step = state_.step;
   for (size_t i = 0; i < model_->bodies.size(); ++i) {
     if (bodies.count(model_->bodies[i].id)) continue;
     model->bodies.push_back(model_->bodies[i]);
     state.body_poses.push_back(state_.body_poses[i]);
+    state.body_velocities.push_back(state_.body_velocities[i]);
+    state.sleeping.push_back(state_.sleeping[i]);
+    state.rest_time.push_back(state_.rest_time[i]);
   }
+  std::map<size_t, size_t> new_joint_index;
   for (size_t i = 0; i < model_->joints.size(); ++i) {
     if (joints.count(model_->joints[i].id)) continue;
+    new_joint_index[i] = model->joints.size();
     model->joints.push_back(model_->joints[i]);
     state.joint_positions.push_back(state_.joint_positions[i]);
+    state.joint_velocities.push_back(state_.joint_velocities[i]);
   }
+  for (const auto& [joint, actuator] : state_.actuators) {
+    if (new_joint_index.count(joint)) state.actuators[new_joint_index[joint]] = actuator;
+  }
+  // Bristle states are keyed by body index, which the removal shifts; contacts re-form within a step.
   for (const auto& pad : model_->tactile_arrays) {
     if (!pads.count(pad.id)) model->tactile_arrays.push_back(pad);
   }
@@ -216,6 +238,10 @@ uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& po
       moved_robots.insert(robot.id);
     }
     state.body_poses[index] = pose;
+    if (index < state.sleeping.size()) {  // a moved body is no longer at rest
+      state.sleeping[index] = false;
+      state.rest_time[index] = 0;
+    }
   }
   for (const std::string& robot : moved_robots) {
     UpdateRobotLinkPoses(*model_, model_->robots[model_->robot_index.at(robot)], &state);
@@ -263,6 +289,24 @@ uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, doubl
     UpdateRobotLinkPoses(*model_, model_->robots[model_->robot_index.at(robot)], &state);
   }
   state_ = std::move(state);
+  CommitLocked();
+  return revision_;
+}
+
+uint64_t Scene::Update(const StateChange& change) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  SceneState state = state_;
+  change(model_, &state);
+  state_ = std::move(state);
+  CommitLocked();
+  return revision_;
+}
+
+uint64_t Scene::SetSimulationParams(const SimulationParams& params) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto model = std::make_shared<SceneModel>(*model_);
+  model->simulation = params;
+  model_ = std::move(model);
   CommitLocked();
   return revision_;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -66,6 +67,13 @@ class Scene {
   uint64_t SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses);
   // All or nothing; limits checked; mimic joints follow their leader (setting a follower is an error).
   uint64_t SetJointPositions(const std::vector<std::pair<std::string, double>>& positions);
+
+  // Runs `change` on the model and a copy of the state under the scene's lock; commits the copy (revision,
+  // snapshot) when it returns, keeps the old state when it throws. For the simulation, which lives above world.
+  using StateChange = std::function<void(const std::shared_ptr<const SceneModel>& model, SceneState* state)>;
+  uint64_t Update(const StateChange& change);
+  // A new model with these simulation parameters (validated by the caller).
+  uint64_t SetSimulationParams(const SimulationParams& params);
 
   // Ends every watcher's stream (scene deleted or server stopping).
   void CloseWatchers(const std::string& reason) { hub_.Close(reason); }

@@ -1,17 +1,41 @@
 // The mutable part of a scene (MuJoCo's mjData), indexed like the SceneModel it belongs to.
 #pragma once
 
+#include <compare>
+#include <cstdint>
+#include <map>
 #include <vector>
 
 #include "core/math.h"
 #include "world/model.h"
+#include "world/simulation_params.h"
 
 namespace graspsim {
 
+// A free body's velocity: of its centre of mass and about it, both in the world frame.
+struct BodyVelocity {
+  Vec3 linear = Vec3::Zero();   // m/s
+  Vec3 angular = Vec3::Zero();  // rad/s
+};
+
+// Identifies one persistent contact point: a surface sample of body_a pressing into body_b.
+struct ContactKey {
+  uint32_t body_a = 0, body_b = 0;  // indices into SceneModel::bodies
+  uint64_t feature = 0;             // the sample on body_a (see collision/contact_finder.h)
+  auto operator<=>(const ContactKey&) const = default;
+};
+
 struct SceneState {
   double time = 0;                      // simulation time, s
+  uint64_t step = 0;                    // steps taken
   std::vector<Pose> body_poses;         // world pose of every body (links placed by forward kinematics)
   std::vector<double> joint_positions;  // rad or m, per joint (0 for fixed joints)
+  std::vector<BodyVelocity> body_velocities;  // per body; used for free bodies (links: derived, kept zero)
+  std::vector<double> joint_velocities;       // rad/s or m/s, per joint
+  std::vector<bool> sleeping;                 // per body: a free body at rest, skipped until touched
+  std::vector<double> rest_time;              // per body: s spent below the sleep speed
+  std::map<ContactKey, Vec3> bristles;        // LuGre bristle deflection z per persistent contact, m, world
+  std::map<size_t, JointActuator> actuators;  // by joint index: driven joints
 };
 
 // Places every link of `robot` from its base pose and joint positions (parents before children).

@@ -192,6 +192,52 @@ class Client:
         request = scene_pb2.WatchSceneRequest(scene_id=scene_id, max_rate_hz=max_rate_hz)
         return SceneWatch(self.scene_stub.WatchScene(request))
 
-    def step_simulation(self, scene_id: str, duration: float) -> scene_pb2.StepSimulationResponse:
-        """Advances the simulation by duration (s); the server answers UNIMPLEMENTED until physics lands."""
-        return self._unary("StepSimulation", scene_pb2.StepSimulationRequest(scene_id=scene_id, duration=duration))
+    def step_simulation(self, scene_id: str, duration: Optional[float] = None, *, steps: Optional[int] = None,
+                        until_time: Optional[float] = None) -> scene_pb2.StepSimulationResponse:
+        """Advances the dynamic simulation by `duration` (s), a number of `steps`, or `until_time` (s).
+
+        Returns the new simulation time (s), the steps taken, and the contact points and awake free bodies of the
+        last step. A diverging run raises FAILED_PRECONDITION naming the body, the step and the quantity; the
+        scene then holds its last finite state."""
+        given = [x is not None for x in (duration, steps, until_time)]
+        if sum(given) != 1:
+            raise ValueError("give exactly one of duration, steps, until_time")
+        request = scene_pb2.StepSimulationRequest(scene_id=scene_id)
+        if duration is not None:
+            request.duration = duration
+        elif steps is not None:
+            request.steps = steps
+        else:
+            request.until_time = until_time
+        return self._unary("StepSimulation", request)
+
+    def set_simulation_params(self, scene_id: str, **params) -> scene_pb2.SimulationParams:
+        """Sets simulation parameters by SimulationParams field name (time_step s, substeps, integrator
+        "linearly_implicit_euler" | "semi_implicit_euler" | "velocity_verlet", gravity (3,) m/s², contact dict of
+        ContactDefaults fields, sample_spacing m, sleep_speed, sleep_time); fields not given keep their defaults."""
+        message = scene_pb2.SimulationParams()
+        for key, value in params.items():
+            if key == "integrator":
+                message.integrator = scene_pb2.Integrator.Value("INTEGRATOR_" + str(value).upper())
+            elif key == "gravity":
+                message.gravity.x, message.gravity.y, message.gravity.z = (float(v) for v in value)
+            elif key == "contact":
+                for field, v in value.items():
+                    setattr(message.contact, field, float(v))
+            else:
+                setattr(message, key, value)
+        return self._unary("SetSimulationParams",
+                           scene_pb2.SetSimulationParamsRequest(scene_id=scene_id, params=message))
+
+    def get_simulation_params(self, scene_id: str) -> scene_pb2.SimulationParams:
+        """The scene's simulation parameters, defaults filled in."""
+        return self._unary("GetSimulationParams", scene_pb2.GetSimulationParamsRequest(scene_id=scene_id))
+
+    def set_actuator(self, scene_id: str, joint_id: str, mode: str, value: float = 0.0,
+                     current_limit: float = 0.0) -> None:
+        """Drives a joint with its DC motor: mode "velocity" (value m/s or rad/s), "position" (m or rad),
+        "voltage" (V) or "off"; current_limit (A) caps the motor current, i.e. the force (0 = the motor's own).
+        The built-in PG70's finger joint uses the PG70 drive."""
+        command = scene_pb2.ActuatorCommand(joint_id=joint_id, mode=scene_pb2.ActuatorMode.Value(
+            "ACTUATOR_MODE_" + mode.upper()), value=value, current_limit=current_limit)
+        self._unary("SetActuators", scene_pb2.SetActuatorsRequest(scene_id=scene_id, commands=[command]))

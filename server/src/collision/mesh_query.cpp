@@ -1,0 +1,212 @@
+// Closest points and inside tests on Embree BVHs of closed triangle meshes (see mesh_query.h).
+#include "collision/mesh_query.h"
+
+#include <cfloat>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "core/error.h"
+
+namespace graspsim::collision {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// The parity ray leaves away from the mesh's centre, so that from a point outside a compact mesh it usually
+// crosses nothing and from inside crosses once: one or two casts instead of three. The fixed skew added to it
+// keeps it off the axes and diagonals, so rays from lattice samples against axis-aligned or 45-degree meshes do
+// not run through edges and vertices, where a crossing could be counted twice. It depends only on the point.
+const Vec3 kSkew = Vec3(0.29583, 0.54474, 0.78491).normalized();
+
+Vec3 RayDirection(const Vec3& p, const Vec3& centre) {
+  const Vec3 away = p - centre;
+  const double length = away.norm();
+  const Vec3 d = length > 0 ? Vec3(away / length + 0.5 * kSkew) : kSkew;
+  return d.squaredNorm() > 1e-6 ? Vec3(d.normalized()) : kSkew;
+}
+
+[[noreturn]] void ThrowEmbree(RTCDevice device, const char* what) {
+  throw Error(ErrorCode::kInternal,
+              std::string("embree: ") + what + " failed (error " + std::to_string(rtcGetDeviceError(device)) + ")");
+}
+
+// Search state of one closest-point query, passed to Embree's callback through userPtr.
+struct ClosestSearch {
+  const TriangleMesh* mesh;
+  const std::vector<Vec3>* normals;
+  Vec3 p;
+  double best_d2;  // starts at the query radius squared: nothing farther counts
+  uint32_t best_triangle = std::numeric_limits<uint32_t>::max();
+  Vec3 best_point = Vec3::Zero();
+};
+
+bool VisitTriangle(RTCPointQueryFunctionArguments* args) {
+  auto* search = static_cast<ClosestSearch*>(args->userPtr);
+  const uint32_t t = args->primID;
+  // A degenerate triangle has no normal to give; its closest point is also on a real neighbour.
+  if ((*search->normals)[t].isZero()) return false;
+  const auto& tri = search->mesh->triangles[t];
+  const auto& v = search->mesh->vertices;
+  const Vec3 c = ClosestPointOnTriangle(search->p, v[tri[0]].cast<double>(), v[tri[1]].cast<double>(),
+                                        v[tri[2]].cast<double>());
+  const double d2 = (search->p - c).squaredNorm();
+  // Equal distances go to the lower triangle index, so the result does not depend on the traversal order.
+  if (d2 < search->best_d2 || (d2 == search->best_d2 && t < search->best_triangle)) {
+    search->best_d2 = d2;
+    search->best_triangle = t;
+    search->best_point = c;
+    // Shrink the search, rounded up so that triangles at exactly this distance are still visited.
+    args->query->radius = std::nextafter(static_cast<float>(std::sqrt(d2)), kInfinity);
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;  // vertex region a
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;  // vertex region b
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;  // edge ab
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;  // vertex region c
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;  // edge ac
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);  // bc
+  const double sum = va + vb + vc;
+  if (!(sum > 0)) {  // degenerate triangle that slipped through the regions above: its nearest vertex
+    const double da = ap.squaredNorm(), db = bp.squaredNorm(), dc = cp.squaredNorm();
+    return da <= db && da <= dc ? a : (db <= dc ? b : c);
+  }
+  return a + (vb / sum) * ab + (vc / sum) * ac;  // inside the face, barycentric (u, v, w)
+}
+
+EmbreeDevice::EmbreeDevice() {
+  device_ = rtcNewDevice(nullptr);
+  if (device_ == nullptr) ThrowEmbree(nullptr, "rtcNewDevice");
+}
+
+EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
+
+MeshBvh::MeshBvh(RTCDevice device, std::shared_ptr<const TriangleMesh> shared) : mesh_(std::move(shared)) {
+  const TriangleMesh& mesh = *mesh_;
+  double extent = 0;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& v : mesh.vertices) {
+    const Vec3 p = v.cast<double>();
+    extent = std::max(extent, p.cwiseAbs().maxCoeff());
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  centre_ = 0.5 * (lo + hi);
+  normals_.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    const Vec3 a = mesh.vertices[t[0]].cast<double>();
+    const Vec3 n = (mesh.vertices[t[1]].cast<double>() - a).cross(mesh.vertices[t[2]].cast<double>() - a);
+    const double length = n.norm();
+    normals_.push_back(length > 0 ? Vec3(n / length) : Vec3::Zero());
+  }
+  // The ray starts at p rounded to float and Embree intersects in float: a few float ulps of the coordinates.
+  near_surface_ = 8 * FLT_EPSILON * std::max(extent, 1e-3);
+
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  if (geometry == nullptr) ThrowEmbree(device, "rtcNewGeometry");
+  auto* vertex_buffer = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
+  auto* index_buffer = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), mesh.triangles.size()));
+  if (vertex_buffer == nullptr || index_buffer == nullptr) {
+    rtcReleaseGeometry(geometry);
+    ThrowEmbree(device, "rtcSetNewGeometryBuffer");
+  }
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    for (int k = 0; k < 3; ++k) vertex_buffer[3 * i + k] = mesh.vertices[i][k];
+  }
+  for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+    for (int k = 0; k < 3; ++k) index_buffer[3 * i + k] = mesh.triangles[i][k];
+  }
+  rtcCommitGeometry(geometry);
+  scene_ = rtcNewScene(device);
+  // Robust traversal does not lose hits on shared edges, which would break the crossing parity.
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  rtcAttachGeometry(scene_, geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(scene_);
+  if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
+    rtcReleaseScene(scene_);
+    ThrowEmbree(device, "building a mesh BVH");
+  }
+}
+
+MeshBvh::~MeshBvh() { rtcReleaseScene(scene_); }
+
+bool MeshBvh::Depth(const Vec3& p, double margin, double* depth, Vec3* normal) const {
+  // Inside or outside: count the surface crossings of a ray from p. Each cast returns the nearest hit beyond
+  // tnear; restarting just past it walks through all crossings (two triangles hit at the same t, the ray
+  // passing through their shared edge, count once).
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit ray_hit;
+  RTCRay& ray = ray_hit.ray;
+  ray.org_x = static_cast<float>(p.x());
+  ray.org_y = static_cast<float>(p.y());
+  ray.org_z = static_cast<float>(p.z());
+  const Vec3 direction = RayDirection(p, centre_);
+  ray.dir_x = static_cast<float>(direction.x());
+  ray.dir_y = static_cast<float>(direction.y());
+  ray.dir_z = static_cast<float>(direction.z());
+  ray.tnear = 0;
+  ray.time = 0;
+  ray.mask = 0xffffffffu;
+  ray.id = 0;
+  ray.flags = 0;
+  int crossings = 0;
+  float first_hit = kInfinity;
+  for (;;) {
+    ray.tfar = kInfinity;
+    ray_hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    ray_hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &ray_hit);
+    if (ray_hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+    if (crossings++ == 0) first_hit = ray.tfar;
+    ray.tnear = std::nextafter(ray.tfar, kInfinity);
+  }
+  bool inside = crossings % 2 == 1;
+  if (!inside && margin <= 0) return false;
+
+  // Closest surface point. Inside, the first crossing bounds the distance; outside only `margin` matters.
+  // The slack covers p's rounding to float for the query centre.
+  const float radius = static_cast<float>((inside ? first_hit * (1 + 1e-6) : margin) + near_surface_);
+  RTCPointQuery query;
+  query.x = ray.org_x;
+  query.y = ray.org_y;
+  query.z = ray.org_z;
+  query.time = 0;
+  query.radius = radius;
+  RTCPointQueryContext query_context;
+  rtcInitPointQueryContext(&query_context);
+  ClosestSearch search{mesh_.get(), &normals_, p, static_cast<double>(radius) * radius};
+  rtcPointQuery(scene_, &query, &query_context, VisitTriangle, &search);
+  if (search.best_triangle == std::numeric_limits<uint32_t>::max()) return false;
+
+  const double distance = std::sqrt(search.best_d2);
+  const Vec3& face_normal = normals_[search.best_triangle];
+  // Within float noise of the surface the ray may start on the wrong side; the closest face's orientation
+  // (counter-clockwise outward) decides there.
+  if (distance < near_surface_) inside = (p - search.best_point).dot(face_normal) < 0;
+  if (!inside && !(distance < margin)) return false;
+  *depth = inside ? distance : -distance;
+  *normal = face_normal;
+  return true;
+}
+
+}  // namespace graspsim::collision

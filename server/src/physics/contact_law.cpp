@@ -1,0 +1,149 @@
+// The contact law of contact_law.h: penalty normal force and LuGre friction with the Stribeck effect.
+//
+// Choices beyond the header (each also stated where it is made):
+// - No normal force (d ≤ 0, or a contact separating faster than k d / c) means g = 0: no friction at all, a
+//   reported ż of 0, and AdvanceBristle resets z to 0 (the g → 0 limit of the exact update).
+// - The bristle deflection the caller passes is projected onto the current tangent plane (the normal turns as
+//   the bodies turn) and capped at the static limit max(α0, α0 + α1)/σ0 = μ_s|F_n|/σ0. LuGre is derived for a
+//   constant normal load; when the load drops while the contact sticks (|v_t| = 0, so ż = 0) the bristles would
+//   otherwise keep holding a force above μ_s|F_n| — a released object would stay glued to the finger. The cap is
+//   the static bound, not g(v), so LuGre's frictional memory while sliding (z lagging g(v)) is untouched.
+// - Linearisation: see EvaluateContact.
+#include "physics/contact_law.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace graspsim {
+namespace {
+
+Mat3 TangentProjector(const Vec3& normal) { return Mat3::Identity() - normal * normal.transpose(); }
+
+// The largest friction force the bristles can hold at this normal force: g's maximum over the slip speed.
+double StaticLimit(const ContactParams& params, double normal_force) {
+  const double n = std::abs(normal_force);
+  return n * std::max(params.dynamic_friction, params.static_friction);
+}
+
+// z in the tangent plane, no longer than `limit` (a bristle cannot store more than the static friction).
+Vec3 ProjectBristle(const Mat3& projector, const Vec3& bristle, double limit) {
+  Vec3 z = projector * bristle;
+  const double length = z.norm();
+  if (length > limit) z *= limit / length;  // limit ≥ 0; length > 0 here
+  return z;
+}
+
+}  // namespace
+
+double StribeckLimit(const ContactParams& params, double normal_force, double slip_speed) {
+  const double n = std::abs(normal_force);
+  const double v = std::abs(slip_speed);
+  // v_s ≤ 0 would be a Stribeck drop of zero width: the static level at rest only.
+  const double hump = params.stribeck_velocity > 0
+                          ? std::exp(-(v * v) / (params.stribeck_velocity * params.stribeck_velocity))
+                          : (v == 0 ? 1.0 : 0.0);
+  return n * params.dynamic_friction + n * (params.static_friction - params.dynamic_friction) * hump;
+}
+
+ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
+                             const Vec3& bristle) {
+  ContactForce out;
+  if (!(depth > 0)) return out;  // not touching (or a NaN depth): no force at all
+
+  // Normal: ḋ = −(v_rel·n). A relative displacement δ of a w.r.t. b changes the depth by −n·δ, so
+  // ∂F_n/∂δ = −k n nᵀ and ∂F_n/∂v_rel = −c n nᵀ — both only while the spring-damper pushes; once clamped the
+  // force is identically 0 nearby and so are its derivatives.
+  const double depth_rate = -relative_velocity.dot(normal);
+  const double push = params.stiffness * depth + params.damping * depth_rate;
+  const Mat3 nn = normal * normal.transpose();
+  if (push > 0) {
+    out.normal_force = push;
+    out.force = push * normal;
+    out.stiffness = -params.stiffness * nn;
+    out.damping = -params.damping * nn;
+  }
+  if (!params.HasFriction()) return out;
+
+  const Mat3 P = TangentProjector(normal);
+  const Vec3 slip = P * relative_velocity;
+  const double speed = slip.norm();
+  const double g = StribeckLimit(params, out.normal_force, speed);
+  // g = 0: nothing presses the surfaces together, so nothing can carry friction. ż is reported as 0 rather
+  // than the −∞ · z of the formula; AdvanceBristle drops the deflection.
+  if (!(g > 0)) return out;
+
+  const double sigma0 = params.bristle_stiffness;
+  const Vec3 z = ProjectBristle(P, bristle, StaticLimit(params, out.normal_force) / sigma0);
+  const Vec3 z_rate = slip - (sigma0 * speed / g) * z;
+  out.bristle_rate = z_rate;
+  out.force -= sigma0 * z + params.bristle_damping * z_rate + params.viscous_friction * slip;
+
+  // Tangential damping, ∂F_t/∂v_t at fixed z = −(σ1 ∂ż/∂v_t + c_t) P. Exactly, ∂ż/∂v_t = I − σ0 z ∂(|v|/g)/∂v,
+  // which along the slip falls to ~0 at steady sliding and below 0 on the Stribeck drop (negative damping).
+  // The conservative −(σ1 + c_t) P keeps the implicit solve stable; it only over-damps transients (a steady
+  // slide has Δv = 0, so this term never biases it).
+  out.damping -= (params.bristle_damping + params.viscous_friction) * P;
+
+  // Tangential stiffness, −σ0 ∂z/∂δ: the bristle spring. A displacement δ deflects the bristles by
+  // ∂ż/∂v_t · δ; along the slip direction ŝ that is (1 − σ0 z·ŝ / g) — LuGre's tangent stiffness, 1 while
+  // sticking, 0 at steady sliding — and across it 1. So −σ0 (P − (1 − s) ŝŝᵀ) with s clamped to [0, 1] (the
+  // non-symmetric part z ŝᵀ is dropped). Unlike the plain −σ0 P this matters: the implicit solve applies K to
+  // the step's displacement h v, so −σ0 P would add a drag σ0 h per contact to every steady slide.
+  out.stiffness -= sigma0 * P;
+  if (speed > 0) {
+    const Vec3 direction = slip / speed;
+    const double stick = std::clamp(1 - sigma0 * z.dot(direction) / g, 0.0, 1.0);
+    out.stiffness += sigma0 * (1 - stick) * direction * direction.transpose();
+  }
+  return out;
+}
+
+Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
+                    const Vec3& bristle, double dt) {
+  if (!params.HasFriction()) return Vec3::Zero();
+  const Mat3 P = TangentProjector(normal);
+  const Vec3 slip = P * slip_velocity;
+  const double speed = slip.norm();
+  const double g = StribeckLimit(params, normal_force, speed);
+  if (!(g > 0)) return Vec3::Zero();  // no normal force: the bristles let go (a → −∞ in the update below)
+  const double sigma0 = params.bristle_stiffness;
+  const double cap = StaticLimit(params, normal_force) / sigma0;
+  const Vec3 z = ProjectBristle(P, bristle, cap);
+  if (speed == 0 || !(dt > 0)) return z;
+
+  // ż = v + a z with v and a = −σ0|v|/g constant over the step: z⁺ = e^{a dt} z + (e^{a dt} − 1)/a · v
+  //    = e^{a dt} z + (1 − e^{a dt}) z_ss,  z_ss = g/σ0 · v/|v|,
+  // a convex combination of z and the steady state, so no dt can overshoot (explicit Euler's factor 1 + a dt
+  // leaves [−1, 1] once dt > 2g/(σ0|v|)). expm1 keeps (e^{a dt} − 1)/a accurate when a dt → 0; a dt = −∞
+  // (g underflowing) gives z⁺ = 0, the relaxed bristle.
+  const double a = -sigma0 * speed / g;
+  const double x = a * dt;
+  const double decay = std::exp(x);
+  const double gain = x == 0 ? dt : std::expm1(x) / a;  // x == 0 only by underflow
+  return ProjectBristle(P, decay * z + gain * slip, cap);  // projection again only removes rounding
+}
+
+ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b) {
+  // The two surfaces deform in series: the same force compresses both, so their compliances add,
+  // k = k_a k_b / (k_a + k_b) (two equal materials give k/2), and the same for the dampers (the
+  // usual harmonic-mean approximation of two Kelvin–Voigt layers). A zero stands for an infinitely soft
+  // layer, so the pair carries no force; the simulation fills a material's unset (0) values with the scene
+  // defaults before combining, so this only happens on purpose.
+  auto series = [](double x, double y) { return x > 0 && y > 0 ? x * y / (x + y) : 0.0; };
+  auto mean = [](double x, double y) { return (x + y) / 2; };
+  // Friction is a property of the pair that no material formula predicts; the arithmetic mean is the common
+  // engine default (PhysX "average") and keeps a pair of equal materials at their own values. The bristle and
+  // Stribeck parameters describe the same interface, so they are averaged alike.
+  ContactParams out;
+  out.stiffness = series(a.stiffness, b.stiffness);
+  out.damping = series(a.damping, b.damping);
+  out.static_friction = mean(a.static_friction, b.static_friction);
+  out.dynamic_friction = mean(a.dynamic_friction, b.dynamic_friction);
+  out.bristle_stiffness = mean(a.bristle_stiffness, b.bristle_stiffness);
+  out.bristle_damping = mean(a.bristle_damping, b.bristle_damping);
+  out.viscous_friction = mean(a.viscous_friction, b.viscous_friction);
+  out.stribeck_velocity = mean(a.stribeck_velocity, b.stribeck_velocity);
+  return out;
+}
+
+}  // namespace graspsim

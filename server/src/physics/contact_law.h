@@ -1,0 +1,44 @@
+// The soft-contact law of PAPERS.md part B at one contact point: a penalty normal force and LuGre friction with
+// the Stribeck effect.
+//
+//   depth d > 0 along the normal n (out of body b, into a); rate of penetration ḋ = -(v_rel · n), where v_rel is
+//   the velocity of a's point relative to b's; slip velocity v_t = v_rel - (v_rel · n) n.
+//   Normal force on a:   F_n = max(0, k d + c ḋ) n                          (never pulls)
+//   Bristles:            ż = v_t - σ0 |v_t| / g(v_t) z,   g = α0 + α1 exp(-|v_t|² / v_s²),
+//                        α0 = |F_n| μ_d,  α1 = |F_n| (μ_s - μ_d)
+//   Friction force on a: F_t = -(σ0 z + σ1 ż + c_t v_t)
+// Body b receives -(F_n + F_t). At constant slip v the bristles settle at z_ss = g(v)/σ0 · v/|v|, so
+// |F_t| = g(v) + c_t |v|: the Stribeck curve. z lives in the tangent plane (world frame).
+#pragma once
+
+#include "core/math.h"
+#include "world/simulation_params.h"
+
+namespace graspsim {
+
+struct ContactForce {
+  Vec3 force = Vec3::Zero();  // on body a, world, N (body b gets the opposite)
+  double normal_force = 0;    // |F_n|, N
+  Vec3 bristle_rate = Vec3::Zero();  // ż at this instant, m/s
+  // Linearisation for implicit integration: dF/d(relative displacement of a w.r.t. b) and dF/d(v_rel).
+  Mat3 stiffness = Mat3::Zero();  // N/m
+  Mat3 damping = Mat3::Zero();    // N s/m
+};
+
+// Stribeck function g(v) for slip speed v (m/s) and normal force (N); N.
+double StribeckLimit(const ContactParams& params, double normal_force, double slip_speed);
+
+// The force at one contact point given its bristle deflection z.
+ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
+                             const Vec3& bristle);
+
+// The bristle deflection after dt with the slip velocity held constant over the step, integrated exactly:
+// z⁺ = e^{aΔt} z + (e^{aΔt} - 1)/a · v_t with a = -σ0|v_t|/g (and z⁺ = z + Δt v_t when a = 0). Stable for any
+// dt. The result is projected onto the tangent plane of `normal`.
+Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
+                    const Vec3& bristle, double dt);
+
+// Combines two bodies' materials into the parameters of their contact (documented in the implementation).
+ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b);
+
+}  // namespace graspsim

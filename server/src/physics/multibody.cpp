@@ -1,0 +1,257 @@
+#include "physics/multibody.h"
+
+namespace graspsim {
+namespace {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+Mat3 Skew(const Vec3& w) {
+  Mat3 m;
+  m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return m;
+}
+
+// Spatial cross products for vectors [angular; linear] (Featherstone 2008, §2.9): motion × motion, motion × force.
+Vec6 CrossMotion(const Vec6& a, const Vec6& m) {
+  const Vec3 w = a.head<3>(), v = a.tail<3>();
+  Vec6 out;
+  out << w.cross(m.head<3>()), w.cross(m.tail<3>()) + v.cross(m.head<3>());
+  return out;
+}
+Vec6 CrossForce(const Vec6& a, const Vec6& f) {
+  const Vec3 w = a.head<3>(), v = a.tail<3>();
+  Vec6 out;
+  out << w.cross(f.head<3>()) + v.cross(f.tail<3>()), w.cross(f.tail<3>());
+  return out;
+}
+
+bool Moves(const JointSpec& joint) { return joint.type != JointType::kFixed; }
+
+}  // namespace
+
+Multibody::Multibody(const SceneModel& model)
+    : model_(model), free_offset_(model.bodies.size(), -1), joint_offset_(model.joints.size(), -1),
+      body_node_(model.bodies.size(), -1), mimic_offset_(model.joints.size(), 0),
+      leader_(model.joints.size(), -1) {
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    if (model.bodies[b].motion != BodyMotion::kFree) continue;
+    free_offset_[b] = nv_;
+    nv_ += 6;
+  }
+  nu_ = nv_;
+  // Robot trees: joints in topological order, so a node's parent node exists before it.
+  for (const RobotSpec& robot : model.robots) {
+    for (const std::string& joint_id : robot.joint_ids) {
+      const size_t j = model.joint_index.at(joint_id);
+      const JointSpec& joint = model.joints[j];
+      Node node;
+      node.joint = j;
+      node.parent = body_node_[model.body_index.at(joint.parent_body)];
+      node.child_body = model.body_index.at(joint.child_body);
+      if (Moves(joint)) node.full = nu_++;
+      if (Moves(joint) && !joint.mimic) joint_offset_[j] = nv_++;
+      body_node_[node.child_body] = static_cast<int>(nodes_.size());
+      nodes_.push_back(node);
+    }
+  }
+  // u = G v: free bodies map one to one, each moving joint to its leader (itself when independent).
+  G_ = Eigen::MatrixXd::Zero(nu_, nv_);
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    if (free_offset_[b] >= 0) G_.block(free_offset_[b], free_offset_[b], 6, 6).setIdentity();
+  }
+  for (const Node& node : nodes_) {
+    if (node.full < 0) continue;
+    const JointSpec& joint = model.joints[node.joint];
+    if (!joint.mimic) {
+      leader_[node.joint] = static_cast<int>(node.joint);
+      G_(node.full, joint_offset_[node.joint]) = 1;
+      continue;
+    }
+    const size_t leader = model.joint_index.at(joint.mimic->joint_id);
+    if (joint_offset_[leader] < 0) continue;  // a follower of a fixed joint does not move
+    leader_[node.joint] = static_cast<int>(leader);
+    mimic_offset_[node.joint] = joint.mimic->offset;
+    G_(node.full, joint_offset_[leader]) = joint.mimic->multiplier;
+  }
+}
+
+Eigen::VectorXd Multibody::Velocities(const SceneState& state) const {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(nv_);
+  for (size_t b = 0; b < model_.bodies.size(); ++b) {
+    if (free_offset_[b] < 0) continue;
+    v.segment<3>(free_offset_[b]) = state.body_velocities[b].linear;
+    v.segment<3>(free_offset_[b] + 3) = state.body_velocities[b].angular;
+  }
+  for (size_t j = 0; j < model_.joints.size(); ++j) {
+    if (joint_offset_[j] >= 0) v[joint_offset_[j]] = state.joint_velocities[j];
+  }
+  return v;
+}
+
+Eigen::VectorXd Multibody::FullVelocities(const Eigen::VectorXd& v) const { return G_ * v; }
+
+void Multibody::SetVelocities(const Eigen::VectorXd& v, SceneState* state) const {
+  for (size_t b = 0; b < model_.bodies.size(); ++b) {
+    if (free_offset_[b] < 0) continue;
+    state->body_velocities[b].linear = v.segment<3>(free_offset_[b]);
+    state->body_velocities[b].angular = v.segment<3>(free_offset_[b] + 3);
+  }
+  const Eigen::VectorXd u = FullVelocities(v);
+  for (const Node& node : nodes_) {
+    if (node.full >= 0) state->joint_velocities[node.joint] = u[node.full];
+  }
+}
+
+Multibody::Vec6 Multibody::MotionSubspace(const SceneState& state, const Node& node) const {
+  const JointSpec& joint = model_.joints[node.joint];
+  const Pose frame = state.body_poses[model_.body_index.at(joint.parent_body)] * joint.origin;
+  const Vec3 axis = frame.orientation * joint.axis;
+  Vec6 s;
+  if (joint.type == JointType::kPrismatic) {
+    s << Vec3::Zero(), axis;
+  } else {
+    s << axis, frame.position.cross(axis);  // velocity of the point at the world origin: ω × (0 − p)
+  }
+  return s;
+}
+
+Multibody::Mat6 Multibody::SpatialInertia(const SceneState& state, size_t body) const {
+  // Featherstone (2.63) about the world origin: [I_c + m c×c×ᵀ, m c×; m c×ᵀ, m 1].
+  const Inertial& inertial = model_.bodies[body].inertial;
+  const Pose& pose = state.body_poses[body];
+  const Mat3 R = pose.orientation.toRotationMatrix();
+  const Vec3 c = pose * inertial.center_of_mass;
+  const Mat3 cx = Skew(c);
+  const double m = inertial.mass;
+  Mat6 I;
+  I << R * inertial.inertia * R.transpose() + m * cx * cx.transpose(), m * cx, m * cx.transpose(),
+      m * Mat3::Identity();
+  return I;
+}
+
+Eigen::MatrixXd Multibody::MassMatrix(const SceneState& state) const {
+  Eigen::MatrixXd Mu = Eigen::MatrixXd::Zero(nu_, nu_);
+  for (size_t b = 0; b < model_.bodies.size(); ++b) {
+    const int o = free_offset_[b];
+    if (o < 0) continue;
+    const Mat3 R = state.body_poses[b].orientation.toRotationMatrix();
+    Mu.block<3, 3>(o, o) = model_.bodies[b].inertial.mass * Mat3::Identity();
+    Mu.block<3, 3>(o + 3, o + 3) = R * model_.bodies[b].inertial.inertia * R.transpose();
+  }
+  // Composite-rigid-body algorithm in world coordinates: each node's subtree inertia, then M_ij = S_iᵀ I^c_j S_j
+  // for every ancestor i of j.
+  std::vector<Mat6> composite(nodes_.size());
+  std::vector<Vec6> S(nodes_.size());
+  for (size_t n = 0; n < nodes_.size(); ++n) {
+    composite[n] = SpatialInertia(state, nodes_[n].child_body);
+    S[n] = MotionSubspace(state, nodes_[n]);
+  }
+  for (size_t n = nodes_.size(); n-- > 0;) {
+    if (nodes_[n].parent >= 0) composite[nodes_[n].parent] += composite[n];
+  }
+  for (size_t n = 0; n < nodes_.size(); ++n) {
+    const int i = nodes_[n].full;
+    if (i < 0) continue;
+    const Vec6 F = composite[n] * S[n];
+    Mu(i, i) = S[n].dot(F);
+    for (int a = nodes_[n].parent; a >= 0; a = nodes_[a].parent) {
+      const int k = nodes_[a].full;
+      if (k < 0) continue;
+      Mu(k, i) = Mu(i, k) = S[a].dot(F);
+    }
+  }
+  return G_.transpose() * Mu * G_;
+}
+
+Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravity) const {
+  Eigen::VectorXd bu = Eigen::VectorXd::Zero(nu_);
+  for (size_t b = 0; b < model_.bodies.size(); ++b) {
+    const int o = free_offset_[b];
+    if (o < 0) continue;
+    const Mat3 R = state.body_poses[b].orientation.toRotationMatrix();
+    const Vec3 w = state.body_velocities[b].angular;
+    bu.segment<3>(o) = -model_.bodies[b].inertial.mass * gravity;
+    bu.segment<3>(o + 3) = w.cross(R * model_.bodies[b].inertial.inertia * R.transpose() * w);
+  }
+  // Recursive Newton–Euler with q̈ = 0 and the base accelerating at −g (which stands in for gravity).
+  const Eigen::VectorXd u = FullVelocities(Velocities(state));
+  Vec6 base_acceleration;
+  base_acceleration << Vec3::Zero(), -gravity;
+  std::vector<Vec6> V(nodes_.size()), A(nodes_.size()), F(nodes_.size()), S(nodes_.size());
+  for (size_t n = 0; n < nodes_.size(); ++n) {
+    const Node& node = nodes_[n];
+    const Vec6 parent_velocity = node.parent >= 0 ? V[node.parent] : Vec6::Zero();
+    const Vec6 parent_acceleration = node.parent >= 0 ? A[node.parent] : base_acceleration;
+    S[n] = MotionSubspace(state, node);
+    const Vec6 joint_velocity = node.full >= 0 ? Vec6(S[n] * u[node.full]) : Vec6::Zero();
+    V[n] = parent_velocity + joint_velocity;
+    A[n] = parent_acceleration + CrossMotion(V[n], joint_velocity);
+    const Mat6 I = SpatialInertia(state, node.child_body);
+    F[n] = I * A[n] + CrossForce(V[n], I * V[n]);
+  }
+  for (size_t n = nodes_.size(); n-- > 0;) {
+    if (nodes_[n].full >= 0) bu[nodes_[n].full] = S[n].dot(F[n]);
+    if (nodes_[n].parent >= 0) F[nodes_[n].parent] += F[n];
+  }
+  return G_.transpose() * bu;
+}
+
+Eigen::Matrix3Xd Multibody::PointJacobian(const SceneState& state, size_t body, const Vec3& point) const {
+  Eigen::Matrix3Xd J = Eigen::Matrix3Xd::Zero(3, nv_);
+  if (const int o = free_offset_[body]; o >= 0) {
+    const Vec3 r = point - state.body_poses[body] * model_.bodies[body].inertial.center_of_mass;
+    J.block<3, 3>(0, o).setIdentity();
+    J.block<3, 3>(0, o + 3) = -Skew(r);
+    return J;
+  }
+  for (int n = body_node_[body]; n >= 0; n = nodes_[n].parent) {
+    const Node& node = nodes_[n];
+    if (node.full < 0 || leader_[node.joint] < 0) continue;
+    const Vec6 s = MotionSubspace(state, node);
+    const Vec3 column = s.tail<3>() + s.head<3>().cross(point);
+    J.col(joint_offset_[leader_[node.joint]]) += G_(node.full, joint_offset_[leader_[node.joint]]) * column;
+  }
+  return J;
+}
+
+Vec3 Multibody::PointVelocity(const SceneState& state, size_t body, const Vec3& point) const {
+  return PointJacobian(state, body, point) * Velocities(state);
+}
+
+void Multibody::Integrate(const Eigen::VectorXd& v, double dt, SceneState* state) const {
+  for (size_t b = 0; b < model_.bodies.size(); ++b) {
+    const int o = free_offset_[b];
+    if (o < 0) continue;
+    // The centre of mass moves with v; the orientation turns by exp(ω dt), both about the centre of mass.
+    Pose& pose = state->body_poses[b];
+    const Vec3 com_local = model_.bodies[b].inertial.center_of_mass;
+    const Vec3 com = pose * com_local + dt * v.segment<3>(o);
+    const Vec3 rotation = dt * v.segment<3>(o + 3);
+    const double angle = rotation.norm();
+    if (angle > 0) pose.orientation = (Quat(Eigen::AngleAxisd(angle, rotation / angle)) * pose.orientation).normalized();
+    pose.position = com - pose.orientation * com_local;
+  }
+  for (size_t j = 0; j < model_.joints.size(); ++j) {
+    if (joint_offset_[j] >= 0) state->joint_positions[j] += dt * v[joint_offset_[j]];
+  }
+  for (const Node& node : nodes_) {
+    const JointSpec& joint = model_.joints[node.joint];
+    if (node.full < 0 || !joint.mimic || leader_[node.joint] < 0) continue;
+    state->joint_positions[node.joint] =
+        joint.mimic->multiplier * state->joint_positions[leader_[node.joint]] + mimic_offset_[node.joint];
+  }
+  for (const RobotSpec& robot : model_.robots) UpdateRobotLinkPoses(model_, robot, state);
+}
+
+double Multibody::Energy(const SceneState& state, const Vec3& gravity) const {
+  const Eigen::VectorXd v = Velocities(state);
+  double energy = 0.5 * v.dot(MassMatrix(state) * v);
+  for (size_t b = 0; b < model_.bodies.size(); ++b) {
+    if (model_.bodies[b].motion == BodyMotion::kStatic) continue;
+    const Vec3 com = state.body_poses[b] * model_.bodies[b].inertial.center_of_mass;
+    energy -= model_.bodies[b].inertial.mass * gravity.dot(com);
+  }
+  return energy;
+}
+
+}  // namespace graspsim

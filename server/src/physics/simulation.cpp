@@ -1,0 +1,303 @@
+#include "physics/simulation.h"
+
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/validate.h"
+
+namespace graspsim {
+namespace {
+
+// A material's value, or the scene default where the material leaves it at 0.
+double Or(double value, double fallback) { return value > 0 ? value : fallback; }
+
+ContactParams BodyContactParams(const Material& material, const ContactParams& defaults) {
+  ContactParams params = defaults;
+  params.static_friction = material.static_friction;
+  params.dynamic_friction = material.dynamic_friction;
+  params.stiffness = Or(material.contact_stiffness, defaults.stiffness);
+  params.damping = Or(material.contact_damping, defaults.damping);
+  params.bristle_stiffness = Or(material.bristle_stiffness, defaults.bristle_stiffness);
+  params.bristle_damping = Or(material.bristle_damping, defaults.bristle_damping);
+  params.viscous_friction = Or(material.viscous_friction, defaults.viscous_friction);
+  params.stribeck_velocity = Or(material.stribeck_velocity, defaults.stribeck_velocity);
+  return params;
+}
+
+std::string Vec(const Vec3& v) {
+  return "(" + FormatNumber(v.x()) + ", " + FormatNumber(v.y()) + ", " + FormatNumber(v.z()) + ")";
+}
+
+}  // namespace
+
+void ValidateSimulationParams(const SimulationParams& p) {
+  CheckPositive("params.time_step", p.time_step);
+  if (p.time_step > 0.1) ThrowInvalidArgument("params.time_step: " + FormatNumber(p.time_step) + " s is above 0.1 s");
+  if (p.substeps < 1 || p.substeps > 1000) {
+    ThrowInvalidArgument("params.substeps: " + std::to_string(p.substeps) + " is outside 1..1000");
+  }
+  CheckFinite("params.gravity", p.gravity);
+  CheckNonNegative("params.contact.stiffness", p.contact.stiffness);
+  CheckNonNegative("params.contact.damping", p.contact.damping);
+  CheckNonNegative("params.contact.bristle_stiffness", p.contact.bristle_stiffness);
+  CheckNonNegative("params.contact.bristle_damping", p.contact.bristle_damping);
+  CheckNonNegative("params.contact.viscous_friction", p.contact.viscous_friction);
+  CheckPositive("params.contact.stribeck_velocity", p.contact.stribeck_velocity);
+  CheckPositive("params.sample_spacing", p.sample_spacing);
+  if (p.sample_spacing < 1e-4) {
+    ThrowInvalidArgument("params.sample_spacing: " + FormatNumber(p.sample_spacing) + " m is below 0.1 mm");
+  }
+  CheckNonNegative("params.sleep_speed", p.sleep_speed);
+  CheckNonNegative("params.sleep_time", p.sleep_time);
+  CheckPositive("params.divergence_speed", p.divergence_speed);
+}
+
+Simulation::Simulation(std::shared_ptr<const SceneModel> model)
+    : model_(std::move(model)),
+      params_(model_->simulation),
+      multibody_(*model_),
+      finder_(*model_, ContactFinderOptions{params_.sample_spacing, 0}) {
+  for (const BodySpec& body : model_->bodies) body_params_.push_back(BodyContactParams(body.material, params_.contact));
+}
+
+void Simulation::PrepareState(SceneState* state) const {
+  state->body_velocities.resize(model_->bodies.size());
+  state->joint_velocities.resize(model_->joints.size(), 0);
+  state->sleeping.resize(model_->bodies.size(), false);
+  state->rest_time.resize(model_->bodies.size(), 0);
+}
+
+ContactParams Simulation::PairParams(uint32_t a, uint32_t b) const {
+  return CombineContactParams(body_params_[a], body_params_[b]);
+}
+
+StepStats Simulation::Step(SceneState* state, int steps) {
+  // Work on a copy: a diverged run leaves the caller's state as it was.
+  SceneState next = *state;
+  PrepareState(&next);
+  const double h = params_.time_step / params_.substeps;
+  StepStats stats;
+  for (int s = 0; s < steps; ++s) {
+    for (int sub = 0; sub < params_.substeps; ++sub) {
+      SubStep(&next, h);
+      CheckFinite(next);
+    }
+    ++next.step;
+    next.time += params_.time_step;
+  }
+  stats.contacts = contacts_.size();
+  for (size_t i = 0; i < model_->bodies.size(); ++i) {
+    stats.awake_bodies += model_->bodies[i].motion == BodyMotion::kFree && !next.sleeping[i];
+  }
+  *state = std::move(next);
+  return stats;
+}
+
+void Simulation::SubStep(SceneState* state, double h) {
+  const Eigen::VectorXd v = multibody_.Velocities(*state);
+  Forces forces;
+  FindContacts(state);
+  ContactForces(*state, v, &forces);
+  ActuatorForces(state, h, &forces);
+  if (params_.integrator == Integrator::kVelocityVerlet) {
+    // Kick half a step, drift, evaluate again at the new configuration, kick the other half.
+    const Eigen::VectorXd v_half = v + SolveVelocityChange(*state, v, forces, h / 2);
+    multibody_.Integrate(v_half, h, state);
+    FindContacts(state);
+    const Eigen::VectorXd tau_actuators = forces.actuators;
+    forces = Forces();
+    ContactForces(*state, v_half, &forces);
+    forces.tau += tau_actuators;
+    const Eigen::VectorXd v_next = v_half + SolveVelocityChange(*state, v_half, forces, h / 2);
+    AdvanceBristles(forces, v_half, h, state);
+    multibody_.SetVelocities(v_next, state);
+  } else {
+    // The bristles move with the step's new velocity, the one the implicit solve assumed for the displacement
+    // h v (with the old one the bristle spring would lag the motion and pump energy into it).
+    const Eigen::VectorXd v_next = v + SolveVelocityChange(*state, v, forces, h);
+    AdvanceBristles(forces, v_next, h, state);
+    multibody_.SetVelocities(v_next, state);
+    multibody_.Integrate(v_next, h, state);
+  }
+  ClampJointLimits(state);
+  UpdateSleep(state, h);
+}
+
+void Simulation::FindContacts(SceneState* state) {
+  // Every sample inside another body. Pairs of bodies that are both asleep or static exert nothing on each
+  // other that would change their state, so their contacts are dropped; a touched sleeper wakes up.
+  contacts_.clear();
+  finder_.Find(state->body_poses, &contacts_);
+  auto resting = [&](uint32_t body) {
+    return model_->bodies[body].motion == BodyMotion::kStatic || state->sleeping[body];
+  };
+  std::erase_if(contacts_, [&](const ContactPoint& c) { return resting(c.body_a) && resting(c.body_b); });
+  for (const ContactPoint& c : contacts_) {
+    if (state->sleeping[c.body_a] || state->sleeping[c.body_b]) {
+      state->sleeping[c.body_a] = state->sleeping[c.body_b] = false;
+      state->rest_time[c.body_a] = state->rest_time[c.body_b] = 0;
+    }
+  }
+}
+
+void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v, Forces* forces) {
+  // Penalty normal force and LuGre friction at each point, mapped to generalised forces, with their stiffness
+  // and damping for the linearly implicit solve.
+  const int nv = multibody_.velocity_count();
+  forces->tau = Eigen::VectorXd::Zero(nv);
+  forces->actuators = Eigen::VectorXd::Zero(nv);
+  const bool linearize = params_.integrator == Integrator::kLinearlyImplicitEuler;
+  if (linearize) {
+    forces->K = Eigen::MatrixXd::Zero(nv, nv);
+    forces->D = Eigen::MatrixXd::Zero(nv, nv);
+  }
+  forces->jacobians.resize(contacts_.size());
+  forces->contact.resize(contacts_.size());
+  forces_.assign(contacts_.size(), Vec3::Zero());
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    const ContactPoint& c = contacts_[i];
+    const auto found = state.bristles.find(ContactKey{c.body_a, c.body_b, c.feature});
+    const Vec3 z = found == state.bristles.end() ? Vec3::Zero() : found->second;
+    const Eigen::Matrix3Xd J = multibody_.PointJacobian(state, c.body_a, c.point) -
+                               multibody_.PointJacobian(state, c.body_b, c.point);
+    const ContactForce& force = forces->contact[i] =
+        EvaluateContact(PairParams(c.body_a, c.body_b), c.depth, c.normal, J * v, z);
+    forces_[i] = force.force;
+    forces->tau += J.transpose() * force.force;
+    if (linearize) {
+      forces->K += J.transpose() * force.stiffness * J;
+      forces->D += J.transpose() * force.damping * J;
+    }
+    forces->jacobians[i] = J;
+  }
+}
+
+void Simulation::ActuatorForces(SceneState* state, double h, Forces* forces) {
+  // Each motor's force on its joint; the motors' electrical state advances once per sub-step.
+  for (auto& [joint, actuator] : state->actuators) {
+    const int offset = multibody_.JointOffset(joint);
+    if (offset < 0) continue;
+    const ActuatorOutput output = StepDcMotor(actuator.motor, actuator.command, state->joint_positions[joint],
+                                              state->joint_velocities[joint], h, &actuator.state);
+    actuator.joint_force = output.joint_force;
+    actuator.voltage = output.voltage;
+    forces->actuators[offset] += output.joint_force;
+  }
+  forces->tau += forces->actuators;
+}
+
+Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v,
+                                                const Forces& forces, double h) const {
+  // M Δv = h (τ − b), or with linearised contacts (M − h D − h² K) Δv = h (τ − b) + h² K v. Sleeping free
+  // bodies keep zero velocity: their rows are pinned.
+  Eigen::MatrixXd A = multibody_.MassMatrix(state);
+  Eigen::VectorXd rhs = h * (forces.tau - multibody_.BiasForces(state, params_.gravity));
+  if (forces.K.size()) {
+    A -= h * forces.D + h * h * forces.K;
+    rhs += h * h * (forces.K * v);
+  }
+  for (size_t body = 0; body < model_->bodies.size(); ++body) {
+    const int offset = multibody_.FreeBodyOffset(body);
+    if (offset < 0 || !state.sleeping[body]) continue;
+    for (int k = offset; k < offset + 6; ++k) {
+      A.row(k).setZero();
+      A.col(k).setZero();
+      A(k, k) = 1;
+      rhs[k] = -v[k];
+    }
+  }
+  return A.ldlt().solve(rhs);
+}
+
+void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) const {
+  // The exact LuGre update, with the slip velocity the friction force was evaluated with. Contacts that ended
+  // drop their bristle state; frictionless contacts never get one.
+  std::map<ContactKey, Vec3> bristles;
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    const ContactPoint& c = contacts_[i];
+    const ContactParams params = PairParams(c.body_a, c.body_b);
+    if (!params.HasFriction()) continue;
+    const ContactKey key{c.body_a, c.body_b, c.feature};
+    const auto found = state->bristles.find(key);
+    const Vec3 z = found == state->bristles.end() ? Vec3::Zero() : found->second;
+    const Vec3 relative = forces.jacobians[i] * v;
+    const Vec3 slip = relative - relative.dot(c.normal) * c.normal;
+    bristles[key] = AdvanceBristle(params, forces.contact[i].normal_force, c.normal, slip, z, h);
+  }
+  state->bristles = std::move(bristles);
+}
+
+void Simulation::UpdateSleep(SceneState* state, double h) const {
+  // Free bodies slow for sleep_time stop being integrated until something touches them.
+  for (size_t body = 0; body < model_->bodies.size(); ++body) {
+    if (multibody_.FreeBodyOffset(body) < 0 || state->sleeping[body]) continue;
+    const BodyVelocity& velocity = state->body_velocities[body];
+    const bool slow = velocity.linear.norm() < params_.sleep_speed && velocity.angular.norm() < params_.sleep_speed;
+    state->rest_time[body] = slow ? state->rest_time[body] + h : 0;
+    if (params_.sleep_time > 0 && state->rest_time[body] >= params_.sleep_time) {
+      state->sleeping[body] = true;
+      state->body_velocities[body] = {};
+    }
+  }
+}
+
+void Simulation::ClampJointLimits(SceneState* state) const {
+  // A joint at its stop stays there and loses the velocity into the stop (an inelastic end stop), which is
+  // what the mechanical stops of a gripper or an arm do.
+  bool clamped = false;
+  Eigen::VectorXd v = multibody_.Velocities(*state);
+  for (size_t j = 0; j < model_->joints.size(); ++j) {
+    const JointSpec& joint = model_->joints[j];
+    const int offset = multibody_.JointOffset(j);
+    const bool limited = joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic;
+    if (offset < 0 || !limited) continue;
+    double& q = state->joint_positions[j];
+    if (q < joint.lower || q > joint.upper) {
+      const bool below = q < joint.lower;
+      q = below ? joint.lower : joint.upper;
+      if (below ? v[offset] < 0 : v[offset] > 0) v[offset] = 0;
+      clamped = true;
+    }
+  }
+  if (!clamped) return;
+  multibody_.SetVelocities(v, state);
+  multibody_.Integrate(Eigen::VectorXd::Zero(v.size()), 0, state);  // followers and link poses from the clamp
+}
+
+void Simulation::CheckFinite(const SceneState& state) const {
+  const double limit = params_.divergence_speed;
+  auto fail = [&](const std::string& what) {
+    throw Error(ErrorCode::kFailedPrecondition,
+                "simulation diverged at step " + std::to_string(state.step + 1) + ": " + what +
+                    "; reduce time_step, raise substeps or use the linearly implicit integrator");
+  };
+  for (size_t i = 0; i < model_->bodies.size(); ++i) {
+    const BodyVelocity& velocity = state.body_velocities[i];
+    const Pose& pose = state.body_poses[i];
+    if (!pose.position.allFinite() || !pose.orientation.coeffs().allFinite()) {
+      fail("body '" + model_->bodies[i].id + "' position " + Vec(pose.position) + " is not finite");
+    }
+    if (!(velocity.linear.norm() < limit)) {
+      fail("body '" + model_->bodies[i].id + "' linear velocity " + Vec(velocity.linear) + " m/s exceeds " +
+           FormatNumber(limit));
+    }
+    if (!(velocity.angular.norm() < limit)) {
+      fail("body '" + model_->bodies[i].id + "' angular velocity " + Vec(velocity.angular) + " rad/s exceeds " +
+           FormatNumber(limit));
+    }
+  }
+  for (size_t j = 0; j < model_->joints.size(); ++j) {
+    if (!std::isfinite(state.joint_positions[j]) || !(std::abs(state.joint_velocities[j]) < limit)) {
+      fail("joint '" + model_->joints[j].id + "' position " + FormatNumber(state.joint_positions[j]) +
+           ", velocity " + FormatNumber(state.joint_velocities[j]));
+    }
+  }
+  for (const auto& [key, z] : state.bristles) {
+    if (!z.allFinite()) fail("bristle of body '" + model_->bodies[key.body_a].id + "' is " + Vec(z));
+  }
+}
+
+}  // namespace graspsim

@@ -1,0 +1,84 @@
+// The dynamic simulation of one scene, as a readable list of stages per step (MuJoCo's mj_step):
+//   FindContacts → ContactForces → ActuatorForces → SolveVelocityChange → AdvanceBristles → Integrate
+//   → ClampJointLimits → UpdateSleep, then CheckFinite.
+// Contacts are soft (penalty normal force, LuGre friction; physics/contact_law.h) at the surface samples the
+// collision library finds; the articulated dynamics are physics/multibody.h. The linearly implicit integrator
+// solves (M − h D − h² K) Δv = h (τ − b + f + h K v) with K, D the contact stiffness and damping mapped to
+// generalised coordinates (Baraff & Witkin 1998), so stiff contacts stay stable at millisecond steps; the
+// semi-implicit (symplectic) Euler integrator (first order) is the cheaper reference, and velocity Verlet
+// (second order, symplectic, exact under constant forces, two contact evaluations per step) the accurate one for
+// smooth motion. Static bodies never move; free
+// bodies at rest fall asleep and are skipped until something touches them.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "collision/contact_finder.h"
+#include "physics/actuators.h"
+#include "physics/contact_law.h"
+#include "physics/multibody.h"
+#include "world/model.h"
+#include "world/state.h"
+
+namespace graspsim {
+
+// Checks a parameter set at the boundary; throws Error(kInvalidArgument) naming the field.
+void ValidateSimulationParams(const SimulationParams& params);
+
+struct StepStats {
+  size_t contacts = 0;      // contact points in the last sub-step
+  size_t awake_bodies = 0;  // free bodies integrated in the last sub-step
+};
+
+class Simulation {
+ public:
+  // Builds what the model needs once (degrees of freedom, surface samples, mesh BVHs); the parameters are the
+  // model's (SceneModel::simulation).
+  explicit Simulation(std::shared_ptr<const SceneModel> model);
+
+  const SceneModel& model() const { return *model_; }
+  // Sizes a state's velocity, sleep and bristle arrays for this model (new entries zero).
+  void PrepareState(SceneState* state) const;
+
+  // Advances `steps` steps. On divergence throws Error(kFailedPrecondition) naming the body or joint, the step
+  // and the quantity, and leaves *state as it was before the call.
+  StepStats Step(SceneState* state, int steps);
+
+  // The contact points and their forces (on body_a, world, N) of the last sub-step.
+  const std::vector<ContactPoint>& contacts() const { return contacts_; }
+  const std::vector<Vec3>& contact_forces() const { return forces_; }
+
+ private:
+  // Generalised forces at one configuration; K and D (contact stiffness and damping) only when linearised.
+  struct Forces {
+    Eigen::VectorXd tau, actuators;
+    Eigen::MatrixXd K, D;
+    std::vector<Eigen::Matrix3Xd> jacobians;  // per contact: relative point velocity = J v
+    std::vector<ContactForce> contact;
+  };
+
+  // The stages of one sub-step, in order.
+  void SubStep(SceneState* state, double h);
+  void FindContacts(SceneState* state);
+  void ContactForces(const SceneState& state, const Eigen::VectorXd& v, Forces* forces);
+  void ActuatorForces(SceneState* state, double h, Forces* forces);
+  Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
+                                      double h) const;
+  void AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) const;
+  void UpdateSleep(SceneState* state, double h) const;
+  ContactParams PairParams(uint32_t a, uint32_t b) const;
+  void ClampJointLimits(SceneState* state) const;
+  void CheckFinite(const SceneState& state) const;
+
+  std::shared_ptr<const SceneModel> model_;
+  const SimulationParams& params_;
+  Multibody multibody_;
+  ContactFinder finder_;
+  std::vector<ContactParams> body_params_;  // per body, materials merged with the defaults
+  std::vector<ContactPoint> contacts_;
+  std::vector<Vec3> forces_;
+};
+
+}  // namespace graspsim

@@ -1,0 +1,302 @@
+// The simulation against analytic answers (issue "Physics engine", Must show): free fall, resting contact,
+// the Stribeck curve, stiction, energy, momentum, and divergence reported instead of NaN.
+#include "physics/simulation.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "test_util.h"
+
+namespace graspsim {
+namespace {
+
+constexpr double kG = 9.81;
+
+BodySpec Sphere(const std::string& id, double radius, double mass) {
+  BodySpec body;
+  body.id = id;
+  body.motion = BodyMotion::kFree;
+  Geometry sphere;
+  sphere.kind = Geometry::Kind::kSphere;
+  sphere.radius = radius;
+  body.collision.push_back(sphere);
+  body.inertial.mass = mass;
+  body.inertial.inertia = Mat3::Identity() * (0.4 * mass * radius * radius);
+  return body;
+}
+
+BodySpec Box(const std::string& id, const Vec3& size, double mass, BodyMotion motion = BodyMotion::kFree) {
+  BodySpec body;
+  body.id = id;
+  body.motion = motion;
+  Geometry box;
+  box.box_size = size;
+  body.collision.push_back(box);
+  body.inertial.mass = mass;
+  const Vec3 s2 = size.cwiseProduct(size);
+  body.inertial.inertia = Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() * (mass / 12);
+  return body;
+}
+
+// A floor: a static 10 × 10 × 1 m slab whose top is at z = 0 in its frame, as a closed 12-triangle mesh. As a
+// mesh it is sampled at its 8 corners only, so every contact is a sample of the body resting on it: the
+// analytic answers below count those.
+BodySpec Floor() {
+  auto mesh = std::make_shared<TriangleMesh>();
+  for (float z : {-1.0f, 0.0f}) {
+    for (float y : {-5.0f, 5.0f}) {
+      for (float x : {-5.0f, 5.0f}) mesh->vertices.emplace_back(x, y, z);
+    }
+  }
+  // Vertex i = x + 2 y + 4 z (bits); faces counter-clockwise seen from outside.
+  mesh->triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  BodySpec floor;
+  floor.id = "floor";
+  floor.motion = BodyMotion::kStatic;
+  Geometry geometry;
+  geometry.kind = Geometry::Kind::kMesh;
+  geometry.mesh = mesh;
+  floor.collision.push_back(geometry);
+  floor.inertial.mass = 1000;
+  floor.inertial.inertia = Mat3::Identity() * 1000;
+  return floor;
+}
+
+struct World {
+  std::shared_ptr<SceneModel> model = std::make_shared<SceneModel>();
+  SceneState state;
+
+  size_t Add(BodySpec body, const Vec3& position) {
+    model->bodies.push_back(std::move(body));
+    state.body_poses.push_back({position, Quat::Identity()});
+    return model->bodies.size() - 1;
+  }
+  Simulation Start() {
+    model->Reindex();
+    Simulation simulation(model);
+    simulation.PrepareState(&state);
+    return simulation;
+  }
+};
+
+TEST(SimulationTest, FreeFallIsExactWithVelocityVerlet) {
+  // Second order and exact for a constant force: z(t) = z0 − g t²/2 to rounding.
+  World world;
+  world.model->simulation.integrator = Integrator::kVelocityVerlet;
+  world.Add(Sphere("ball", 0.02, 0.1), Vec3(0, 0, 10));
+  Simulation simulation = world.Start();
+  simulation.Step(&world.state, 1000);
+  const double fallen = 10 - world.state.body_poses[0].position.z();
+  EXPECT_NEAR(fallen / (0.5 * kG * 1.0), 1.0, 1e-6);
+  EXPECT_NEAR(world.state.body_velocities[0].linear.z(), -kG, 1e-9);
+  EXPECT_NEAR(world.state.time, 1.0, 1e-12);
+}
+
+TEST(SimulationTest, FreeFallWithEulerIsFirstOrder) {
+  // Symplectic Euler: z_n = z0 − g h² n(n+1)/2, an error of g h t / 2 — documents the order.
+  World world;
+  world.model->simulation.integrator = Integrator::kSemiImplicitEuler;
+  world.Add(Sphere("ball", 0.02, 0.1), Vec3(0, 0, 10));
+  Simulation simulation = world.Start();
+  simulation.Step(&world.state, 1000);
+  EXPECT_NEAR(10 - world.state.body_poses[0].position.z(), kG * 1e-6 * 1000 * 1001 / 2, 1e-9);
+}
+
+TEST(SimulationTest, SphereSettlesAtPenetrationMgOverK) {
+  World world;
+  world.model->simulation.contact.stiffness = 1e4;
+  world.model->simulation.contact.damping = 20;
+  world.model->simulation.sleep_time = 0;  // keep integrating: the test reads the settled state
+  // Samples 5 cm apart: the sphere gets its poles and 12 Fibonacci points, the lowest of those r/12 = 2.5 mm
+  // above the pole, far above the ~1 mm penetration, so the pole alone touches.
+  world.model->simulation.sample_spacing = 0.05;
+  world.Add(Floor(), Vec3::Zero());
+  const double m = 0.5, r = 0.03;
+  world.Add(Sphere("ball", r, m), Vec3(0, 0, r));
+  Simulation simulation = world.Start();
+  simulation.Step(&world.state, 3000);
+  // One contact point (the lowest sample) carries the weight. The floor's k is in series with the ball's:
+  // both default to k, so the pair stiffness is k/2.
+  ASSERT_EQ(simulation.contacts().size(), 1u);
+  const double expected = m * kG / (1e4 / 2);
+  const double depth = r - world.state.body_poses[1].position.z();
+  EXPECT_NEAR(depth / expected, 1.0, 0.01);
+}
+
+TEST(SimulationTest, BoxSettlesWithItsWeightSharedByItsContacts) {
+  World world;
+  world.model->simulation.contact.stiffness = 1e4;
+  world.model->simulation.contact.damping = 5;
+  world.model->simulation.sleep_time = 0;
+  world.Add(Floor(), Vec3::Zero());
+  const double m = 0.1, a = 0.05;
+  world.Add(Box("cube", Vec3(a, a, a), m), Vec3(0, 0, a / 2));
+  Simulation simulation = world.Start();
+  simulation.Step(&world.state, 3000);
+  const size_t n = simulation.contacts().size();
+  ASSERT_GT(n, 4u);
+  double total_normal = 0;
+  for (const Vec3& f : simulation.contact_forces()) total_normal += f.z();
+  EXPECT_NEAR(total_normal / (m * kG), 1.0, 1e-3);
+  const double depth = a / 2 - world.state.body_poses[1].position.z();
+  EXPECT_NEAR(depth / (m * kG / (n * 1e4 / 2)), 1.0, 0.01);
+}
+
+// A sphere dragged over the floor at constant speed: the velocity is imposed before every step; the friction
+// force at its single contact then follows the bristles to the LuGre steady state g(v) + c_t v. The slider is
+// heavy (1e5 kg) under weak gravity (normal force 9.81 N): one step's friction then changes its velocity by
+// 6e-8 m/s, so the step's slip is the imposed speed to 0.06 % even at 0.1 mm/s.
+double SteadyFriction(double speed) {
+  World world;
+  SimulationParams& params = world.model->simulation;
+  const double m = 1e5, r = 0.03, normal = 1.0 * kG;
+  params.integrator = Integrator::kSemiImplicitEuler;
+  params.gravity = Vec3(0, 0, -normal / m);
+  params.sample_spacing = 0.05;  // the pole alone touches (see SphereSettlesAtPenetrationMgOverK)
+  params.contact.stiffness = 1e4;
+  params.contact.damping = 50;
+  params.contact.viscous_friction = 0.05;
+  params.contact.stribeck_velocity = 1e-2;
+  params.sleep_time = 0;
+  world.Add(Floor(), Vec3::Zero());
+  world.Add(Sphere("slider", r, m), Vec3(-0.5, 0, r - normal / 5e3));  // at rest on its spring k/2
+  Simulation simulation = world.Start();
+  // Long enough to slide ≥ 5 bristle lengths (g/σ0 ≈ 0.6 mm).
+  const int steps = static_cast<int>(std::max(0.5, 3e-3 / speed) / params.time_step);
+  for (int i = 0; i < steps; ++i) {
+    world.state.body_velocities[1] = {Vec3(speed, 0, world.state.body_velocities[1].linear.z()), Vec3::Zero()};
+    simulation.Step(&world.state, 1);
+  }
+  EXPECT_EQ(simulation.contacts().size(), 1u);
+  return -simulation.contact_forces().at(0).x();
+}
+
+TEST(SimulationTest, DraggedBlockFollowsTheStribeckCurve) {
+  const double mu_s = 0.6, mu_d = 0.4, v_s = 1e-2, c_t = 0.05, normal = 1.0 * kG;
+  for (double speed : {1e-4, 1e-3, 1e-2, 1e-1, 1.0}) {
+    const double g = normal * (mu_d + (mu_s - mu_d) * std::exp(-speed * speed / (v_s * v_s)));
+    EXPECT_NEAR(SteadyFriction(speed) / (g + c_t * speed), 1.0, 0.01) << "v = " << speed << " m/s";
+  }
+}
+
+TEST(SimulationTest, PushBelowStictionBarelyMoves) {
+  World world;
+  world.model->simulation.contact.stiffness = 1e4;
+  world.model->simulation.contact.damping = 20;
+  world.model->simulation.sleep_time = 0;
+  world.Add(Floor(), Vec3::Zero());
+  const double m = 0.1, a = 0.05;
+  const size_t cube = world.Add(Box("cube", Vec3(a, a, a), m), Vec3(0, 0, a / 2));
+  Simulation simulation = world.Start();
+  simulation.Step(&world.state, 1000);  // settle
+  const double x0 = world.state.body_poses[cube].position.x();
+  // Push with 90 % of μ_s m g as a "gravity" component along x: the same force on the centre of mass.
+  world.model->simulation.gravity = Vec3(0.9 * 0.6 * kG, 0, -kG);
+  Simulation pushed(world.model);
+  pushed.Step(&world.state, 10000);
+  EXPECT_LT(std::abs(world.state.body_poses[cube].position.x() - x0), 1e-4);
+}
+
+TEST(SimulationTest, PendulumEnergyDriftsLessThanATenthOfAPercent) {
+  // A robot with one revolute joint: a 1 kg bob 0.5 m below the pivot, released at 60°, no contacts.
+  World world;
+  world.model->simulation.integrator = Integrator::kVelocityVerlet;
+  BodySpec base = Box("pendulum/base", Vec3(0.01, 0.01, 0.01), 1, BodyMotion::kArticulated);
+  base.collision.clear();
+  base.robot_id = "pendulum";
+  BodySpec bob = Sphere("pendulum/bob", 0.02, 1.0);
+  bob.collision.clear();
+  bob.motion = BodyMotion::kArticulated;
+  bob.robot_id = "pendulum";
+  bob.inertial.center_of_mass = Vec3(0, 0, -0.5);
+  world.Add(base, Vec3(0, 0, 1));
+  world.Add(bob, Vec3(0, 0, 1));
+  JointSpec hinge;
+  hinge.id = "pendulum/hinge";
+  hinge.robot_id = "pendulum";
+  hinge.type = JointType::kContinuous;
+  hinge.parent_body = "pendulum/base";
+  hinge.child_body = "pendulum/bob";
+  hinge.axis = Vec3::UnitX();
+  world.model->joints.push_back(hinge);
+  world.model->robots.push_back(RobotSpec{"pendulum", "test", "pendulum/base", {"pendulum/base", "pendulum/bob"},
+                                          {"pendulum/hinge"}, {}});
+  world.state.joint_positions = {M_PI / 3};
+  world.model->Reindex();
+  UpdateRobotLinkPoses(*world.model, world.model->robots[0], &world.state);
+  Simulation simulation = world.Start();
+  Multibody multibody(*world.model);
+  const double e0 = multibody.Energy(world.state, world.model->simulation.gravity);
+  double worst = 0;
+  for (int second = 0; second < 100; ++second) {
+    simulation.Step(&world.state, 1000);
+    worst = std::max(worst, std::abs(multibody.Energy(world.state, world.model->simulation.gravity) / e0 - 1));
+  }
+  EXPECT_LT(worst, 1e-3);
+}
+
+TEST(SimulationTest, TwoBodyContactConservesMomentum) {
+  World world;
+  world.model->simulation.gravity = Vec3::Zero();
+  world.model->simulation.sleep_time = 0;
+  const size_t a = world.Add(Sphere("a", 0.05, 0.2), Vec3(0, 0, 0));
+  const size_t b = world.Add(Box("b", Vec3(0.1, 0.1, 0.1), 1.5), Vec3(0.2, 0.01, 0));
+  Simulation simulation = world.Start();
+  world.state.body_velocities[a].linear = Vec3(1, 0, 0);
+  auto momentum = [&] {
+    return Vec3(0.2 * world.state.body_velocities[a].linear + 1.5 * world.state.body_velocities[b].linear);
+  };
+  const Vec3 before = momentum();
+  size_t touching = 0;
+  for (int i = 0; i < 300; ++i) {
+    simulation.Step(&world.state, 1);
+    touching += !simulation.contacts().empty();
+  }
+  EXPECT_GT(touching, 0u);
+  EXPECT_LT((momentum() - before).norm(), 1e-9);
+}
+
+TEST(SimulationTest, DivergenceIsReportedNamingBodyStepAndQuantity) {
+  // A 50 g fingertip on a 1e6 N/m contact with explicit contacts and a 10 ms step cannot be integrated.
+  World world;
+  world.model->simulation.integrator = Integrator::kSemiImplicitEuler;
+  world.model->simulation.time_step = 1e-2;
+  world.model->simulation.contact.stiffness = 1e6;
+  world.model->simulation.contact.damping = 0;
+  world.Add(Floor(), Vec3::Zero());
+  world.Add(Sphere("fingertip", 0.01, 0.05), Vec3(0, 0, 0.009));
+  Simulation simulation = world.Start();
+  const SceneState before = world.state;
+  try {
+    simulation.Step(&world.state, 1000);
+    FAIL() << "no divergence reported";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.code(), ErrorCode::kFailedPrecondition);
+    const std::string message = error.what();
+    EXPECT_NE(message.find("fingertip"), std::string::npos) << message;
+    EXPECT_NE(message.find("step"), std::string::npos) << message;
+    EXPECT_NE(message.find("velocity"), std::string::npos) << message;
+  }
+  EXPECT_EQ(world.state.body_poses[1].position, before.body_poses[1].position);  // the state is untouched
+}
+
+TEST(SimulationTest, RestingBodyFallsAsleepAndSameInputsGiveSameOutputs) {
+  auto run = [] {
+    World world;
+    world.model->simulation.sleep_time = 0.2;
+    world.Add(Floor(), Vec3::Zero());
+    world.Add(Box("cube", Vec3(0.05, 0.05, 0.05), 0.1), Vec3(0, 0, 0.03));
+    Simulation simulation = world.Start();
+    simulation.Step(&world.state, 3000);
+    return world.state;
+  };
+  const SceneState first = run(), second = run();
+  EXPECT_TRUE(first.sleeping[1]);
+  EXPECT_EQ(first.body_poses[1].position, second.body_poses[1].position);  // bit for bit
+  EXPECT_EQ(first.body_poses[1].orientation.coeffs(), second.body_poses[1].orientation.coeffs());
+}
+
+}  // namespace
+}  // namespace graspsim
