@@ -10,7 +10,8 @@ def test_demo_runs(server):
     result = subprocess.run([sys.executable, str(DEMO), "--server", server.address, "--http", server.http_url],
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, f"demo failed:\n{result.stdout}\n{result.stderr}"
-    for expected in ("pg70", "cube_5cm", "pg70/finger_left_joint", "14 rows x 6 cols", "5 bodies, 1 robot"):
+    for expected in ("pg70", "cube_5cm", "pg70/finger_left_joint", "14 rows x 6 cols", "5 bodies, 1 robot",
+                     "cube at rest on the table", "PG70 closed", "held by friction"):
         assert expected in result.stdout, f"{expected!r} missing from:\n{result.stdout}"
 
 

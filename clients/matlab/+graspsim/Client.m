@@ -14,13 +14,14 @@ classdef Client < handle
   %   field and the bad value. graspsim:UNAVAILABLE means no server answered; graspsim:badArgument means the
   %   client refused the arguments before sending anything (wrong sizes, unknown options).
   %
-  %   Scenes:    createScene, listScenes, getScene, deleteScene
-  %   Files:     uploadFile, builtinModels
-  %   Bodies:    addObject, addRobot, removeBody
-  %   State:     setBodyPoses, getBodyPoses, setJointPositions, getJointPositions, watchScene, stepSimulation
-  %   Anything:  call(service, method, request), listMethods
+  %   Scenes:      createScene, listScenes, getScene, deleteScene
+  %   Files:       uploadFile, builtinModels
+  %   Bodies:      addObject, addRobot, removeBody
+  %   State:       setBodyPoses, getBodyPoses, setJointPositions, getJointPositions, watchScene
+  %   Simulation:  stepSimulation, setSimulationParams, getSimulationParams, setActuator
+  %   Anything:    call(service, method, request), listMethods
   %
-  %   See also graspsim.Client/addObject, graspsim.Client/call.
+  %   See also graspsim.Client/addObject, graspsim.Client/stepSimulation, graspsim.Client/call.
 
   properties (SetAccess = private)
     Url      % base URL of the gateway, e.g. 'http://127.0.0.1:8080'
@@ -120,14 +121,17 @@ classdef Client < handle
     function scene = getScene(obj, sceneId, varargin)
       %GETSCENE scene = c.getScene(sceneId, 'IncludeGeometry', false): the whole scene, a struct with
       %   summary, bodies, joints, robots, tactileArrays, files (struct arrays, N-by-1).
-      %   Body: id, robotId, motion ('static'|'free'|'articulated'), pose 1-by-7, mass, centerOfMass,
-      %     inertia 3-by-3, friction [static dynamic], triangleCount, collision (shapes: type, size,
+      %   Body: id, robotId, motion ('static'|'free'|'articulated'), pose 1-by-7, velocity 1-by-6
+      %     [vx vy vz wx wy wz] (m/s of the centre of mass, rad/s, world frame; zero unless free), sleeping
+      %     (a free body at rest that the simulation skips), mass, centerOfMass, inertia 3-by-3, friction
+      %     [static dynamic], contact (stiffness, damping, bristleStiffness, bristleDamping, viscousFriction,
+      %     stribeckVelocity; 0 = the scene's default), triangleCount, collision (shapes: type, size,
       %     vertices, triangles, meshFile, origin, scale).
       %   With IncludeGeometry true, inline meshes come with vertices N-by-3 double (m; exactly the float32
       %   values the server holds) and triangles M-by-3 double of 0-BASED vertex indices (add 1 for patch or
       %   trisurf).
       %   Joint: id, robotId, type, parentBody, childBody, origin, axis, lower, upper, velocityLimit,
-      %     effortLimit, position, mimic (jointId, multiplier, offset). Robot: id, source, baseBody, bodyIds,
+      %     effortLimit, position, velocity (rad/s or m/s), mimic (jointId, multiplier, offset). Robot: id, source, baseBody, bodyIds,
       %     jointIds, tactileArrayIds. Tactile array: id, bodyId, origin, rows, cols, pitch, thickness.
       %     File: path, size, sha256.
       options = graspsim.internal.parseOptions(struct('IncludeGeometry', false), varargin, 'getScene');
@@ -198,11 +202,14 @@ classdef Client < handle
       %                                  centre of mass unless given). MeshFile and Builtin need Inertia.
       %     'CenterOfMass', [x y z]      m, body frame
       %     'Friction', [static dynamic] coefficients (default: the server's 0.6, 0.4 or the model's own)
+      %     'Contact', struct(...)       the body's contact parameters, fields as in setSimulationParams'
+      %                                  Contact (stiffness, damping, ...); those not given (or 0) take the
+      %                                  scene's defaults
       %     'Pose', [x y z qw qx qy qz]  body frame in the world
       %     'Static', true               a fixed body (a table)
       defaults = struct('Builtin', [], 'Box', [], 'Sphere', [], 'Cylinder', [], 'Vertices', [], 'Triangles', [], ...
                         'MeshFile', [], 'Mass', [], 'Inertia', [], 'CenterOfMass', [], 'Friction', [], ...
-                        'Pose', [], 'Static', false);
+                        'Contact', [], 'Pose', [], 'Static', false);
       o = graspsim.internal.parseOptions(defaults, varargin, 'addObject');
       [kind, value] = pickShape(o);
       request = struct('scene_id', sceneId, 'name', name);
@@ -229,6 +236,18 @@ classdef Client < handle
           error('graspsim:badArgument', 'Friction needs 2 values [static dynamic], got %d', numel(o.Friction));
         end
         request.material = struct('static_friction', o.Friction(1), 'dynamic_friction', o.Friction(2));
+      end
+      if ~isempty(o.Contact)
+        % Material names its contact fields like ContactDefaults, except contact_stiffness/contact_damping.
+        contact = contactMessage(o.Contact, 'addObject Contact');
+        names = fieldnames(contact);
+        for k = 1:numel(names)
+          key = names{k};
+          if any(strcmp(key, {'stiffness', 'damping'}))
+            key = ['contact_' key];
+          end
+          request.material.(key) = contact.(names{k});
+        end
       end
       if ~isempty(o.Pose)
         request.pose = graspsim.internal.toPose(o.Pose, 'Pose');
@@ -372,11 +391,145 @@ classdef Client < handle
       snapshots = graspsim.internal.decode('SceneSnapshot', field(envelope, 'responses', []));
     end
 
-    function result = stepSimulation(obj, sceneId, duration)
-      %STEPSIMULATION result = c.stepSimulation(sceneId, duration): advances the simulation by duration (s);
-      %   result.time (s), result.steps. The server answers UNIMPLEMENTED until the physics engine lands.
-      response = obj.sceneCall('StepSimulation', struct('scene_id', sceneId, 'duration', duration));
-      result = struct('time', number(field(response, 'time', 0)), 'steps', number(field(response, 'steps', 0)));
+    function result = stepSimulation(obj, sceneId, varargin)
+      %STEPSIMULATION result = c.stepSimulation(sceneId, 'Duration', s | 'Steps', n | 'UntilTime', t):
+      %   advances the dynamic simulation by a duration (s, rounded to whole steps of the time step), a number
+      %   of steps, or until the simulation time t (s). c.stepSimulation(sceneId, s) is 'Duration', s.
+      %   Returns a struct: time (s, the simulation time after the steps), steps (taken by this call),
+      %   contacts (contact points in the last step), awakeBodies (free bodies integrated in the last step),
+      %   revision. watchScene streams see the motion. A diverging run raises graspsim:FAILED_PRECONDITION
+      %   naming the body, step and quantity, and leaves the scene at its last finite state.
+      if numel(varargin) == 1 && isnumeric(varargin{1})
+        varargin = {'Duration', varargin{1}};
+      end
+      o = graspsim.internal.parseOptions(struct('Duration', [], 'Steps', [], 'UntilTime', []), varargin, ...
+                                         'stepSimulation');
+      given = {'Duration', 'Steps', 'UntilTime'};
+      given = given(~cellfun(@isempty, {o.Duration, o.Steps, o.UntilTime}));
+      if numel(given) ~= 1
+        error('graspsim:badArgument', ...
+              'stepSimulation: give exactly one of ''Duration'' (s), ''Steps'', ''UntilTime'' (s), got %d', ...
+              numel(given));
+      end
+      value = o.(given{1});
+      if ~isnumeric(value) || ~isscalar(value) || ~isreal(value)
+        error('graspsim:badArgument', 'stepSimulation: %s must be one real number', given{1});
+      end
+      request = struct('scene_id', sceneId);
+      switch given{1}
+        case 'Duration'
+          request.duration = double(value);
+        case 'UntilTime'
+          request.until_time = double(value);
+        case 'Steps'
+          if ~(value >= 0 && value <= 4294967295 && value == round(value))
+            error('graspsim:badArgument', 'stepSimulation: Steps must be a whole number from 0 to 2^32-1, got %g', ...
+                  double(value));
+          end
+          request.steps = double(value);
+      end
+      result = graspsim.internal.decode('StepSimulationResponse', obj.sceneCall('StepSimulation', request));
+    end
+
+    function params = setSimulationParams(obj, sceneId, varargin)
+      %SETSIMULATIONPARAMS params = c.setSimulationParams(sceneId, name, value, ...) or
+      %   c.setSimulationParams(sceneId, paramsStruct): sets the scene's simulation parameters and returns
+      %   them as the server now holds them (as getSimulationParams). Like the Python client, a call sets
+      %   the whole set: a parameter not given (or [], or 0) takes the server's DEFAULT, not its current
+      %   value, so change one parameter with p = c.getSimulationParams(id); p.timeStep = 5e-4;
+      %   c.setSimulationParams(id, p). Names are case-insensitive (TimeStep, timeStep, time_step):
+      %     'TimeStep', s              the step of stepSimulation
+      %     'Substeps', n              integration steps per step
+      %     'Integrator', name         'linearly_implicit_euler' (default; stiff contacts stable at
+      %                                millisecond steps), 'semi_implicit_euler', 'velocity_verlet'
+      %     'Gravity', [x y z]         m/s^2 (default [0 0 -9.81]; [0 0 0] is no gravity)
+      %     'Contact', struct(...)     default contact parameters of every body: stiffness (N/m per contact
+      %                                point), damping (N s/m), bristleStiffness, bristleDamping (LuGre sigma0
+      %                                N/m, sigma1 N s/m), viscousFriction (N s/m), stribeckVelocity (m/s)
+      %     'SampleSpacing', m         spacing of the surface samples of primitives
+      %     'SleepSpeed', m/s          speed (and rad/s) below which a free body is at rest
+      %     'SleepTime', s             time at rest before a body sleeps
+      %   A bad value raises graspsim:INVALID_ARGUMENT naming the field (e.g. params.time_step) and changes
+      %   nothing.
+      if numel(varargin) == 1 && isstruct(varargin{1}) && isscalar(varargin{1})
+        given = varargin{1};
+        names = fieldnames(given);
+        varargin = cell(1, 2 * numel(names));
+        varargin(1:2:end) = names;
+        varargin(2:2:end) = struct2cell(given);
+      end
+      if mod(numel(varargin), 2) ~= 0
+        error('graspsim:badArgument', 'setSimulationParams: give name-value pairs or one struct of parameters');
+      end
+      known = {'TimeStep', 'time_step'; 'Substeps', 'substeps'; 'Integrator', 'integrator'; ...
+               'Gravity', 'gravity'; 'Contact', 'contact'; 'SampleSpacing', 'sample_spacing'; ...
+               'SleepSpeed', 'sleep_speed'; 'SleepTime', 'sleep_time'};
+      message = struct();
+      for k = 1:2:numel(varargin)
+        row = matchName(varargin{k}, known(:, 1), 'setSimulationParams');
+        name = known{row, 1};
+        value = varargin{k + 1};
+        if isempty(value)
+          continue;  % not given: the server's default
+        end
+        switch name
+          case 'Integrator'
+            message.integrator = integratorName(value);
+          case 'Gravity'
+            message.gravity = graspsim.internal.toVec3(value, 'Gravity');
+          case 'Contact'
+            message.contact = contactMessage(value, 'Contact');
+          otherwise
+            if ~isnumeric(value) || ~isscalar(value) || ~isreal(value)
+              error('graspsim:badArgument', 'setSimulationParams: %s must be one real number', name);
+            end
+            if strcmp(name, 'Substeps') && ~(value >= 0 && value <= 4294967295 && value == round(value))
+              error('graspsim:badArgument', 'setSimulationParams: Substeps must be a whole number >= 0, got %g', ...
+                    double(value));
+            end
+            message.(known{row, 2}) = double(value);
+        end
+      end
+      response = obj.sceneCall('SetSimulationParams', struct('scene_id', sceneId, 'params', message));
+      params = graspsim.internal.decode('SimulationParams', response);
+    end
+
+    function params = getSimulationParams(obj, sceneId)
+      %GETSIMULATIONPARAMS params = c.getSimulationParams(sceneId): the scene's simulation parameters with
+      %   the server's defaults filled in: timeStep (s), substeps, integrator ('linearly_implicit_euler',
+      %   'semi_implicit_euler', 'velocity_verlet'), gravity 1-by-3 (m/s^2), contact (stiffness, damping,
+      %   bristleStiffness, bristleDamping, viscousFriction, stribeckVelocity), sampleSpacing (m), sleepSpeed
+      %   (m/s), sleepTime (s). setSimulationParams takes this struct back.
+      response = obj.sceneCall('GetSimulationParams', struct('scene_id', sceneId));
+      params = graspsim.internal.decode('SimulationParams', response);
+    end
+
+    function setActuator(obj, sceneId, jointId, mode, value, currentLimit)
+      %SETACTUATOR c.setActuator(sceneId, jointId, mode, value, currentLimit): drives a joint with its DC
+      %   motor from the next stepSimulation on. mode 'velocity' (value m/s or rad/s), 'position' (m or
+      %   rad), 'voltage' (V) or 'off' (no drive). currentLimit (A) caps the motor current, i.e. the force;
+      %   0 or omitted = the motor's own. jointId is an independent joint (not a mimic follower): the built-in
+      %   PG70's 'pg70/finger_left_joint' uses the PG70 drive and moves both fingers, other joints a generic
+      %   24 V motor. Other motors: c.call('SceneService', 'SetActuators', ...) with an ActuatorCommand.motor.
+      if nargin < 5 || isempty(value)
+        value = 0;
+      end
+      if nargin < 6 || isempty(currentLimit)
+        currentLimit = 0;
+      end
+      modes = {'off', 'voltage', 'velocity', 'position'};
+      if ~ischar(mode) || ~any(strcmpi(mode, modes))
+        error('graspsim:badArgument', 'setActuator: mode must be one of %s', strjoin(modes, ', '));
+      end
+      if ~ischar(jointId)
+        error('graspsim:badArgument', 'setActuator: jointId must be a char row such as ''pg70/finger_left_joint''');
+      end
+      if ~isnumeric(value) || ~isscalar(value) || ~isnumeric(currentLimit) || ~isscalar(currentLimit)
+        error('graspsim:badArgument', 'setActuator: value and currentLimit must be single numbers');
+      end
+      command = struct('joint_id', jointId, 'mode', ['ACTUATOR_MODE_' upper(mode)], 'value', double(value), ...
+                       'current_limit', double(currentLimit));
+      obj.sceneCall('SetActuators', struct('scene_id', sceneId, 'commands', {{command}}));
     end
   end
 
@@ -493,5 +646,62 @@ elseif ischar(x)
   list = {x};
 else
   list = x(:);
+end
+end
+
+function row = matchName(name, names, caller)
+% The index of name among names, ignoring case and underscores (TimeStep, timeStep, time_step); an error if none.
+row = [];
+if ischar(name)
+  row = find(strcmp(lower(strrep(name, '_', '')), lower(names)), 1);
+end
+if isempty(row)
+  if ischar(name)
+    text = ['''' name ''''];
+  else
+    text = ['of class ' class(name)];
+  end
+  error('graspsim:badArgument', '%s: unknown parameter %s; known: %s', caller, text, strjoin(names(:).', ', '));
+end
+end
+
+function name = integratorName(value)
+% The Integrator enum name of 'linearly_implicit_euler', 'semi_implicit_euler' or 'velocity_verlet' (any case,
+% with or without the INTEGRATOR_ prefix).
+known = {'linearly_implicit_euler', 'semi_implicit_euler', 'velocity_verlet'};
+if ischar(value)
+  value = lower(value);
+  if strncmp(value, 'integrator_', 11)
+    value = value(12:end);
+  end
+end
+if ~ischar(value) || ~any(strcmp(value, known))
+  error('graspsim:badArgument', 'Integrator must be one of %s', strjoin(known, ', '));
+end
+name = ['INTEGRATOR_' upper(value)];
+end
+
+function message = contactMessage(value, what)
+% A ContactDefaults message (snake_case fields) from a struct with the fields stiffness, damping,
+% bristleStiffness, bristleDamping, viscousFriction, stribeckVelocity (any case, underscores allowed); empty
+% fields are left out (the default).
+known = {'Stiffness', 'stiffness'; 'Damping', 'damping'; 'BristleStiffness', 'bristle_stiffness'; ...
+         'BristleDamping', 'bristle_damping'; 'ViscousFriction', 'viscous_friction'; ...
+         'StribeckVelocity', 'stribeck_velocity'};
+if ~isstruct(value) || ~isscalar(value)
+  error('graspsim:badArgument', '%s must be a struct with fields among %s', what, strjoin(known(:, 1).', ', '));
+end
+message = struct();
+names = fieldnames(value);
+for k = 1:numel(names)
+  row = matchName(names{k}, known(:, 1), what);
+  v = value.(names{k});
+  if isempty(v)
+    continue;
+  end
+  if ~isnumeric(v) || ~isscalar(v) || ~isreal(v)
+    error('graspsim:badArgument', '%s.%s must be one real number', what, names{k});
+  end
+  message.(known{row, 2}) = double(v);
 end
 end

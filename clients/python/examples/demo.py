@@ -1,15 +1,18 @@
 #!/usr/bin/env python3
-"""graspsim demo: a Schunk PG70 gripper above a 5 cm cube on a table.
+"""graspsim demo: a Schunk PG70 gripper grasps a 5 cm cube on a table.
 
-Stages: list the built-in models, build the scene, open the gripper, then print what the server holds
-(bodies, joints, tactile arrays, one live snapshot), and read the same scene through the HTTP/JSON gateway
-that Matlab and browsers use. Exits non-zero on any error.
+Stages: list the built-in models, build the scene with the open gripper around the cube, print what the
+server holds (bodies, joints, tactile arrays, one live snapshot), read the same scene through the HTTP/JSON
+gateway that Matlab and browsers use, then simulate: the cube settles, the PG70 closes on it under velocity
+control with a current (force) limit, and the table is taken away while the fingers hold the cube.
+Exits non-zero on any error.
 
     python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080
 """
 import argparse
 import json
 import sys
+import time
 import urllib.request
 
 import numpy as np
@@ -19,8 +22,10 @@ from graspsim.v1 import common_pb2
 
 TABLE_TOP_Z = 0.75        # m, top surface of the built-in table placed at the origin
 CUBE_EDGE = 0.05          # m
-GRIPPER_HEIGHT = 0.25     # m above the table top
+GRIPPER_HEIGHT = 0.16     # m above the table top: fingertips 7 mm above it, the housing clear of the cube
 FINGER_OPENING = 0.03     # m, finger_left_joint (finger_right_joint mimics it)
+CLOSING_SPEED = 0.05      # m/s per finger (the PG70 reaches 0.082)
+CURRENT_LIMIT = 2.0       # A: the PG70 drive's force limit, about 114 N here (200 N at its rated 3.5 A)
 POINTING_DOWN = graspsim.quaternion_about_axis([1, 0, 0], np.pi)  # gripper z (approach) = world -z
 
 
@@ -31,7 +36,7 @@ def list_models(client: graspsim.Client) -> None:
 
 
 def build_scene(client: graspsim.Client) -> str:
-    """Creates scene "demo" with the table, the cube resting on it and the gripper above; returns its id."""
+    """Creates scene "demo": the table, the cube resting on it, the gripper around the cube; returns its id."""
     scene = client.create_scene("demo")
     client.add_object(scene.id, "table", builtin="table")
     client.add_object(scene.id, "cube_5cm", builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
@@ -99,6 +104,33 @@ def read_over_http(http_url: str, scene_id: str) -> None:
           f"{summary['body_count']} bodies, {summary['robot_count']} robot, revision {summary['revision']}")
 
 
+def cube_state(client: graspsim.Client, scene_id: str):
+    cube = next(b for b in client.get_scene(scene_id).bodies if b.id == "cube_5cm")
+    return cube.pose.position.z, cube.sleeping
+
+
+def simulate_grasp(client: graspsim.Client, scene_id: str) -> None:
+    """The dynamic simulation: soft contacts with LuGre friction, the PG70's DC-motor drive."""
+    params = client.get_simulation_params(scene_id)
+    print(f"\nsimulation: dt = {params.time_step * 1000:.1f} ms, contact k = {params.contact.stiffness:.0f} N/m")
+    step = client.step_simulation(scene_id, duration=0.7)
+    z, sleeping = cube_state(client, scene_id)
+    print(f"  t = {step.time:.2f} s  cube at rest on the table: z = {z:.5f} m "
+          f"({(TABLE_TOP_Z + CUBE_EDGE / 2 - z) * 1e6:.1f} um soft-contact penetration), asleep: {sleeping}")
+    client.set_actuator(scene_id, "pg70/finger_left_joint", "velocity", -CLOSING_SPEED, current_limit=CURRENT_LIMIT)
+    step = client.step_simulation(scene_id, duration=0.8)
+    finger = client.get_joint_positions(scene_id)["pg70/finger_left_joint"]
+    print(f"  t = {step.time:.2f} s  PG70 closed at {CLOSING_SPEED * 1000:.0f} mm/s, {CURRENT_LIMIT} A limit: "
+          f"finger at {finger * 1000:.2f} mm, {step.contacts} contact points")
+    client.remove_body(scene_id, "table")
+    started = time.perf_counter()
+    step = client.step_simulation(scene_id, duration=1.0)
+    rate = step.steps / (time.perf_counter() - started)
+    held_z, _ = cube_state(client, scene_id)
+    print(f"  t = {step.time:.2f} s  table removed: the cube moved {(z - held_z) * 1e6:.1f} um in 1 s, held by "
+          f"friction ({rate:.0f} steps/s with {step.contacts} contacts)")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--server", default="127.0.0.1:50051", help="host:port of graspsim-server")
@@ -117,6 +149,7 @@ def main(argv=None) -> int:
             print_tactile_arrays(scene)
             print_snapshot(client, scene_id)
             read_over_http(args.http, scene_id)
+            simulate_grasp(client, scene_id)
             if not args.keep:
                 client.delete_scene(scene_id)
     except (graspsim.GraspsimError, OSError) as err:

@@ -46,38 +46,58 @@ ActuatorOutput StepDcMotor(const DcMotorParams& params, const ActuatorCommand& c
   double voltage = 0;
   double error = 0;  // velocity error of the PI loop, joint units/s
   double integral = 0;
+  double dV_dqdot = 0, dV_dq = 0;  // the controller's slopes, for the linearisation
   const bool closed_loop = command.mode == ActuatorMode::kVelocity || command.mode == ActuatorMode::kPosition;
   if (command.mode == ActuatorMode::kVoltage) {
     voltage = Symmetric(command.value, voltage_limit);
   } else if (closed_loop) {
     // Position mode: a P loop gives the velocity set-point, capped at max_velocity so a far target is
     // approached at a bounded speed. Both modes: PI on the joint velocity, volts out.
-    const double target = command.mode == ActuatorMode::kVelocity
-                              ? command.value
-                              : Symmetric(params.position_gain * (command.value - q), std::max(0.0, params.max_velocity));
+    const double max_velocity = std::max(0.0, params.max_velocity);
+    const double wanted = params.position_gain * (command.value - q);
+    const double target = command.mode == ActuatorMode::kVelocity ? command.value : Symmetric(wanted, max_velocity);
+    const double dtarget_dq =
+        command.mode == ActuatorMode::kPosition && std::abs(wanted) < max_velocity ? -params.position_gain : 0;
     error = target - q_dot;
     integral = state->velocity_error_integral + error * dt;
     // Anti-windup by conditional integration: while the output saturates in the direction the error pushes, the
     // integral holds, so a stalled finger (e.g. closed on an object) does not store a jump for its release.
     const double unsaturated = params.velocity_gain * error + params.velocity_integral_gain * integral;
-    if (std::abs(unsaturated) > voltage_limit && unsaturated * error > 0) integral = state->velocity_error_integral;
-    voltage = Symmetric(params.velocity_gain * error + params.velocity_integral_gain * integral, voltage_limit);
+    bool integrating = true;
+    if (std::abs(unsaturated) > voltage_limit && unsaturated * error > 0) {
+      integral = state->velocity_error_integral;
+      integrating = false;
+    }
+    const double raw = params.velocity_gain * error + params.velocity_integral_gain * integral;
+    voltage = Symmetric(raw, voltage_limit);
+    if (std::abs(raw) < voltage_limit) {
+      const double gain = params.velocity_gain + (integrating ? params.velocity_integral_gain * dt : 0);
+      dV_dqdot = -gain;
+      dV_dq = gain * dtarget_dq;
+    }
   }
 
   const double free_current = AdvanceCurrent(params, state->current, voltage, back_emf, dt);
   const double current = Symmetric(free_current, current_limit);
+  const double force_per_amp = params.ratio * params.efficiency * params.torque_constant;
   if (current != free_current) {
     // The current loop holds |i| at the limit by lowering the terminal voltage to what sustains it
-    // (di/dt = 0 at the limit): report that voltage, and hold the integral as for voltage saturation.
+    // (di/dt = 0 at the limit): report that voltage, and hold the integral as for voltage saturation. The
+    // force is then constant: no damping, no stiffness.
     voltage = Symmetric(params.resistance * current + back_emf, voltage_limit);
     if (closed_loop && current * error > 0) integral = state->velocity_error_integral;
+  } else {
+    // i = i0 e^{−R dt/L} + (1 − e^{−R dt/L}) (V − k_e ratio q̇)/R: how far the current follows within the step.
+    const double follow = params.inductance > 0 ? -std::expm1(-params.resistance * dt / params.inductance) : 1.0;
+    out.damping = force_per_amp * follow * (dV_dqdot - params.torque_constant * params.ratio) / params.resistance;
+    out.stiffness = force_per_amp * follow * dV_dq / params.resistance;
   }
 
   state->current = current;
   state->velocity_error_integral = closed_loop ? integral : 0;  // only the PI loop keeps an integral
   out.current = current;
   out.voltage = voltage;
-  out.joint_force = params.ratio * params.efficiency * params.torque_constant * current;
+  out.joint_force = force_per_amp * current;
   return out;
 }
 

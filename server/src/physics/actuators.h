@@ -14,6 +14,10 @@ struct ActuatorOutput {
   double joint_force = 0;        // N m or N on the joint
   double current = 0;            // A
   double voltage = 0;            // V
+  // The force's derivatives over this step, for the implicit solve: the back-EMF and the velocity loop damp a
+  // geared motor far too stiffly for an explicit step (the PG70 finger: ~3 kN s/m on 0.1 kg).
+  double damping = 0;            // ∂force/∂q̇, N s/m or N m s/rad (≤ 0)
+  double stiffness = 0;          // ∂force/∂q, N/m or N m/rad (≤ 0; position mode)
 };
 
 // One control step: the motor's output for the joint's position q and velocity q̇ over dt (state advanced).

@@ -107,10 +107,13 @@ void Simulation::SubStep(SceneState* state, double h) {
     const Eigen::VectorXd v_half = v + SolveVelocityChange(*state, v, forces, h / 2);
     multibody_.Integrate(v_half, h, state);
     FindContacts(state);
-    const Eigen::VectorXd tau_actuators = forces.actuators;
-    forces = Forces();
-    ContactForces(*state, v_half, &forces);
-    forces.tau += tau_actuators;
+    Forces second;
+    ContactForces(*state, v_half, &second);
+    second.actuators = forces.actuators;
+    second.actuator_damping = forces.actuator_damping;
+    second.actuator_stiffness = forces.actuator_stiffness;
+    second.tau += forces.actuators;
+    forces = std::move(second);
     const Eigen::VectorXd v_next = v_half + SolveVelocityChange(*state, v_half, forces, h / 2);
     AdvanceBristles(forces, v_half, h, state);
     multibody_.SetVelocities(v_next, state);
@@ -149,6 +152,8 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   const int nv = multibody_.velocity_count();
   forces->tau = Eigen::VectorXd::Zero(nv);
   forces->actuators = Eigen::VectorXd::Zero(nv);
+  forces->actuator_damping = Eigen::VectorXd::Zero(nv);
+  forces->actuator_stiffness = Eigen::VectorXd::Zero(nv);
   const bool linearize = params_.integrator == Integrator::kLinearlyImplicitEuler;
   if (linearize) {
     forces->K = Eigen::MatrixXd::Zero(nv, nv);
@@ -185,20 +190,25 @@ void Simulation::ActuatorForces(SceneState* state, double h, Forces* forces) {
     actuator.joint_force = output.joint_force;
     actuator.voltage = output.voltage;
     forces->actuators[offset] += output.joint_force;
+    forces->actuator_damping[offset] += output.damping;
+    forces->actuator_stiffness[offset] += output.stiffness;
   }
   forces->tau += forces->actuators;
 }
 
 Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v,
                                                 const Forces& forces, double h) const {
-  // M Δv = h (τ − b), or with linearised contacts (M − h D − h² K) Δv = h (τ − b) + h² K v. Sleeping free
-  // bodies keep zero velocity: their rows are pinned.
+  // M Δv = h (τ − b), or with linearised contacts (M − h D − h² K) Δv = h (τ − b) + h² K v. Motors are
+  // linearised with every integrator: a geared drive's back-EMF damping is far too stiff for an explicit step.
+  // Sleeping free bodies keep zero velocity: their rows are pinned.
   Eigen::MatrixXd A = multibody_.MassMatrix(state);
   Eigen::VectorXd rhs = h * (forces.tau - multibody_.BiasForces(state, params_.gravity));
   if (forces.K.size()) {
     A -= h * forces.D + h * h * forces.K;
     rhs += h * h * (forces.K * v);
   }
+  A.diagonal() -= h * forces.actuator_damping + h * h * forces.actuator_stiffness;
+  rhs += h * h * forces.actuator_stiffness.cwiseProduct(v);
   for (size_t body = 0; body < model_->bodies.size(); ++body) {
     const int offset = multibody_.FreeBodyOffset(body);
     if (offset < 0 || !state.sleeping[body]) continue;

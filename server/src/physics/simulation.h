@@ -54,6 +54,7 @@ class Simulation {
   // Generalised forces at one configuration; K and D (contact stiffness and damping) only when linearised.
   struct Forces {
     Eigen::VectorXd tau, actuators;
+    Eigen::VectorXd actuator_damping, actuator_stiffness;  // per generalised velocity (diagonal), ≤ 0
     Eigen::MatrixXd K, D;
     std::vector<Eigen::Matrix3Xd> jacobians;  // per contact: relative point velocity = J v
     std::vector<ContactForce> contact;
