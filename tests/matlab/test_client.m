@@ -22,7 +22,9 @@ tests = {@test_list_methods, @test_scene_lifecycle, @test_builtin_models, @test_
          @test_urdf_robot_with_files, @test_pg70_structure_and_tactile_arrays, @test_mimic_joint_follows, ...
          @test_pose_round_trip, @test_joint_positions, @test_watch_scene, @test_remove_body, @test_generic_call, ...
          @test_error_nan_pose, @test_error_bad_quaternion, @test_error_unknown_scene, @test_error_duplicate_name, ...
-         @test_error_joint_outside_limits, @test_error_step_simulation_unimplemented, ...
+         @test_error_joint_outside_limits, @test_body_and_joint_velocity_fields, @test_simulation_cube_settles, ...
+         @test_simulation_step_forms, @test_simulation_params_round_trip, @test_error_simulation_params, ...
+         @test_actuator_moves_fingers, @test_error_actuator, ...
          @test_error_other_services_unimplemented, @test_error_client_side_arguments, @test_error_unreachable_server, ...
          @test_demo_runs};
 c = graspsim.Client(url, 'Timeout', 30);
@@ -63,7 +65,8 @@ names = {services.name};
 check(any(strcmp(names, 'graspsim.v1.SceneService')), 'SceneService not listed: %s', strjoin(names, ', '));
 scene = services(strcmp(names, 'graspsim.v1.SceneService'));
 methodList = methodNames(scene.methods);
-for m = {'CreateScene', 'GetScene', 'UploadFile', 'WatchScene', 'StepSimulation'}
+for m = {'CreateScene', 'GetScene', 'UploadFile', 'WatchScene', 'StepSimulation', 'SetSimulationParams', ...
+         'GetSimulationParams', 'SetActuators'}
   check(any(strcmp(methodList, m{1})), '%s not listed', m{1});
 end
 end
@@ -423,8 +426,181 @@ expectError(@() c.setJointPositions(sid, 'pg70/no_joint', 0.02), 'graspsim:NOT_F
 near(values, 0.01, 0, 'joint unchanged after rejected requests');
 end
 
-function test_error_step_simulation_unimplemented(c, sid)
-expectError(@() c.stepSimulation(sid, 0.01), 'graspsim:UNIMPLEMENTED', {'StepSimulation'});
+function test_body_and_joint_velocity_fields(c, sid)
+empty = c.getScene(sid);
+check(isfield(empty.bodies, 'velocity') && isfield(empty.bodies, 'sleeping') && isfield(empty.joints, 'velocity'), ...
+      'empty arrays have the velocity fields');
+cube = c.addObject(sid, 'cube', 'Builtin', 'cube_5cm', 'Pose', [0 0 1 1 0 0 0]);
+near(cube.velocity, zeros(1, 6), 0, 'velocity of a new body');
+check(islogical(cube.sleeping) && ~cube.sleeping, 'a new body is awake');
+check(isstruct(cube.contact) && cube.contact.stiffness == 0, 'material contact parameters (0 = scene default)');
+added = c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70');
+near([added.joints.velocity], [0 0], 0, 'joint velocities of a new robot');
+end
+
+function test_simulation_cube_settles(c, sid)
+% A 5 cm cube dropped from 7.5 cm above the built-in table (top at 0.75 m) lands and comes to rest.
+tableTop = 0.75;
+half = 0.025;
+c.addObject(sid, 'table', 'Builtin', 'table');
+c.addObject(sid, 'cube', 'Box', [0.05 0.05 0.05], 'Mass', 0.1, 'Pose', [0 0 tableTop + half + 0.075, 1 0 0 0]);
+params = c.getSimulationParams(sid);
+dt = params.timeStep;
+revision = c.getScene(sid).summary.revision;
+% Free fall for 0.1 s (the cube needs 0.124 s to fall the 7.5 cm): v = -g t.
+falling = c.stepSimulation(sid, 'Duration', 0.1);
+check(falling.steps == round(0.1 / dt) && falling.awakeBodies == 1 && falling.contacts == 0, ...
+      'falling: %d steps, %d awake, %d contacts', falling.steps, falling.awakeBodies, falling.contacts);
+check(isa(falling.revision, 'double') && falling.revision > revision, 'revision %g after %g', falling.revision, revision);
+cube = sceneBody(c, sid, 'cube');
+near(cube.velocity, [0 0 -9.81 * 0.1, 0 0 0], 1e-6, 'free-fall velocity');
+check(~cube.sleeping, 'a falling cube is awake');
+result = c.stepSimulation(sid, 'Duration', 1.4);
+check(result.steps == round(1.4 / dt), '%d steps for 1.4 s of %g s', result.steps, dt);
+near(result.time - falling.time, result.steps * dt, 1e-9, 'time advanced by steps * time_step');
+near(result.time, 1.5, 1e-9, 'simulation time');
+cube = sceneBody(c, sid, 'cube');
+near(cube.pose(3), tableTop + half, 1e-3, 'resting height');
+check(cube.pose(3) <= tableTop + half + 1e-6, 'the cube floats at %.6f m', cube.pose(3));
+near(cube.pose(1:2), [0 0], 1e-3, 'resting place');
+check(abs(cube.pose(4)) > 1 - 1e-6, 'the cube tipped: %s', mat2str(cube.pose(4:7), 6));
+check(norm(cube.velocity) < 1e-3, 'still moving at rest: %s', mat2str(cube.velocity, 4));
+check(cube.sleeping && result.awakeBodies == 0, 'the cube at rest sleeps (%d awake)', result.awakeBodies);
+[~, poses, ~, time] = c.getBodyPoses(sid, 'cube');
+near(poses, cube.pose, 0, 'getBodyPoses after stepping');
+near(time, result.time, 0, 'getBodyPoses time');
+end
+
+function test_simulation_step_forms(c, sid)
+c.addObject(sid, 'ball', 'Sphere', 0.02, 'Mass', 0.1, 'Pose', [0 0 10 1 0 0 0]);
+c.setSimulationParams(sid, 'TimeStep', 2e-3);
+r = c.stepSimulation(sid, 'Steps', 10);
+check(r.steps == 10, 'Steps: %d steps', r.steps);
+near(r.time, 0.02, 1e-12, 'time after 10 steps');
+r = c.stepSimulation(sid, 0.1);  % a plain number is a duration
+check(r.steps == 50, 'a plain duration of 0.1 s: %d steps', r.steps);
+near(r.time, 0.12, 1e-12, 'time after the plain duration');
+r = c.stepSimulation(sid, 'duration', 0.011);  % option names are case-insensitive; rounded to whole steps
+check(r.steps == 5 || r.steps == 6, 'Duration 0.011 s of 2 ms steps: %d steps', r.steps);
+t = r.time;
+r = c.stepSimulation(sid, 'UntilTime', 0.5);
+check(r.steps == round((0.5 - t) / 2e-3), 'UntilTime: %d steps from %g s', r.steps, t);
+near(r.time, 0.5, 1e-9, 'time after UntilTime');
+r = c.stepSimulation(sid, 'Steps', 0);
+check(r.steps == 0 && r.time == c.getScene(sid).summary.time, 'zero steps');
+near(r.time, 0.5, 1e-9, 'zero steps keep the time');
+ball = sceneBody(c, sid, 'ball');
+near(ball.velocity(3), -9.81 * 0.5, 1e-9, 'free-fall velocity after 0.5 s');
+expectError(@() c.stepSimulation(sid, 'UntilTime', 0.1), 'graspsim:INVALID_ARGUMENT', {'until_time', '0.1', 'before'});
+expectError(@() c.stepSimulation(sid, 'Duration', -1), 'graspsim:INVALID_ARGUMENT', {'duration', '-1'});
+expectError(@() c.stepSimulation(sid, NaN), 'graspsim:INVALID_ARGUMENT', {'duration', 'nan'});
+expectError(@() c.stepSimulation('no-such-scene', 'Steps', 1), 'graspsim:NOT_FOUND', {'no-such-scene'});
+expectError(@() c.stepSimulation(sid), 'graspsim:badArgument', {'exactly one'});
+expectError(@() c.stepSimulation(sid, 'Steps', 1, 'Duration', 1), 'graspsim:badArgument', {'exactly one'});
+expectError(@() c.stepSimulation(sid, 'Steps', 2.5), 'graspsim:badArgument', {'Steps', 'whole'});
+expectError(@() c.stepSimulation(sid, 'Seconds', 1), 'graspsim:badArgument', {'seconds'});
+near(c.getScene(sid).summary.time, 0.5, 1e-9, 'refused steps change nothing');
+% The raw call shows the server's own check that one amount is given.
+expectError(@() c.call('SceneService', 'StepSimulation', struct('scene_id', sid)), 'graspsim:INVALID_ARGUMENT', ...
+            {'amount'});
+end
+
+function test_simulation_params_round_trip(c, sid)
+defaults = c.getSimulationParams(sid);
+near(defaults.timeStep, 1e-3, 1e-15, 'default time step');
+check(defaults.substeps == 1 && strcmp(defaults.integrator, 'linearly_implicit_euler'), 'default substeps %d, %s', ...
+      defaults.substeps, defaults.integrator);
+near(defaults.gravity, [0 0 -9.81], 1e-12, 'default gravity');
+check(defaults.contact.stiffness > 0 && defaults.contact.damping > 0 && defaults.sampleSpacing > 0 ...
+      && defaults.sleepSpeed > 0 && defaults.sleepTime > 0, 'defaults filled in');
+contact = struct('stiffness', 2e4, 'stribeckVelocity', 0.02);
+applied = c.setSimulationParams(sid, 'TimeStep', 5e-4, 'Substeps', 2, 'Integrator', 'semi_implicit_euler', ...
+                            'Gravity', [0.1 0 -1.62], 'Contact', contact, 'SampleSpacing', 0.004, ...
+                            'SleepSpeed', 0.002, 'sleep_time', 0.25);
+got = c.getSimulationParams(sid);
+check(isequal(applied, got), 'setSimulationParams returned other parameters than getSimulationParams');
+near([got.timeStep, got.substeps, got.sampleSpacing, got.sleepSpeed, got.sleepTime], [5e-4, 2, 0.004, 0.002, 0.25], ...
+     1e-15, 'scalar parameters');
+check(strcmp(got.integrator, 'semi_implicit_euler'), 'integrator %s', got.integrator);
+near(got.gravity, [0.1 0 -1.62], 1e-15, 'gravity');
+near([got.contact.stiffness, got.contact.stribeckVelocity], [2e4, 0.02], 1e-12, 'contact');
+near(got.contact.damping, defaults.contact.damping, 0, 'a contact field not given keeps its default');
+% The struct form takes getSimulationParams' struct back: change one field, keep the rest.
+got.integrator = 'velocity_verlet';
+got.gravity = [0 0 0];  % no gravity is a value, not the default
+back = c.setSimulationParams(sid, got);
+check(isequal(back, got), 'struct round trip: %s', evalc('disp(back)'));
+% Fields not given take the server's defaults, as in the Python client.
+partial = c.setSimulationParams(sid, 'TimeStep', 2e-3);
+expected = defaults;
+expected.timeStep = 2e-3;
+check(isequal(partial, expected), 'parameters not given should be the defaults');
+check(isequal(c.setSimulationParams(sid), defaults), 'no parameters = the defaults');
+check(isequal(c.setSimulationParams(sid, struct('timeStep', [], 'integrator', 'INTEGRATOR_VELOCITY_VERLET')), ...
+              setfield(defaults, 'integrator', 'velocity_verlet')), 'empty fields are not given');  %#ok<SFLD>
+end
+
+function test_error_simulation_params(c, sid)
+before = c.setSimulationParams(sid, 'TimeStep', 5e-4, 'Integrator', 'velocity_verlet');
+expectError(@() c.setSimulationParams(sid, 'TimeStep', -1), 'graspsim:INVALID_ARGUMENT', {'params.time_step', '-1'});
+expectError(@() c.setSimulationParams(sid, 'Substeps', 5000), 'graspsim:INVALID_ARGUMENT', {'params.substeps'});
+expectError(@() c.setSimulationParams(sid, 'Contact', struct('stiffness', NaN)), 'graspsim:INVALID_ARGUMENT', ...
+            {'params.contact.stiffness'});
+expectError(@() c.setSimulationParams(sid, 'SleepSpeed', -1), 'graspsim:INVALID_ARGUMENT', {'params.sleep_speed'});
+expectError(@() c.setSimulationParams('no-such-scene', 'TimeStep', 1e-3), 'graspsim:NOT_FOUND', {'no-such-scene'});
+expectError(@() c.getSimulationParams('no-such-scene'), 'graspsim:NOT_FOUND', {'no-such-scene'});
+check(isequal(c.getSimulationParams(sid), before), 'a refused setSimulationParams changed the parameters');
+expectError(@() c.setSimulationParams(sid, 'Integrator', 'rk4'), 'graspsim:badArgument', ...
+            {'linearly_implicit_euler', 'semi_implicit_euler', 'velocity_verlet'});
+expectError(@() c.setSimulationParams(sid, 'TimeStepp', 1e-3), 'graspsim:badArgument', {'TimeStepp', 'TimeStep'});
+expectError(@() c.setSimulationParams(sid, 'Gravity', [0 -9.81]), 'graspsim:badArgument', {'Gravity', '3'});
+expectError(@() c.setSimulationParams(sid, 'Contact', struct('stiffnes', 1)), 'graspsim:badArgument', {'stiffnes'});
+expectError(@() c.setSimulationParams(sid, 'Substeps', 1.5), 'graspsim:badArgument', {'Substeps'});
+expectError(@() c.setSimulationParams(sid, 'TimeStep'), 'graspsim:badArgument', {'name-value'});
+check(isequal(c.getSimulationParams(sid), before), 'a refused client call changed the parameters');
+end
+
+function test_actuator_moves_fingers(c, sid)
+left = 'pg70/finger_left_joint';
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', [0 0 1 1 0 0 0]);
+c.setJointPositions(sid, left, 0.01);
+c.setActuator(sid, left, 'velocity', 0.02);  % open at 2 cm/s
+c.stepSimulation(sid, 'Duration', 0.4);
+[opened, velocity, follower] = fingerState(c, sid);
+check(opened > 0.01 + 0.004 && opened < 0.01 + 0.008, 'opening at 0.02 m/s for 0.4 s: %.5f m', opened);
+near(velocity, 0.02, 1e-3, 'finger velocity in velocity mode');
+near(follower, opened, 1e-12, 'the mimic finger follows');
+c.setActuator(sid, left, 'Velocity', -0.02, 2);  % close, current limited to 2 A
+c.stepSimulation(sid, 'Duration', 0.4);
+[closed, velocity] = fingerState(c, sid);
+check(closed < opened - 0.004, 'closing at -0.02 m/s for 0.4 s: %.5f m after %.5f m', closed, opened);
+near(velocity, -0.02, 1e-3, 'finger velocity closing');
+c.setActuator(sid, left, 'position', 0.025);
+c.stepSimulation(sid, 'Duration', 1.0);
+[position, velocity] = fingerState(c, sid);
+near(position, 0.025, 1e-4, 'position mode reaches its target');
+near(velocity, 0, 1e-3, 'at rest at the target');
+c.setActuator(sid, left, 'off');
+c.stepSimulation(sid, 'Steps', 10);
+near(fingerState(c, sid), position, 1e-4, 'no drive: the finger stays');
+end
+
+function test_error_actuator(c, sid)
+left = 'pg70/finger_left_joint';
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70');
+expectError(@() c.setActuator(sid, 'pg70/nope', 'velocity', 0.01), 'graspsim:NOT_FOUND', ...
+            {'pg70/nope', 'commands[0].joint_id'});
+expectError(@() c.setActuator(sid, 'pg70/finger_right_joint', 'velocity', 0.01), 'graspsim:INVALID_ARGUMENT', ...
+            {'pg70/finger_right_joint', 'mimic'});
+expectError(@() c.setActuator(sid, left, 'position', Inf), 'graspsim:INVALID_ARGUMENT', {'commands[0].value'});
+expectError(@() c.setActuator(sid, left, 'velocity', 0.01, -1), 'graspsim:INVALID_ARGUMENT', ...
+            {'commands[0].current_limit', '-1'});
+expectError(@() c.setActuator('no-such-scene', left, 'velocity', 0.01), 'graspsim:NOT_FOUND', {'no-such-scene'});
+expectError(@() c.setActuator(sid, left, 'torque', 1), 'graspsim:badArgument', {'off', 'voltage', 'velocity', 'position'});
+expectError(@() c.setActuator(sid, left, 'velocity', [1 2]), 'graspsim:badArgument', {'value'});
+c.stepSimulation(sid, 'Steps', 50);
+[~, values] = c.getJointPositions(sid, left);
+check(values == 0, 'a refused command installed a drive: the finger moved to %g m', values);
 end
 
 function test_error_other_services_unimplemented(c, sid)
@@ -467,6 +643,24 @@ check(numel(after) == numel(before), 'the demo left its scene behind');
 end
 
 % --- helpers ----------------------------------------------------------------------------------------------
+
+function b = sceneBody(c, sid, id)
+% One body of getScene by id.
+scene = c.getScene(sid);
+b = scene.bodies(strcmp({scene.bodies.id}, id));
+check(numel(b) == 1, 'no body %s in the scene', id);
+end
+
+function [position, velocity, follower] = fingerState(c, sid)
+% The PG70's finger_left_joint position (m) and velocity (m/s), and the mimic finger_right_joint's position.
+scene = c.getScene(sid);
+joints = scene.joints;
+left = joints(strcmp({joints.id}, 'pg70/finger_left_joint'));
+right = joints(strcmp({joints.id}, 'pg70/finger_right_joint'));
+position = left.position;
+velocity = left.velocity;
+follower = right.position;
+end
 
 function check(condition, varargin)
 if ~condition

@@ -202,14 +202,11 @@ classdef Client < handle
       %                                  centre of mass unless given). MeshFile and Builtin need Inertia.
       %     'CenterOfMass', [x y z]      m, body frame
       %     'Friction', [static dynamic] coefficients (default: the server's 0.6, 0.4 or the model's own)
-      %     'Contact', struct(...)       the body's contact parameters, fields as in setSimulationParams'
-      %                                  Contact (stiffness, damping, ...); those not given (or 0) take the
-      %                                  scene's defaults
       %     'Pose', [x y z qw qx qy qz]  body frame in the world
       %     'Static', true               a fixed body (a table)
       defaults = struct('Builtin', [], 'Box', [], 'Sphere', [], 'Cylinder', [], 'Vertices', [], 'Triangles', [], ...
                         'MeshFile', [], 'Mass', [], 'Inertia', [], 'CenterOfMass', [], 'Friction', [], ...
-                        'Contact', [], 'Pose', [], 'Static', false);
+                        'Pose', [], 'Static', false);
       o = graspsim.internal.parseOptions(defaults, varargin, 'addObject');
       [kind, value] = pickShape(o);
       request = struct('scene_id', sceneId, 'name', name);
@@ -236,18 +233,6 @@ classdef Client < handle
           error('graspsim:badArgument', 'Friction needs 2 values [static dynamic], got %d', numel(o.Friction));
         end
         request.material = struct('static_friction', o.Friction(1), 'dynamic_friction', o.Friction(2));
-      end
-      if ~isempty(o.Contact)
-        % Material names its contact fields like ContactDefaults, except contact_stiffness/contact_damping.
-        contact = contactMessage(o.Contact, 'addObject Contact');
-        names = fieldnames(contact);
-        for k = 1:numel(names)
-          key = names{k};
-          if any(strcmp(key, {'stiffness', 'damping'}))
-            key = ['contact_' key];
-          end
-          request.material.(key) = contact.(names{k});
-        end
       end
       if ~isempty(o.Pose)
         request.pose = graspsim.internal.toPose(o.Pose, 'Pose');

@@ -5,8 +5,9 @@ function graspsim_demo(url, keep)
 %   graspsim_demo('http://127.0.0.1:8080')
 %   graspsim_demo('http://127.0.0.1:8080', true) % keep the scene on the server (default: delete it)
 %
-%   Stages: list the built-in models, build the scene, open the gripper, then print what the server holds
-%   (bodies, joints, tactile arrays, one live snapshot). Needs clients/matlab on the path:
+%   Stages: list the built-in models, build the scene, open the gripper, print what the server holds
+%   (bodies, joints, tactile arrays, one live snapshot), then simulate: drop a second cube onto the table,
+%   step 1.5 s and print where it came to rest. Needs clients/matlab on the path:
 %   addpath('<repo>/clients/matlab'). A refused request raises graspsim:<STATUS> with the server's message.
 if nargin < 1 || isempty(url)
   url = 'http://127.0.0.1:8080';
@@ -19,6 +20,8 @@ cubeEdge = 0.05;        % m
 gripperHeight = 0.25;   % m above the table top
 fingerOpening = 0.03;   % m, finger_left_joint (finger_right_joint mimics it)
 pointingDown = [0 1 0 0];  % quaternion (w x y z): half a turn about x, gripper z (approach) = world -z
+dropHeight = 0.10;      % m between the table top and the bottom of the dropped cube
+settleTime = 1.5;       % s of simulation
 
 c = graspsim.Client(url);
 fprintf('connected to graspsim at %s\n', url);
@@ -38,9 +41,27 @@ printBodies(state.bodies);
 printJoints(state.joints);
 printTactileArrays(state.tactileArrays);
 printSnapshot(c.watchScene(scene.id, 1));
+
+% Simulation: a second 5 cm cube (100 g) falls onto the table beside the gripper and comes to rest.
+c.addObject(scene.id, 'dropped_cube', 'Box', cubeEdge * [1 1 1], 'Mass', 0.1, ...
+            'Pose', [0.3 0.2 tableTopZ + dropHeight + cubeEdge / 2, 1 0 0 0]);
+params = c.getSimulationParams(scene.id);
+fprintf('\nsimulation: time step %.1f ms, %s, gravity [%g %g %g] m/s^2\n', params.timeStep * 1000, ...
+        params.integrator, params.gravity);
+fprintf('  dropped_cube released %.0f mm above the table\n', dropHeight * 1000);
+result = c.stepSimulation(scene.id, 'Duration', settleTime);
+cube = sceneBody(c.getScene(scene.id), 'dropped_cube');
+fprintf('  after %.3f s (%d steps): %d contact points, %d awake bodies\n', result.time, result.steps, ...
+        result.contacts, result.awakeBodies);
+fprintf('  dropped_cube rests at z = %.4f m (table top + %.1f mm), speed %.1e m/s, sleeping %d\n', cube.pose(3), ...
+        (cube.pose(3) - tableTopZ) * 1000, norm(cube.velocity(1:3)), cube.sleeping);
 if ~keep
   c.deleteScene(scene.id);
 end
+end
+
+function b = sceneBody(scene, id)
+b = scene.bodies(strcmp({scene.bodies.id}, id));
 end
 
 function listModels(c)

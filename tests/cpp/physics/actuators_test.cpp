@@ -177,5 +177,55 @@ TEST(ActuatorTest, Pg70PositionModeReachesTheTarget) {
   EXPECT_LT(finger.fastest, 1.05 * 0.082);
 }
 
+TEST(ActuatorTest, LinearisationMatchesFiniteDifferences) {
+  // The implicit solve uses ∂F/∂q̇ and ∂F/∂q: they must be the slopes of the force the step returns (central
+  // differences from the same motor state; the law is piecewise linear, so they agree to rounding), and 0 where
+  // the current limit holds the force constant.
+  DcMotorParams inductive = Motor();
+  inductive.inductance = 2e-3;
+  struct Case {
+    DcMotorParams motor;
+    ActuatorCommand command;
+    double q, q_dot;
+  };
+  const Case cases[] = {{Motor(), Command(ActuatorMode::kVoltage, 3), 0, 0.2},
+                        {Motor(), Command(ActuatorMode::kVelocity, 0.3), 0, 0.25},
+                        {Motor(), Command(ActuatorMode::kPosition, 0.01), 0, 0.18},
+                        {inductive, Command(ActuatorMode::kVelocity, 0.3), 0, 0.25},
+                        {Pg70DriveParams(), Command(ActuatorMode::kVelocity, -0.05, 2.0), 0.02, -0.0499}};
+  const double dt = 1e-3, eps = 1e-7;
+  for (const Case& c : cases) {
+    DcMotorState state;
+    state.current = 0.5;
+    state.velocity_error_integral = 1e-4;
+    auto force = [&](double q, double q_dot) {
+      DcMotorState copy = state;
+      return StepDcMotor(c.motor, c.command, q, q_dot, dt, &copy).joint_force;
+    };
+    DcMotorState copy = state;
+    const ActuatorOutput out = StepDcMotor(c.motor, c.command, c.q, c.q_dot, dt, &copy);
+    ASSERT_LT(std::abs(out.current), c.motor.current_limit) << "the case must be unsaturated";
+    const double damping = (force(c.q, c.q_dot + eps) - force(c.q, c.q_dot - eps)) / (2 * eps);
+    const double stiffness = (force(c.q + eps, c.q_dot) - force(c.q - eps, c.q_dot)) / (2 * eps);
+    EXPECT_NEAR(out.damping / damping, 1, 1e-6) << static_cast<int>(c.command.mode);
+    EXPECT_LT(out.damping, 0);
+    if (c.command.mode == ActuatorMode::kPosition) {
+      EXPECT_NEAR(out.stiffness / stiffness, 1, 1e-6);
+      EXPECT_LT(out.stiffness, 0);
+    } else {
+      EXPECT_EQ(out.stiffness, 0);
+      EXPECT_NEAR(stiffness, 0, 1e-6);
+    }
+  }
+  // Stalled against an object at the current limit: the force is constant.
+  DcMotorState stalled;
+  stalled.velocity_error_integral = -0.01;  // wound up while the finger was blocked
+  const ActuatorOutput held =
+      StepDcMotor(Pg70DriveParams(), Command(ActuatorMode::kVelocity, -0.05, 2.0), 0.02, 0, dt, &stalled);
+  EXPECT_NEAR(std::abs(held.current), 2.0, 1e-12);
+  EXPECT_EQ(held.damping, 0);
+  EXPECT_EQ(held.stiffness, 0);
+}
+
 }  // namespace
 }  // namespace graspsim

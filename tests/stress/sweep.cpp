@@ -1,0 +1,344 @@
+// The stress runs of sweep.h.
+//
+// Sanity bounds, and why:
+// - Depth: a body released at rest with its lowest point on the surface oscillates about its static depth d_s
+//   and, undamped, reaches 2 d_s; friction's tipping moment on a slider loads its leading edge up to about
+//   twice the mean (5 cm box, μ = 0.6, computed in the docs). So kDepthFactor = 4 × d_s. d_s is the depth at
+//   which the body's own samples, on springs k/2 (two equal materials in series), carry its weight: an upper
+//   bound of the engine's static answer (the other body's samples can only add springs).
+// - Energy: every run starts at rest on the surface (or sliding), with no spring compressed and no bristle
+//   deflected, and the contact law only dissipates (c, σ1 ≥ 0, the bristle cap). So the total energy — kinetic +
+//   gravitational (Multibody::Energy) + ½ k_pair d² per contact + ½ σ0 |z|² per bristle — can only fall. An
+//   integrator's energy error is of the order of the energy of the motion it resolves, here the settling
+//   oscillation ½ W d_s per body; a gain larger than Σ ½ W d_s means the integrator pumps in more than the whole
+//   contact motion holds, i.e. it is not tracking the physics any more (chatter, a launched body).
+#include "stress/sweep.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "collision/contact_finder.h"
+#include "core/error.h"
+#include "physics/contact_law.h"
+#include "physics/multibody.h"
+#include "physics/simulation.h"
+
+namespace graspsim::stress {
+namespace {
+
+constexpr double kG = 9.81;
+constexpr double kDepthFactor = 4;
+constexpr double kTipRadius = 0.01, kObjectEdge = 0.1, kObjectMass = 3.0, kSliderEdge = 0.05, kSlideSpeed = 0.2;
+// 1 cm samples: the slider's bottom has 6 × 6 points, the object's 11 × 11 — enough for a spread load, cheap
+// enough for ~2000 runs.
+constexpr double kSampleSpacing = 0.01;
+
+BodySpec Free(const std::string& id, double mass, const Mat3& inertia, Geometry geometry) {
+  BodySpec body;
+  body.id = id;
+  body.motion = BodyMotion::kFree;
+  body.collision.push_back(std::move(geometry));
+  body.inertial.mass = mass;
+  body.inertial.inertia = inertia;
+  return body;
+}
+
+// Static depth: Σ k (d − h_i)⁺ = W over the sample heights h_i above the lowest sample.
+double StaticDepth(std::vector<double> heights, double k, double weight) {
+  std::sort(heights.begin(), heights.end());
+  double sum = 0;
+  for (size_t n = 1; n <= heights.size(); ++n) {
+    sum += heights[n - 1];
+    const double d = (weight / k + sum) / n;
+    if (n == heights.size() || d <= heights[n]) return d;
+  }
+  return weight / k;
+}
+
+struct Scene {
+  std::shared_ptr<SceneModel> model = std::make_shared<SceneModel>();
+  SceneState state;
+  std::map<std::pair<uint32_t, uint32_t>, double> depth_bound;  // per body pair (low index first): d_s
+  double energy_allowance = 0;                                   // J: Σ ½ W d_s
+
+  uint32_t Add(BodySpec body, const Vec3& position) {
+    model->bodies.push_back(std::move(body));
+    state.body_poses.push_back({position, Quat::Identity()});
+    return static_cast<uint32_t>(model->bodies.size() - 1);
+  }
+};
+
+// Records the static answer of `body` resting on `support` under `weight`.
+void Bound(const ContactFinder& finder, double k_pair, uint32_t body, uint32_t support, double weight, Scene* scene) {
+  const std::vector<Vec3>& samples = finder.Samples(body);
+  double lowest = 1e9;
+  for (const Vec3& p : samples) lowest = std::min(lowest, p.z());
+  std::vector<double> heights;
+  for (const Vec3& p : samples) heights.push_back(p.z() - lowest);
+  const double d = StaticDepth(heights, k_pair, weight);
+  scene->depth_bound[{std::min(body, support), std::max(body, support)}] = d;
+  scene->energy_allowance += 0.5 * weight * d;
+}
+
+bool Finite(const SceneState& s) {
+  for (const Pose& p : s.body_poses) {
+    if (!p.position.allFinite() || !p.orientation.coeffs().allFinite()) return false;
+  }
+  for (const BodyVelocity& v : s.body_velocities) {
+    if (!v.linear.allFinite() || !v.angular.allFinite()) return false;
+  }
+  for (double x : s.joint_positions) if (!std::isfinite(x)) return false;
+  for (double x : s.joint_velocities) if (!std::isfinite(x)) return false;
+  for (const auto& [key, z] : s.bristles) if (!z.allFinite()) return false;
+  return true;
+}
+
+bool Same(const SceneState& a, const SceneState& b) {
+  if (a.step != b.step || a.body_poses.size() != b.body_poses.size() || a.bristles != b.bristles) return false;
+  for (size_t i = 0; i < a.body_poses.size(); ++i) {
+    if (a.body_poses[i].position != b.body_poses[i].position) return false;
+    if (a.body_poses[i].orientation.coeffs() != b.body_poses[i].orientation.coeffs()) return false;
+    if (a.body_velocities[i].linear != b.body_velocities[i].linear) return false;
+  }
+  return true;
+}
+
+// What is wrong with a divergence report, or "" if it is as Simulation::Step promises.
+std::string CheckReport(const Error& error, const SceneModel& model, const SceneState& before, const SceneState& after) {
+  const std::string message = error.what();
+  if (error.code() != ErrorCode::kFailedPrecondition) return "divergence reported with another code: " + message;
+  if (message.find("step " + std::to_string(before.step + 1)) == std::string::npos) return "no step: " + message;
+  bool named = false;
+  for (const BodySpec& body : model.bodies) named = named || message.find("'" + body.id + "'") != std::string::npos;
+  if (!named) return "no body named: " + message;
+  bool quantity = false;
+  for (const char* word : {"velocity", "position", "bristle"}) quantity = quantity || message.find(word) != std::string::npos;
+  if (!quantity) return "no quantity: " + message;
+  if (!Finite(after)) return "state not finite after the report";
+  if (!Same(before, after)) return "state changed by the failed step";
+  return "";
+}
+
+}  // namespace
+
+BodySpec SphereBody(const std::string& id, double radius, double mass) {
+  Geometry sphere;
+  sphere.kind = Geometry::Kind::kSphere;
+  sphere.radius = radius;
+  return Free(id, mass, Mat3::Identity() * (0.4 * mass * radius * radius), sphere);
+}
+
+BodySpec CubeBody(const std::string& id, double edge, double mass) {
+  Geometry box;
+  box.box_size = Vec3::Constant(edge);
+  return Free(id, mass, Mat3::Identity() * (mass * edge * edge / 6), box);
+}
+
+BodySpec TableBody() {
+  auto mesh = std::make_shared<TriangleMesh>();
+  for (float z : {-1.0f, 0.0f}) {
+    for (float y : {-5.0f, 5.0f}) {
+      for (float x : {-5.0f, 5.0f}) mesh->vertices.emplace_back(x, y, z);
+    }
+  }
+  mesh->triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  BodySpec table;
+  table.id = "table";
+  table.motion = BodyMotion::kStatic;
+  Geometry geometry;
+  geometry.kind = Geometry::Kind::kMesh;
+  geometry.mesh = mesh;
+  table.collision.push_back(geometry);
+  table.inertial.mass = 1000;
+  table.inertial.inertia = Mat3::Identity() * 1000;
+  return table;
+}
+
+const char* Name(Scenario scenario) {
+  switch (scenario) {
+    case Scenario::kTipOnTable: return "tip_on_table";
+    case Scenario::kTipOnObject: return "tip_on_object";
+    case Scenario::kSlide: return "slide";
+  }
+  return "?";
+}
+
+const char* Name(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::kSemiImplicitEuler: return "semi_implicit_euler";
+    case Integrator::kLinearlyImplicitEuler: return "linearly_implicit_euler";
+    case Integrator::kVelocityVerlet: return "velocity_verlet";
+  }
+  return "?";
+}
+
+RunResult RunOne(const RunSpec& spec) {
+  const auto started = std::chrono::steady_clock::now();
+  Scene scene;
+  SimulationParams& params = scene.model->simulation;
+  params.time_step = spec.time_step;
+  params.integrator = spec.integrator;
+  params.contact = spec.contact;
+  params.sample_spacing = kSampleSpacing;
+  params.sleep_time = 0;  // never skip a body: the integrator is what is under test
+  const uint32_t table = scene.Add(TableBody(), Vec3::Zero());
+  uint32_t body = 0, object = 0;
+  switch (spec.scenario) {
+    case Scenario::kTipOnTable:
+      body = scene.Add(SphereBody("tip", kTipRadius, spec.mass), Vec3(0, 0, kTipRadius));
+      break;
+    case Scenario::kTipOnObject:
+      object = scene.Add(CubeBody("object", kObjectEdge, kObjectMass), Vec3(0, 0, kObjectEdge / 2));
+      body = scene.Add(SphereBody("tip", kTipRadius, spec.mass), Vec3(0, 0, kObjectEdge + kTipRadius));
+      break;
+    case Scenario::kSlide:
+      body = scene.Add(CubeBody("slider", kSliderEdge, spec.mass), Vec3(0, 0, kSliderEdge / 2));
+      break;
+  }
+  scene.model->Reindex();
+  Simulation simulation(scene.model);
+  simulation.PrepareState(&scene.state);
+  if (spec.scenario == Scenario::kSlide) scene.state.body_velocities[body].linear = Vec3(kSlideSpeed, 0, 0);
+
+  // The engine's own contact geometry, evaluated at the end of each step for depths and spring energies.
+  const ContactFinder finder(*scene.model, ContactFinderOptions{kSampleSpacing, 0});
+  const ContactParams pair = CombineContactParams(spec.contact, spec.contact);
+  if (spec.scenario == Scenario::kTipOnObject) {
+    Bound(finder, pair.stiffness, body, object, spec.mass * kG, &scene);
+    Bound(finder, pair.stiffness, object, table, (spec.mass + kObjectMass) * kG, &scene);
+  } else {
+    Bound(finder, pair.stiffness, body, table, spec.mass * kG, &scene);
+  }
+  const Multibody multibody(*scene.model);
+  std::vector<ContactPoint> contacts;
+  RunResult result;
+  auto energy = [&](const SceneState& s) {
+    contacts.clear();
+    finder.Find(s.body_poses, &contacts);
+    double e = multibody.Energy(s, params.gravity);
+    for (const ContactPoint& c : contacts) {
+      e += 0.5 * pair.stiffness * c.depth * c.depth;
+      const double bound = scene.depth_bound[{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}];
+      result.max_depth_ratio = std::max(result.max_depth_ratio, c.depth / bound);
+    }
+    for (const auto& [key, z] : s.bristles) e += 0.5 * pair.bristle_stiffness * z.squaredNorm();
+    return e;
+  };
+
+  const double e0 = energy(scene.state);
+  const double x0 = scene.state.body_poses[body].position.x();
+  result.steps_planned = std::min(spec.max_steps, static_cast<int>(std::lround(spec.duration / spec.time_step)));
+  for (int i = 0; i < result.steps_planned; ++i) {
+    const SceneState before = scene.state;
+    try {
+      simulation.Step(&scene.state, 1);
+    } catch (const Error& error) {
+      result.reason = "diverged";
+      result.error = error.what();
+      result.contract = CheckReport(error, *scene.model, before, scene.state);
+      break;
+    } catch (const std::exception& error) {
+      result.reason = "diverged";
+      result.contract = std::string("not a graspsim::Error: ") + error.what();
+      break;
+    }
+    ++result.steps_run;
+    if (!Finite(scene.state)) {
+      result.reason = "diverged";
+      result.contract = "non-finite state returned at step " + std::to_string(scene.state.step);
+      break;
+    }
+    result.energy_gain = std::max(result.energy_gain, (energy(scene.state) - e0) / scene.energy_allowance);
+  }
+  result.slide = scene.state.body_poses[body].position.x() - x0;
+  if (result.reason.empty() && result.max_depth_ratio > kDepthFactor) result.reason = "penetration";
+  if (result.reason.empty() && result.energy_gain > 1) result.reason = "energy";
+  result.stable = result.reason.empty();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+std::string ToJson(const RunSpec& spec, const RunResult& r) {
+  auto quote = [](const std::string& s) {
+    std::string out = "\"";
+    for (char ch : s) {
+      if (ch == '"' || ch == '\\') out += '\\';
+      out += (ch == '\n' ? ' ' : ch);
+    }
+    return out + "\"";
+  };
+  std::ostringstream o;
+  o.precision(6);
+  o << "{\"grid\":" << quote(spec.grid) << ",\"scenario\":\"" << Name(spec.scenario) << "\",\"integrator\":\""
+    << Name(spec.integrator) << "\",\"dt\":" << spec.time_step << ",\"mass\":" << spec.mass
+    << ",\"k\":" << spec.contact.stiffness << ",\"c\":" << spec.contact.damping
+    << ",\"sigma0\":" << spec.contact.bristle_stiffness << ",\"sigma1\":" << spec.contact.bristle_damping
+    << ",\"steps_planned\":" << r.steps_planned << ",\"steps_run\":" << r.steps_run
+    << ",\"stable\":" << (r.stable ? "true" : "false") << ",\"reason\":" << quote(r.reason)
+    << ",\"contract\":" << quote(r.contract) << ",\"max_depth_ratio\":" << r.max_depth_ratio
+    << ",\"energy_gain\":" << r.energy_gain << ",\"slide_m\":" << r.slide << ",\"seconds\":" << r.seconds
+    << ",\"error\":" << quote(r.error) << "}";
+  return o.str();
+}
+
+namespace {
+
+// Log-spaced grids (half decades for dt, the quantity the tables resolve).
+const std::vector<double> kTimeSteps = {1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2};
+const std::vector<double> kStiffnesses = {1e2, 1e3, 1e4, 1e5, 1e6};
+const std::vector<double> kMasses = {0.05, 0.3, 3.0};
+const std::vector<Integrator> kIntegrators = {Integrator::kSemiImplicitEuler, Integrator::kLinearlyImplicitEuler,
+                                              Integrator::kVelocityVerlet};
+
+void Grid(const std::string& name, const std::vector<Scenario>& scenarios, const std::vector<double>& masses,
+          const std::vector<double>& steps, const std::vector<double>& values, double ContactParams::*field,
+          std::vector<RunSpec>* out) {
+  for (Scenario scenario : scenarios) {
+    for (Integrator integrator : kIntegrators) {
+      for (double mass : masses) {
+        for (double value : values) {
+          for (double dt : steps) {
+            RunSpec spec;
+            spec.grid = name;
+            spec.scenario = scenario;
+            spec.integrator = integrator;
+            spec.mass = mass;
+            spec.time_step = dt;
+            spec.contact.*field = value;
+            out->push_back(spec);
+          }
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<RunSpec> FullSweep() {
+  // main: k × dt × integrator × mass on all three scenarios, the other contact parameters at their defaults;
+  // then one parameter at a time around k = 1e4: normal damping c on the resting cases, σ0 and σ1 on the slide.
+  const std::vector<Scenario> all = {Scenario::kTipOnTable, Scenario::kTipOnObject, Scenario::kSlide};
+  std::vector<RunSpec> out;
+  Grid("main", all, kMasses, kTimeSteps, kStiffnesses, &ContactParams::stiffness, &out);
+  Grid("damping", {Scenario::kTipOnTable, Scenario::kTipOnObject}, {0.05, 3.0}, kTimeSteps, {0, 1, 10, 100, 1000},
+       &ContactParams::damping, &out);
+  Grid("sigma0", {Scenario::kSlide}, kMasses, kTimeSteps, {1e2, 1e3, 1e4, 1e5, 1e6},
+       &ContactParams::bristle_stiffness, &out);
+  Grid("sigma1", {Scenario::kSlide}, kMasses, kTimeSteps, {0, 1, 10, 100, 1000}, &ContactParams::bristle_damping,
+       &out);
+  return out;
+}
+
+std::vector<RunSpec> ReducedSweep() {
+  std::vector<RunSpec> out;
+  Grid("main", {Scenario::kTipOnTable, Scenario::kTipOnObject, Scenario::kSlide}, {0.05, 3.0},
+       {1e-4, 1e-3, 3e-3, 1e-2}, kStiffnesses, &ContactParams::stiffness, &out);
+  return out;
+}
+
+}  // namespace graspsim::stress
