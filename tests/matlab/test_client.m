@@ -451,7 +451,8 @@ revision = c.getScene(sid).summary.revision;
 falling = c.stepSimulation(sid, 'Duration', 0.1);
 check(falling.steps == round(0.1 / dt) && falling.awakeBodies == 1 && falling.contacts == 0, ...
       'falling: %d steps, %d awake, %d contacts', falling.steps, falling.awakeBodies, falling.contacts);
-check(isa(falling.revision, 'double') && falling.revision > revision, 'revision %g after %g', falling.revision, revision);
+check(isa(falling.revision, 'double') && falling.revision > revision, 'revision %g after %g', falling.revision, ...
+      revision);
 cube = sceneBody(c, sid, 'cube');
 near(cube.velocity, [0 0 -9.81 * 0.1, 0 0 0], 1e-6, 'free-fall velocity');
 check(~cube.sleeping, 'a falling cube is awake');
@@ -596,7 +597,8 @@ expectError(@() c.setActuator(sid, left, 'position', Inf), 'graspsim:INVALID_ARG
 expectError(@() c.setActuator(sid, left, 'velocity', 0.01, -1), 'graspsim:INVALID_ARGUMENT', ...
             {'commands[0].current_limit', '-1'});
 expectError(@() c.setActuator('no-such-scene', left, 'velocity', 0.01), 'graspsim:NOT_FOUND', {'no-such-scene'});
-expectError(@() c.setActuator(sid, left, 'torque', 1), 'graspsim:badArgument', {'off', 'voltage', 'velocity', 'position'});
+expectError(@() c.setActuator(sid, left, 'torque', 1), 'graspsim:badArgument', ...
+            {'off', 'voltage', 'velocity', 'position'});
 expectError(@() c.setActuator(sid, left, 'velocity', [1 2]), 'graspsim:badArgument', {'value'});
 c.stepSimulation(sid, 'Steps', 50);
 [~, values] = c.getJointPositions(sid, left);
@@ -635,7 +637,8 @@ function test_demo_runs(c, ~)
 before = c.listScenes();
 output = evalc('graspsim_demo(c.Url)');
 for fragment = {'built-in models:', 'schunk_pg70', 'bodies (5):', 'pg70/finger_right_joint  prismatic 0.0300 m', ...
-                'mimics pg70/finger_left_joint', '14 rows x 6 cols', 'snapshot', 'cube_5cm           z = 0.7750 m'}
+                'mimics pg70/finger_left_joint', '14 rows x 6 cols', 'snapshot', 'cube_5cm           z = 0.7750 m', ...
+                'after 1.500 s (1500 steps)', 'dropped_cube rests at z = 0.7750 m (table top + 25.0 mm)', 'asleep'}
   check(~isempty(strfind(output, fragment{1})), 'demo output lacks "%s":\n%s', fragment{1}, output);
 end
 after = c.listScenes();

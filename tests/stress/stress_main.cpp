@@ -1,5 +1,7 @@
 // graspsim_stress [--reduced] [--jobs N]: runs the stability sweep (stress/sweep.h) and prints one JSON line per
 // run (in completion order) and a last summary line {"summary": …}. Progress goes to stderr.
+// graspsim_stress --point SCENARIO INTEGRATOR DT MASS K C SIGMA0 SIGMA1: one run, traced step by step on stderr
+// (to look at a point of the tables), e.g. --point slide linearly_implicit_euler 1e-3 0.05 1e4 10 1e4 30.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -18,6 +20,24 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--reduced") == 0) {
       reduced = true;
+    } else if (std::strcmp(argv[i], "--point") == 0 && i + 8 < argc) {
+      RunSpec spec;
+      spec.trace = true;
+      for (Scenario s : {Scenario::kTipOnTable, Scenario::kTipOnObject, Scenario::kSlide}) {
+        if (Name(s) == std::string(argv[i + 1])) spec.scenario = s;
+      }
+      for (auto g : {graspsim::Integrator::kSemiImplicitEuler, graspsim::Integrator::kLinearlyImplicitEuler,
+                     graspsim::Integrator::kVelocityVerlet}) {
+        if (Name(g) == std::string(argv[i + 2])) spec.integrator = g;
+      }
+      spec.time_step = std::atof(argv[i + 3]);
+      spec.mass = std::atof(argv[i + 4]);
+      spec.contact.stiffness = std::atof(argv[i + 5]);
+      spec.contact.damping = std::atof(argv[i + 6]);
+      spec.contact.bristle_stiffness = std::atof(argv[i + 7]);
+      spec.contact.bristle_damping = std::atof(argv[i + 8]);
+      std::cout << ToJson(spec, RunOne(spec)) << std::endl;
+      return 0;
     } else if (std::strcmp(argv[i], "--jobs") == 0 && i + 1 < argc) {
       jobs = std::max(1, std::atoi(argv[++i]));
     } else {

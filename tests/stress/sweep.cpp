@@ -1,21 +1,26 @@
 // The stress runs of sweep.h.
 //
-// Sanity bounds, and why:
-// - Depth: a body released at rest with its lowest point on the surface oscillates about its static depth d_s
-//   and, undamped, reaches 2 d_s; friction's tipping moment on a slider loads its leading edge up to about
-//   twice the mean (5 cm box, μ = 0.6, computed in the docs). So kDepthFactor = 4 × d_s. d_s is the depth at
-//   which the body's own samples, on springs k/2 (two equal materials in series), carry its weight: an upper
-//   bound of the engine's static answer (the other body's samples can only add springs).
-// - Energy: every run starts at rest on the surface (or sliding), with no spring compressed and no bristle
-//   deflected, and the contact law only dissipates (c, σ1 ≥ 0, the bristle cap). So the total energy — kinetic +
-//   gravitational (Multibody::Energy) + ½ k_pair d² per contact + ½ σ0 |z|² per bristle — can only fall. An
-//   integrator's energy error is of the order of the energy of the motion it resolves, here the settling
-//   oscillation ½ W d_s per body; a gain larger than Σ ½ W d_s means the integrator pumps in more than the whole
-//   contact motion holds, i.e. it is not tracking the physics any more (chatter, a launched body).
+// Every run starts with the bodies at rest with their lowest samples on the surface (the slider moving), no
+// spring compressed, no bristle deflected. Contacts are found at the start of a step in every integrator, so
+// the first step falls g h² into the contact with no force yet: (h ω)² × the static depth, a one-step accuracy
+// error of any penalty method that the implicit integrator then damps out. That onset is reported
+// (onset_depth_ratio, onset_energy_gain) but not judged; sanity is judged after it, on the second half of the
+// run, where a stable integration has settled or keeps settling and an unstable one grows or chatters:
+// - Depth: no contact deeper than kDepthFactor = 4 × its static answer d_s. A body released at rest overshoots
+//   to 2 d_s undamped; friction's tipping moment on a sliding 5 cm cube (μ = 0.6, 6 × 6 samples) loads its
+//   leading row up to ~2× the mean. d_s is the depth at which the body's own samples, on springs k/2 (two equal
+//   materials in series), carry its weight: an upper bound of the engine's answer (the other body's samples
+//   can only add springs).
+// - Energy: the total energy — kinetic + gravitational (Multibody::Energy) + ½ k_pair d² per contact + ½ σ0 |z|²
+//   per bristle — can only fall (c, σ1, c_t ≥ 0 and the bristle cap dissipate). It may not climb by more than
+//   Σ ½ W d_s above the lowest value it reached before: that is the energy of the whole settling oscillation of
+//   the bodies, the scale of a stable integrator's energy error; climbing more means the integrator pumps energy
+//   into the contacts (chatter, a launched body).
 #include "stress/sweep.h"
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -71,16 +76,19 @@ struct Scene {
   }
 };
 
-// Records the static answer of `body` resting on `support` under `weight`.
-void Bound(const ContactFinder& finder, double k_pair, uint32_t body, uint32_t support, double weight, Scene* scene) {
+// The static depth of `body` resting on `support` under `weight`; also the bound of its contacts with `other`
+// (the tip falling off the object lands on the table).
+double Bound(const ContactFinder& finder, double k_pair, uint32_t body, uint32_t support, uint32_t other, double weight,
+             Scene* scene) {
   const std::vector<Vec3>& samples = finder.Samples(body);
   double lowest = 1e9;
   for (const Vec3& p : samples) lowest = std::min(lowest, p.z());
   std::vector<double> heights;
   for (const Vec3& p : samples) heights.push_back(p.z() - lowest);
   const double d = StaticDepth(heights, k_pair, weight);
-  scene->depth_bound[{std::min(body, support), std::max(body, support)}] = d;
+  for (uint32_t b : {support, other}) scene->depth_bound[{std::min(body, b), std::max(body, b)}] = d;
   scene->energy_allowance += 0.5 * weight * d;
+  return d;
 }
 
 bool Finite(const SceneState& s) {
@@ -208,28 +216,31 @@ RunResult RunOne(const RunSpec& spec) {
   const ContactFinder finder(*scene.model, ContactFinderOptions{kSampleSpacing, 0});
   const ContactParams pair = CombineContactParams(spec.contact, spec.contact);
   if (spec.scenario == Scenario::kTipOnObject) {
-    Bound(finder, pair.stiffness, body, object, spec.mass * kG, &scene);
-    Bound(finder, pair.stiffness, object, table, (spec.mass + kObjectMass) * kG, &scene);
+    Bound(finder, pair.stiffness, body, object, table, spec.mass * kG, &scene);
+    Bound(finder, pair.stiffness, object, table, table, (spec.mass + kObjectMass) * kG, &scene);
   } else {
-    Bound(finder, pair.stiffness, body, table, spec.mass * kG, &scene);
+    Bound(finder, pair.stiffness, body, table, table, spec.mass * kG, &scene);
   }
   const Multibody multibody(*scene.model);
   std::vector<ContactPoint> contacts;
-  RunResult result;
+  double depth_ratio = 0;  // of the last state evaluated
   auto energy = [&](const SceneState& s) {
     contacts.clear();
     finder.Find(s.body_poses, &contacts);
     double e = multibody.Energy(s, params.gravity);
+    depth_ratio = 0;
     for (const ContactPoint& c : contacts) {
       e += 0.5 * pair.stiffness * c.depth * c.depth;
-      const double bound = scene.depth_bound[{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}];
-      result.max_depth_ratio = std::max(result.max_depth_ratio, c.depth / bound);
+      depth_ratio = std::max(depth_ratio, c.depth / scene.depth_bound.at({std::min(c.body_a, c.body_b),
+                                                                          std::max(c.body_a, c.body_b)}));
     }
     for (const auto& [key, z] : s.bristles) e += 0.5 * pair.bristle_stiffness * z.squaredNorm();
     return e;
   };
 
+  RunResult result;
   const double e0 = energy(scene.state);
+  double lowest = e0;
   const double x0 = scene.state.body_poses[body].position.x();
   result.steps_planned = std::min(spec.max_steps, static_cast<int>(std::lround(spec.duration / spec.time_step)));
   for (int i = 0; i < result.steps_planned; ++i) {
@@ -252,11 +263,39 @@ RunResult RunOne(const RunSpec& spec) {
       result.contract = "non-finite state returned at step " + std::to_string(scene.state.step);
       break;
     }
-    result.energy_gain = std::max(result.energy_gain, (energy(scene.state) - e0) / scene.energy_allowance);
+    const double e = energy(scene.state);
+    result.onset_energy_gain = std::max(result.onset_energy_gain, (e - e0) / scene.energy_allowance);
+    result.onset_depth_ratio = std::max(result.onset_depth_ratio, depth_ratio);
+    if (2 * (i + 1) > result.steps_planned) {  // the judged second half
+      result.energy_growth = std::max(result.energy_growth, (e - lowest) / scene.energy_allowance);
+      result.max_depth_ratio = std::max(result.max_depth_ratio, depth_ratio);
+    }
+    lowest = std::min(lowest, e);
+    for (size_t c = 0; c < simulation.contacts().size(); ++c) {
+      const Vec3& f = simulation.contact_forces()[c];
+      const Vec3& n = simulation.contacts()[c].normal;
+      const double normal = f.dot(n);
+      if (normal > 0) {
+        result.friction_ratio = std::max(result.friction_ratio, (f - normal * n).norm() / (pair.static_friction * normal));
+      }
+    }
+    if (spec.trace) {
+      std::fprintf(stderr, "step %d E-E0 %.4g depth_ratio %.4g contacts %zu", i + 1, (e - e0) / scene.energy_allowance,
+                   depth_ratio, simulation.contacts().size());
+      for (size_t b = 1; b < scene.model->bodies.size(); ++b) {
+        const Vec3& p = scene.state.body_poses[b].position;
+        std::fprintf(stderr, " | %s z %.6g x %.4g v %.4g w %.4g", scene.model->bodies[b].id.c_str(), p.z(), p.x(),
+                     scene.state.body_velocities[b].linear.norm(), scene.state.body_velocities[b].angular.norm());
+      }
+      std::fprintf(stderr, "\n");
+    }
   }
   result.slide = scene.state.body_poses[body].position.x() - x0;
+  result.slide_ratio = spec.scenario == Scenario::kSlide
+                           ? result.slide / (kSlideSpeed * kSlideSpeed / (2 * pair.dynamic_friction * kG))
+                           : 0;
   if (result.reason.empty() && result.max_depth_ratio > kDepthFactor) result.reason = "penetration";
-  if (result.reason.empty() && result.energy_gain > 1) result.reason = "energy";
+  if (result.reason.empty() && result.energy_growth > 1) result.reason = "energy";
   result.stable = result.reason.empty();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
@@ -280,7 +319,9 @@ std::string ToJson(const RunSpec& spec, const RunResult& r) {
     << ",\"steps_planned\":" << r.steps_planned << ",\"steps_run\":" << r.steps_run
     << ",\"stable\":" << (r.stable ? "true" : "false") << ",\"reason\":" << quote(r.reason)
     << ",\"contract\":" << quote(r.contract) << ",\"max_depth_ratio\":" << r.max_depth_ratio
-    << ",\"energy_gain\":" << r.energy_gain << ",\"slide_m\":" << r.slide << ",\"seconds\":" << r.seconds
+    << ",\"energy_growth\":" << r.energy_growth << ",\"onset_depth_ratio\":" << r.onset_depth_ratio
+    << ",\"onset_energy_gain\":" << r.onset_energy_gain << ",\"friction_ratio\":" << r.friction_ratio
+    << ",\"slide_m\":" << r.slide << ",\"slide_ratio\":" << r.slide_ratio << ",\"seconds\":" << r.seconds
     << ",\"error\":" << quote(r.error) << "}";
   return o.str();
 }

@@ -2,15 +2,16 @@
 //
 // One RunSpec is one parameter point of one scenario; RunOne builds the scene, steps it one step at a time for
 // a capped simulated time and classifies the run:
-//   stable    no divergence reported, every state finite, and physically sane: no contact deeper than
-//             kDepthFactor × its static answer, and the total energy (kinetic + gravity + contact springs +
-//             bristle springs, which physics can only dissipate) never above its start by more than the
-//             settling oscillation's own energy (see sweep.cpp for why these bounds).
-//   unstable  "diverged": Simulation::Step threw; the report is checked (FAILED_PRECONDITION, the message names
-//             a body or joint, the step and the quantity, the state is finite and untouched), or "insane":
-//             finite but outside the bounds above.
+//   stable    no divergence reported, every state finite, and physically sane over the second half of the run
+//             (after the contact onset, see sweep.cpp): no contact deeper than 4 × its static answer, and the
+//             total energy (kinetic + gravity + contact springs + bristle springs, which physics can only
+//             dissipate) never climbing above its lowest value so far by more than the bodies' settling
+//             oscillation energy Σ ½ W d_s.
+//   unstable  reason "diverged": Simulation::Step threw, and the report is checked (FAILED_PRECONDITION, the
+//             message names a body or joint, the step and the quantity, the state is finite and untouched); or
+//             "penetration" / "energy": finite but outside the bounds above.
 // A contract breach (NaN in a returned state, another error code, a message without body, step or quantity,
-// a touched state) is recorded in `contract`; it is an engine bug, whatever the verdict.
+// a touched state) is recorded in `contract`: an engine bug, whatever the verdict.
 #pragma once
 
 #include <string>
@@ -36,6 +37,7 @@ struct RunSpec {
   ContactParams contact;      // scene defaults; every body leaves its material at 0, so pairs get k/2, c/2
   double duration = 0.5;      // s simulated, unless max_steps comes first
   int max_steps = 2000;       // caps the cost of small time steps
+  bool trace = false;         // print every step (energy, depth, the bodies' motion) to stderr
 };
 
 struct RunResult {
@@ -44,9 +46,13 @@ struct RunResult {
   std::string contract;      // "" or what the engine did wrong (see above)
   std::string error;         // the divergence message, if any
   int steps_planned = 0, steps_run = 0;
-  double max_depth_ratio = 0;  // worst contact depth / its static answer
-  double energy_gain = 0;      // worst (E(t) − E(0)) / the allowed gain; > 1 is insane
-  double slide = 0;            // m the slider travelled (kSlide)
+  double max_depth_ratio = 0;  // worst contact depth / its static answer, second half (judged, ≤ 4)
+  double energy_growth = 0;    // worst climb of the energy above its lowest so far / Σ ½ W d_s, second half (≤ 1)
+  double onset_depth_ratio = 0;  // the same over the whole run, contact onset included (reported only)
+  double onset_energy_gain = 0;  // worst (E − E0) / Σ ½ W d_s over the whole run (reported only)
+  double friction_ratio = 0;   // worst |F_t| / (μ_s F_n) of the engine's contact forces (reported only)
+  double slide = 0;            // m the slider (tip) travelled along x
+  double slide_ratio = 0;      // kSlide: slide / the Coulomb answer v0² / (2 μ_d g) (reported only)
   double seconds = 0;          // wall time of the run: reported, never asserted
 };
 

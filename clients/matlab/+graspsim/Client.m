@@ -131,9 +131,9 @@ classdef Client < handle
       %   values the server holds) and triangles M-by-3 double of 0-BASED vertex indices (add 1 for patch or
       %   trisurf).
       %   Joint: id, robotId, type, parentBody, childBody, origin, axis, lower, upper, velocityLimit,
-      %     effortLimit, position, velocity (rad/s or m/s), mimic (jointId, multiplier, offset). Robot: id, source, baseBody, bodyIds,
-      %     jointIds, tactileArrayIds. Tactile array: id, bodyId, origin, rows, cols, pitch, thickness.
-      %     File: path, size, sha256.
+      %     effortLimit, position, velocity (rad/s or m/s), mimic (jointId, multiplier, offset).
+      %     Robot: id, source, baseBody, bodyIds, jointIds, tactileArrayIds. Tactile array: id, bodyId, origin,
+      %     rows, cols, pitch, thickness. File: path, size, sha256.
       options = graspsim.internal.parseOptions(struct('IncludeGeometry', false), varargin, 'getScene');
       response = obj.sceneCall('GetScene', ...
                        struct('scene_id', sceneId, 'include_geometry', logical(options.IncludeGeometry)));

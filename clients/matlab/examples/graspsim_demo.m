@@ -53,8 +53,9 @@ result = c.stepSimulation(scene.id, 'Duration', settleTime);
 cube = sceneBody(c.getScene(scene.id), 'dropped_cube');
 fprintf('  after %.3f s (%d steps): %d contact points, %d awake bodies\n', result.time, result.steps, ...
         result.contacts, result.awakeBodies);
-fprintf('  dropped_cube rests at z = %.4f m (table top + %.1f mm), speed %.1e m/s, sleeping %d\n', cube.pose(3), ...
-        (cube.pose(3) - tableTopZ) * 1000, norm(cube.velocity(1:3)), cube.sleeping);
+states = {'awake', 'asleep'};
+fprintf('  dropped_cube rests at z = %.4f m (table top + %.1f mm), speed %.1e m/s, %s\n', cube.pose(3), ...
+        (cube.pose(3) - tableTopZ) * 1000, norm(cube.velocity(1:3)), states{cube.sleeping + 1});
 if ~keep
   c.deleteScene(scene.id);
 end

@@ -24,6 +24,13 @@ struct Pose {
   }
 };
 
+// The cross-product matrix: Skew(w) x = w × x.
+inline Mat3 Skew(const Vec3& w) {
+  Mat3 m;
+  m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return m;
+}
+
 // Rotation from URDF roll-pitch-yaw (fixed axes x, then y, then z), rad.
 inline Quat QuatFromRpy(double roll, double pitch, double yaw) {
   return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *

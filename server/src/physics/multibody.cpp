@@ -5,12 +5,6 @@ namespace {
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
-Mat3 Skew(const Vec3& w) {
-  Mat3 m;
-  m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
-  return m;
-}
-
 // Spatial cross products for vectors [angular; linear] (Featherstone 2008, §2.9): motion × motion, motion × force.
 Vec6 CrossMotion(const Vec6& a, const Vec6& m) {
   const Vec3 w = a.head<3>(), v = a.tail<3>();
@@ -196,22 +190,28 @@ Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravi
   return G_.transpose() * bu;
 }
 
-Eigen::Matrix3Xd Multibody::PointJacobian(const SceneState& state, size_t body, const Vec3& point) const {
-  Eigen::Matrix3Xd J = Eigen::Matrix3Xd::Zero(3, nv_);
+Multibody::SpatialJacobian Multibody::BodyJacobian(const SceneState& state, size_t body) const {
+  SpatialJacobian W = SpatialJacobian::Zero(6, nv_);
   if (const int o = free_offset_[body]; o >= 0) {
-    const Vec3 r = point - state.body_poses[body] * model_.bodies[body].inertial.center_of_mass;
-    J.block<3, 3>(0, o).setIdentity();
-    J.block<3, 3>(0, o + 3) = -Skew(r);
-    return J;
+    // ω is the body's; the point at the origin moves at v_c + ω × (0 − c) = v_c + [c]× ω.
+    const Vec3 c = state.body_poses[body] * model_.bodies[body].inertial.center_of_mass;
+    W.block<3, 3>(0, o + 3).setIdentity();
+    W.block<3, 3>(3, o).setIdentity();
+    W.block<3, 3>(3, o + 3) = Skew(c);
+    return W;
   }
   for (int n = body_node_[body]; n >= 0; n = nodes_[n].parent) {
     const Node& node = nodes_[n];
     if (node.full < 0 || leader_[node.joint] < 0) continue;
-    const Vec6 s = MotionSubspace(state, node);
-    const Vec3 column = s.tail<3>() + s.head<3>().cross(point);
-    J.col(joint_offset_[leader_[node.joint]]) += G_(node.full, joint_offset_[leader_[node.joint]]) * column;
+    const int column = joint_offset_[leader_[node.joint]];
+    W.col(column) += G_(node.full, column) * MotionSubspace(state, node);
   }
-  return J;
+  return W;
+}
+
+Eigen::Matrix3Xd Multibody::PointJacobian(const SceneState& state, size_t body, const Vec3& point) const {
+  const SpatialJacobian W = BodyJacobian(state, body);
+  return W.bottomRows<3>() - Skew(point) * W.topRows<3>();  // v_O + ω × p = v_O − [p]× ω
 }
 
 Vec3 Multibody::PointVelocity(const SceneState& state, size_t body, const Vec3& point) const {

@@ -40,8 +40,12 @@ class Multibody {
   Eigen::MatrixXd MassMatrix(const SceneState& state) const;
   // b(q, v) with gravity g (m/s², world).
   Eigen::VectorXd BiasForces(const SceneState& state, const Vec3& gravity) const;
+  // W (6 × nv) such that W v = [ω; v_O], the body's angular velocity and the velocity of the body-fixed point at
+  // the world origin (Featherstone's spatial velocity, world coordinates). A point p then moves at
+  // v_O + ω × p. Zero for static bodies; a link's depends on every joint between the robot base and the link.
+  using SpatialJacobian = Eigen::Matrix<double, 6, Eigen::Dynamic>;
+  SpatialJacobian BodyJacobian(const SceneState& state, size_t body) const;
   // J (3 × nv) such that the world velocity of the point fixed to `body` at world position `point` is J v.
-  // Zero for static bodies. Link points depend on every joint between the robot base and the link.
   Eigen::Matrix3Xd PointJacobian(const SceneState& state, size_t body, const Vec3& point) const;
   Vec3 PointVelocity(const SceneState& state, size_t body, const Vec3& point) const;
 

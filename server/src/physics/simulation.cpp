@@ -1,5 +1,6 @@
 #include "physics/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -26,6 +27,9 @@ ContactParams BodyContactParams(const Material& material, const ContactParams& d
   params.stribeck_velocity = Or(material.stribeck_velocity, defaults.stribeck_velocity);
   return params;
 }
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 std::string Vec(const Vec3& v) {
   return "(" + FormatNumber(v.x()) + ", " + FormatNumber(v.y()) + ", " + FormatNumber(v.z()) + ")";
@@ -159,24 +163,45 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     forces->K = Eigen::MatrixXd::Zero(nv, nv);
     forces->D = Eigen::MatrixXd::Zero(nv, nv);
   }
-  forces->jacobians.resize(contacts_.size());
   forces->contact.resize(contacts_.size());
+  forces->contact_pair.resize(contacts_.size());
+  forces->bristle.resize(contacts_.size());
   forces_.assign(contacts_.size(), Vec3::Zero());
-  for (size_t i = 0; i < contacts_.size(); ++i) {
-    const ContactPoint& c = contacts_[i];
-    const auto found = state.bristles.find(ContactKey{c.body_a, c.body_b, c.feature});
-    const Vec3 z = found == state.bristles.end() ? Vec3::Zero() : found->second;
-    const Eigen::Matrix3Xd J = multibody_.PointJacobian(state, c.body_a, c.point) -
-                               multibody_.PointJacobian(state, c.body_b, c.point);
-    const ContactForce& force = forces->contact[i] =
-        EvaluateContact(PairParams(c.body_a, c.body_b), c.depth, c.normal, J * v, z);
-    forces_[i] = force.force;
-    forces->tau += J.transpose() * force.force;
-    if (linearize) {
-      forces->K += J.transpose() * force.stiffness * J;
-      forces->D += J.transpose() * force.damping * J;
+  // Pair by pair: each contact's force becomes a wrench about the world origin, [p × f; f], and its 3 × 3
+  // stiffness and damping 6 × 6 blocks E(p)ᵀ K E(p) with E(p) = [−[p]×, 1]; only the pair's sums meet the
+  // nv-sized Jacobian (nv² work per pair instead of per contact).
+  for (size_t begin = 0; begin < contacts_.size();) {
+    const uint32_t a = contacts_[begin].body_a, b = contacts_[begin].body_b;
+    size_t end = begin;
+    while (end < contacts_.size() && contacts_[end].body_a == a && contacts_[end].body_b == b) ++end;
+    const Multibody::SpatialJacobian W = multibody_.BodyJacobian(state, a) - multibody_.BodyJacobian(state, b);
+    const Vec6 twist = W * v;
+    const ContactParams params = PairParams(a, b);
+    Vec6 wrench = Vec6::Zero();
+    Mat6 K = Mat6::Zero(), D = Mat6::Zero();
+    for (size_t i = begin; i < end; ++i) {
+      const ContactPoint& c = contacts_[i];
+      const Vec3 z = forces->bristle[i] = FindBristle(state, ContactKey{a, b, c.feature});
+      const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
+      const ContactForce& force = forces->contact[i] = EvaluateContact(params, c.depth, c.normal, relative, z);
+      forces->contact_pair[i] = forces->pair_jacobians.size();
+      forces_[i] = force.force;
+      wrench.head<3>() += c.point.cross(force.force);
+      wrench.tail<3>() += force.force;
+      if (linearize) {
+        Eigen::Matrix<double, 3, 6> E;
+        E << -Skew(c.point), Mat3::Identity();
+        K += E.transpose() * force.stiffness * E;
+        D += E.transpose() * force.damping * E;
+      }
     }
-    forces->jacobians[i] = J;
+    forces->tau.noalias() += W.transpose() * wrench;
+    if (linearize) {
+      forces->K.noalias() += W.transpose() * K * W;
+      forces->D.noalias() += W.transpose() * D * W;
+    }
+    forces->pair_jacobians.push_back(W);
+    begin = end;
   }
 }
 
@@ -225,18 +250,22 @@ Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const E
 void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) const {
   // The exact LuGre update, with the slip velocity the friction force was evaluated with. Contacts that ended
   // drop their bristle state; frictionless contacts never get one.
-  std::map<ContactKey, Vec3> bristles;
+  std::vector<std::pair<ContactKey, Vec3>> bristles;  // built in the contacts' (sorted) order
+  bristles.reserve(contacts_.size());
+  std::vector<Vec6> twists;  // per pair
+  for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists.push_back(W * v);
   for (size_t i = 0; i < contacts_.size(); ++i) {
     const ContactPoint& c = contacts_[i];
     const ContactParams params = PairParams(c.body_a, c.body_b);
     if (!params.HasFriction()) continue;
-    const ContactKey key{c.body_a, c.body_b, c.feature};
-    const auto found = state->bristles.find(key);
-    const Vec3 z = found == state->bristles.end() ? Vec3::Zero() : found->second;
-    const Vec3 relative = forces.jacobians[i] * v;
+    const Vec6& twist = twists[forces.contact_pair[i]];
+    const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
     const Vec3 slip = relative - relative.dot(c.normal) * c.normal;
-    bristles[key] = AdvanceBristle(params, forces.contact[i].normal_force, c.normal, slip, z, h);
+    bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature},
+                          AdvanceBristle(params, forces.contact[i].normal_force, c.normal, slip, forces.bristle[i], h));
   }
+  auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
+  if (!std::is_sorted(bristles.begin(), bristles.end(), by_key)) std::sort(bristles.begin(), bristles.end(), by_key);
   state->bristles = std::move(bristles);
 }
 

@@ -56,8 +56,12 @@ class Simulation {
     Eigen::VectorXd tau, actuators;
     Eigen::VectorXd actuator_damping, actuator_stiffness;  // per generalised velocity (diagonal), ≤ 0
     Eigen::MatrixXd K, D;
-    std::vector<Eigen::Matrix3Xd> jacobians;  // per contact: relative point velocity = J v
+    // Per touching body pair (contacts come sorted by pair): W = W_a − W_b, the relative spatial Jacobian, so
+    // the relative velocity of a contact point p is (W v).tail + (W v).head × p.
+    std::vector<Multibody::SpatialJacobian> pair_jacobians;
+    std::vector<size_t> contact_pair;  // per contact: its pair
     std::vector<ContactForce> contact;
+    std::vector<Vec3> bristle;  // per contact: z at the start of the step
   };
 
   // The stages of one sub-step, in order.

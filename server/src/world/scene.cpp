@@ -170,13 +170,24 @@ std::vector<std::string> Scene::Remove(const std::string& id) {
   SceneState state;
   state.time = state_.time;
   state.step = state_.step;
+  // Every body wakes up: one resting on what was removed must fall.
+  std::map<uint32_t, uint32_t> new_body_index;
   for (size_t i = 0; i < model_->bodies.size(); ++i) {
     if (bodies.count(model_->bodies[i].id)) continue;
+    new_body_index[static_cast<uint32_t>(i)] = static_cast<uint32_t>(model->bodies.size());
     model->bodies.push_back(model_->bodies[i]);
     state.body_poses.push_back(state_.body_poses[i]);
     state.body_velocities.push_back(state_.body_velocities[i]);
-    state.sleeping.push_back(state_.sleeping[i]);
-    state.rest_time.push_back(state_.rest_time[i]);
+    state.sleeping.push_back(false);
+    state.rest_time.push_back(0);
+  }
+  // The contacts between the bodies that stay keep their bristles (a held object keeps its grip), re-indexed;
+  // the renumbering keeps the keys' order.
+  for (const auto& [key, z] : state_.bristles) {
+    const auto a = new_body_index.find(key.body_a), b = new_body_index.find(key.body_b);
+    if (a != new_body_index.end() && b != new_body_index.end()) {
+      state.bristles.emplace_back(ContactKey{a->second, b->second, key.feature}, z);
+    }
   }
   std::map<size_t, size_t> new_joint_index;
   for (size_t i = 0; i < model_->joints.size(); ++i) {
@@ -189,7 +200,6 @@ std::vector<std::string> Scene::Remove(const std::string& id) {
   for (const auto& [joint, actuator] : state_.actuators) {
     if (new_joint_index.count(joint)) state.actuators[new_joint_index[joint]] = actuator;
   }
-  // Bristle states are keyed by body index, which the removal shifts; contacts re-form within a step.
   for (const auto& pad : model_->tactile_arrays) {
     if (!pads.count(pad.id)) model->tactile_arrays.push_back(pad);
   }

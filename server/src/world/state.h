@@ -34,9 +34,14 @@ struct SceneState {
   std::vector<double> joint_velocities;       // rad/s or m/s, per joint
   std::vector<bool> sleeping;                 // per body: a free body at rest, skipped until touched
   std::vector<double> rest_time;              // per body: s spent below the sleep speed
-  std::map<ContactKey, Vec3> bristles;        // LuGre bristle deflection z per persistent contact, m, world
+  // LuGre bristle deflection z per persistent contact, m, world; sorted by key, the order the contact finder
+  // reports contacts in, so a step rebuilds it in order and looks keys up by binary search.
+  std::vector<std::pair<ContactKey, Vec3>> bristles;
   std::map<size_t, JointActuator> actuators;  // by joint index: driven joints
 };
+
+// The bristle deflection of a contact, or zero for a new one.
+Vec3 FindBristle(const SceneState& state, const ContactKey& key);
 
 // Places every link of `robot` from its base pose and joint positions (parents before children).
 void UpdateRobotLinkPoses(const SceneModel& model, const RobotSpec& robot, SceneState* state);

@@ -146,11 +146,14 @@ Mat3 LeftJacobian(const Vec3& theta) {
 }
 
 // A static table; a robot welded at a turned pose with a branched tree: base → j1 (revolute) → l1 → j2
-// (prismatic) → l2 → j3 (revolute) → l3 → j6 (continuous, mimics j1 below it in the chain) → l6, and
-// base → j4 (fixed) → l4 → j5 (revolute, mimics j1 on the other branch) → l5; a free box, turned. The joints
-// are stored out of topological order, axes off the coordinate axes, origins offset and turned.
+// (prismatic) → l2 → j3 (revolute) → l3 → j6 (continuous, mimics j1 below it in the chain) → l6, with
+// l2 → j7 (fixed) → l7 welded to a moving link, and base → j4 (fixed) → l4 → j5 (revolute, mimics j1 on the
+// other branch) → l5; a free box, turned. The joints are stored out of topological order, axes off the
+// coordinate axes, origins offset and turned; every inertia is full and every centre of mass off its origin.
 class MultibodyTest : public ::testing::Test {
  protected:
+  static constexpr size_t kBox = 9;  // the free body, last of the bodies
+
   static SceneModel ArmModel() {
     SceneModel model;
     const Quat I = Quat::Identity();
@@ -169,6 +172,8 @@ class MultibodyTest : public ::testing::Test {
              QuatFromRpy(-0.3, 0.1, 0.8)),
         Body("arm/l6", BodyMotion::kArticulated, 0.25, Vec3(0.03, 0.02, -0.01), Vec3(0.001, 0.0015, 0.002),
              QuatFromRpy(0.7, -0.5, 0.2)),
+        Body("arm/l7", BodyMotion::kArticulated, 0.2, Vec3(0.01, 0.03, 0), Vec3(0.001, 0.002, 0.0025),
+             QuatFromRpy(-0.6, 0.3, 0.9)),
         Body("box", BodyMotion::kFree, 1.5, Vec3(0.02, -0.01, 0.03), Vec3(0.01, 0.02, 0.025),
              QuatFromRpy(0.5, -0.7, 0.2)),
     };
@@ -185,10 +190,12 @@ class MultibodyTest : public ::testing::Test {
               Vec3(-1, 0.5, 0.2), MimicSpec{"arm/j1", -0.7, 0.1}),
         Joint("arm/j6", JointType::kContinuous, "arm/l3", "arm/l6", {Vec3(0, 0.1, 0.05), QuatFromRpy(0, 0.5, -0.3)},
               Vec3(1, 0, 1), MimicSpec{"arm/j1", 1.3, -0.2}),
+        Joint("arm/j7", JointType::kFixed, "arm/l2", "arm/l7", {Vec3(0.04, -0.03, 0.1), QuatFromRpy(0.2, 0.5, -0.1)},
+              Vec3::UnitX()),
     };
     model.robots = {RobotSpec{"arm", "test", "arm/base",
-                              {"arm/base", "arm/l1", "arm/l2", "arm/l3", "arm/l6", "arm/l4", "arm/l5"},
-                              {"arm/j1", "arm/j2", "arm/j3", "arm/j6", "arm/j4", "arm/j5"}, {}}};
+                              {"arm/base", "arm/l1", "arm/l2", "arm/l7", "arm/l3", "arm/l6", "arm/l4", "arm/l5"},
+                              {"arm/j1", "arm/j2", "arm/j7", "arm/j3", "arm/j6", "arm/j4", "arm/j5"}, {}}};
     model.Reindex();
     return model;
   }
@@ -198,8 +205,8 @@ class MultibodyTest : public ::testing::Test {
     state.body_poses.resize(model.bodies.size());
     state.body_velocities.resize(model.bodies.size());
     state.body_poses[1] = {Vec3(0.2, -0.1, 0.5), QuatFromRpy(0.4, -0.3, 1.1)};
-    state.body_poses[8] = {Vec3(0.5, 0.3, 1.0), QuatFromRpy(0.3, 1.0, -0.6)};
-    state.joint_positions = {0.4, 0.05, -0.8, 0, 0, 0};
+    state.body_poses[kBox] = {Vec3(0.5, 0.3, 1.0), QuatFromRpy(0.3, 1.0, -0.6)};
+    state.joint_positions = {0.4, 0.05, -0.8, 0, 0, 0, 0};
     state.joint_velocities.resize(model.joints.size());
     PlaceLinks(model, &state);
     return state;
@@ -222,13 +229,13 @@ class MultibodyTest : public ::testing::Test {
 };
 
 TEST_F(MultibodyTest, CountsOffsetsAndMimicFollowers) {
-  // 6 for the box, one each for j1, j2, j3; the fixed j4 and the followers j5, j6 have none.
+  // 6 for the box, one each for j1, j2, j3; the fixed j4, j7 and the followers j5, j6 have none.
   EXPECT_EQ(mb.velocity_count(), 6 + 3);
-  EXPECT_EQ(mb.FreeBodyOffset(8), 0);
+  EXPECT_EQ(mb.FreeBodyOffset(kBox), 0);
   EXPECT_EQ(mb.FreeBodyOffset(0), -1);
   EXPECT_EQ(mb.FreeBodyOffset(2), -1);
-  for (size_t j : {3, 4, 5}) EXPECT_EQ(mb.JointOffset(j), -1) << model.joints[j].id;
-  for (size_t j : {0, 1, 2}) EXPECT_GE(mb.JointOffset(j), 6) << model.joints[j].id;
+  for (size_t j : {3u, 4u, 5u, 6u}) EXPECT_EQ(mb.JointOffset(j), -1) << model.joints[j].id;
+  for (size_t j : {0u, 1u, 2u}) EXPECT_GE(mb.JointOffset(j), 6) << model.joints[j].id;
 
   const Eigen::VectorXd v = RandomVector(mb.velocity_count(), &rng);
   mb.SetVelocities(v, &state);
@@ -237,6 +244,7 @@ TEST_F(MultibodyTest, CountsOffsetsAndMimicFollowers) {
   EXPECT_NEAR(state.joint_velocities[4], -0.7 * leader_velocity, 1e-12);
   EXPECT_NEAR(state.joint_velocities[5], 1.3 * leader_velocity, 1e-12);
   EXPECT_EQ(state.joint_velocities[3], 0);
+  EXPECT_EQ(state.joint_velocities[6], 0);
 
   mb.Integrate(v, 0.37, &state);
   const double leader = state.joint_positions[0];
@@ -244,6 +252,7 @@ TEST_F(MultibodyTest, CountsOffsetsAndMimicFollowers) {
   EXPECT_NEAR(state.joint_positions[4], -0.7 * leader + 0.1, 1e-12);
   EXPECT_NEAR(state.joint_positions[5], 1.3 * leader - 0.2, 1e-12);
   EXPECT_EQ(state.joint_positions[3], 0);
+  EXPECT_EQ(state.joint_positions[6], 0);
 }
 
 TEST_F(MultibodyTest, MassMatrixIsTheHessianOfKineticEnergy) {
@@ -305,10 +314,10 @@ TEST_F(MultibodyTest, BiasInMotionFollowsLagrangesEquations) {
 
     // The free box: b = (−m g, ω × I_world ω), here with gravity.
     const Eigen::VectorXd bg = mb.BiasForces(state, kGravity);
-    const int o = mb.FreeBodyOffset(8);
-    const Mat3 R = state.body_poses[8].orientation.toRotationMatrix();
+    const int o = mb.FreeBodyOffset(kBox);
+    const Mat3 R = state.body_poses[kBox].orientation.toRotationMatrix();
     const Vec3 w = v.segment<3>(o + 3);
-    const Vec3 gyroscopic = w.cross(R * model.bodies[8].inertial.inertia * R.transpose() * w);
+    const Vec3 gyroscopic = w.cross(R * model.bodies[kBox].inertial.inertia * R.transpose() * w);
     EXPECT_LE((bg.segment<3>(o) + 1.5 * kGravity).norm(), 1e-12 * 1.5 * kGravity.norm());
     EXPECT_LE((bg.segment<3>(o + 3) - gyroscopic).norm(), 1e-12 * gyroscopic.norm());
   }
@@ -318,7 +327,7 @@ TEST_F(MultibodyTest, FreeMotionConservesEnergy) {
   // Classical RK4 on chart coordinates x around the start (q = q0 ⊕ x, see Place), so the scheme is fourth
   // order: ẋ = v except the box's rotation, θ̇ = J_l(θ)⁻¹ ω, and M v̇ = −b. Its own error over 1 s at 1e-4 s
   // is ~1e-14, so any drift measures an inconsistency between M and b.
-  const int n = mb.velocity_count(), o = mb.FreeBodyOffset(8);
+  const int n = mb.velocity_count(), o = mb.FreeBodyOffset(kBox);
   const SceneState start = state;
   auto at = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
     SceneState s = Place(model, mb, start, x);

@@ -300,3 +300,27 @@ TEST(SimulationTest, RestingBodyFallsAsleepAndSameInputsGiveSameOutputs) {
 
 }  // namespace
 }  // namespace graspsim
+
+namespace graspsim {
+namespace {
+
+TEST(SimulationTest, FrictionlessContactsKeepNoBristleState) {
+  auto bristles_after_settling = [](double friction) {
+    World world;
+    world.model->simulation.sleep_time = 0;
+    BodySpec floor = Floor();
+    BodySpec cube = Box("cube", Vec3(0.05, 0.05, 0.05), 0.1);
+    for (BodySpec* body : {&floor, &cube}) body->material.static_friction = body->material.dynamic_friction = friction;
+    world.Add(floor, Vec3::Zero());
+    world.Add(cube, Vec3(0, 0, 0.025));
+    Simulation simulation = world.Start();
+    simulation.Step(&world.state, 200);
+    EXPECT_FALSE(simulation.contacts().empty());
+    return world.state.bristles.size();
+  };
+  EXPECT_EQ(bristles_after_settling(0), 0u);
+  EXPECT_GT(bristles_after_settling(0.5), 0u);
+}
+
+}  // namespace
+}  // namespace graspsim
