@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
       spec.contact.damping = std::atof(argv[i + 6]);
       spec.contact.bristle_stiffness = std::atof(argv[i + 7]);
       spec.contact.bristle_damping = std::atof(argv[i + 8]);
+      if (spec.scenario == Scenario::kSlide) spec.min_duration = kSlideMinDuration;
       std::cout << ToJson(spec, RunOne(spec)) << std::endl;
       return 0;
     } else if (std::strcmp(argv[i], "--jobs") == 0 && i + 1 < argc) {

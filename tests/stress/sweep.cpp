@@ -242,7 +242,9 @@ RunResult RunOne(const RunSpec& spec) {
   const double e0 = energy(scene.state);
   double lowest = e0;
   const double x0 = scene.state.body_poses[body].position.x();
-  result.steps_planned = std::min(spec.max_steps, static_cast<int>(std::lround(spec.duration / spec.time_step)));
+  result.steps_planned = static_cast<int>(std::min(
+      std::lround(spec.duration / spec.time_step),
+      std::max<long>(spec.max_steps, std::lround(spec.min_duration / spec.time_step))));
   for (int i = 0; i < result.steps_planned; ++i) {
     const SceneState before = scene.state;
     try {
@@ -350,6 +352,7 @@ void Grid(const std::string& name, const std::vector<Scenario>& scenarios, const
             spec.mass = mass;
             spec.time_step = dt;
             spec.contact.*field = value;
+            if (scenario == Scenario::kSlide) spec.min_duration = kSlideMinDuration;
             out->push_back(spec);
           }
         }

@@ -25,8 +25,11 @@ namespace graspsim::stress {
 enum class Scenario {
   kTipOnTable,   // a fingertip: sphere r = 1 cm of `mass`, resting on a static table
   kTipOnObject,  // the fingertip resting on a 3 kg, 10 cm box that rests on the table (mass ratio mass / 3 kg)
-  kSlide,        // a 5 cm box of `mass` launched over the table at 0.2 m/s: friction stops it
+  kSlide,        // a 5 cm box of `mass` launched over the table at 0.2 m/s: friction stops it (Coulomb: in 51 ms)
 };
+
+// The simulated time a slide run gets at least (RunSpec::min_duration), whatever the time step.
+inline constexpr double kSlideMinDuration = 0.1;
 
 struct RunSpec {
   std::string grid = "main";  // which sub-sweep the point belongs to (for the tables)
@@ -36,7 +39,8 @@ struct RunSpec {
   double mass = 0.05;         // kg: the fingertip or the slider
   ContactParams contact;      // scene defaults; every body leaves its material at 0, so pairs get k/2, c/2
   double duration = 0.5;      // s simulated, unless max_steps comes first
-  int max_steps = 2000;       // caps the cost of small time steps
+  int max_steps = 2000;       // caps the cost of small time steps …
+  double min_duration = 0;    // … but at least this many s (the slide needs ~0.1 s to stop and be judged at rest)
   bool trace = false;         // print every step (energy, depth, the bodies' motion) to stderr
 };
 

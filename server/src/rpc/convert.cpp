@@ -38,14 +38,16 @@ Inertial InertialFromProto(const std::string& field, const v1::Inertial& inertia
   return out;
 }
 
-Material MaterialFromProto(const std::string& field, const v1::Material& material) {
-  CheckNonNegative(field + ".dynamic_friction", material.dynamic_friction());
-  CheckNonNegative(field + ".static_friction", material.static_friction());
-  if (material.static_friction() < material.dynamic_friction()) {
-    ThrowInvalidArgument(field + ": static_friction " + FormatNumber(material.static_friction()) +
-                         " is below dynamic_friction " + FormatNumber(material.dynamic_friction()));
+Material MaterialFromProto(const std::string& field, const v1::Material& material, const Material& base) {
+  Material out = base;
+  if (material.has_static_friction()) out.static_friction = material.static_friction();
+  if (material.has_dynamic_friction()) out.dynamic_friction = material.dynamic_friction();
+  CheckNonNegative(field + ".dynamic_friction", out.dynamic_friction);
+  CheckNonNegative(field + ".static_friction", out.static_friction);
+  if (out.static_friction < out.dynamic_friction) {
+    ThrowInvalidArgument(field + ": static_friction " + FormatNumber(out.static_friction) +
+                         " is below dynamic_friction " + FormatNumber(out.dynamic_friction));
   }
-  Material out{material.static_friction(), material.dynamic_friction()};
   const std::pair<const char*, double*> contact[] = {
       {"contact_stiffness", &out.contact_stiffness}, {"contact_damping", &out.contact_damping},
       {"bristle_stiffness", &out.bristle_stiffness}, {"bristle_damping", &out.bristle_damping},

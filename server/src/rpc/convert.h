@@ -15,7 +15,8 @@ Vec3 FromProto(const v1::Vec3& v);
 // An absent orientation is the identity; a present one must be within 1e-3 of unit norm and is normalised.
 Pose PoseFromProto(const std::string& field, const v1::Pose& pose);
 Inertial InertialFromProto(const std::string& field, const v1::Inertial& inertial);
-Material MaterialFromProto(const std::string& field, const v1::Material& material);
+// Fields the message leaves unset keep `base`'s values.
+Material MaterialFromProto(const std::string& field, const v1::Material& material, const Material& base);
 TriangleMesh MeshFromProto(const std::string& field, const v1::MeshData& mesh, const Limits& limits);
 // Loads mesh_file geometry from the scene's files.
 Geometry GeometryFromProto(const std::string& field, const v1::Geometry& geometry, const FileLookup& files,

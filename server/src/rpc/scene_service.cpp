@@ -123,7 +123,7 @@ grpc::ServerUnaryReactor* SceneServiceImpl::AddObject(grpc::CallbackServerContex
         ThrowInvalidArgument("source: give geometry or builtin");
     }
     if (request->has_inertial()) body.inertial = InertialFromProto("inertial", request->inertial());
-    if (request->has_material()) body.material = MaterialFromProto("material", request->material());
+    if (request->has_material()) body.material = MaterialFromProto("material", request->material(), body.material);
     ToProto(scene->AddObject(std::move(body), pose), pose, false, response);
   });
 }

@@ -67,11 +67,32 @@ TEST(ConvertMaterial, StaticBelowDynamicRejected) {
   v1::Material material;
   material.set_static_friction(0.3);
   material.set_dynamic_friction(0.5);
-  ExpectError([&] { MaterialFromProto("material", material); }, ErrorCode::kInvalidArgument,
+  ExpectError([&] { MaterialFromProto("material", material, Material()); }, ErrorCode::kInvalidArgument,
               {"static_friction", "dynamic_friction"});
   material.set_dynamic_friction(-0.1);
-  ExpectError([&] { MaterialFromProto("material", material); }, ErrorCode::kInvalidArgument,
+  ExpectError([&] { MaterialFromProto("material", material, Material()); }, ErrorCode::kInvalidArgument,
               {"material.dynamic_friction"});
+}
+
+TEST(ConvertMaterial, UnsetFieldsKeepTheBodysOwn) {
+  v1::Material material;
+  material.set_contact_stiffness(2e4);  // contact fields only: friction stays the base's
+  Material base;
+  base.static_friction = 0.9;
+  base.dynamic_friction = 0.7;
+  Material out = MaterialFromProto("material", material, base);
+  EXPECT_EQ(out.static_friction, 0.9);
+  EXPECT_EQ(out.dynamic_friction, 0.7);
+  EXPECT_EQ(out.contact_stiffness, 2e4);
+  material.set_static_friction(0);  // explicitly frictionless
+  material.set_dynamic_friction(0);
+  out = MaterialFromProto("material", material, base);
+  EXPECT_EQ(out.static_friction, 0);
+  EXPECT_EQ(out.dynamic_friction, 0);
+  material.clear_dynamic_friction();  // 0.5 against the base's 0.7 dynamic: refused, naming both
+  material.set_static_friction(0.5);
+  ExpectError([&] { MaterialFromProto("material", material, base); }, ErrorCode::kInvalidArgument,
+              {"static_friction 0.5", "dynamic_friction 0.7"});
 }
 
 TEST(ConvertMesh, PackedArraysRoundTrip) {
