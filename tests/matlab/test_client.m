@@ -607,7 +607,7 @@ end
 
 function test_error_other_services_unimplemented(c, sid)
 expectError(@() c.call('GraspService', 'SimulateGrasp', struct('scene_id', sid)), 'graspsim:UNIMPLEMENTED', {});
-expectError(@() c.call('TactileService', 'Sample', struct()), 'graspsim:UNIMPLEMENTED', {});
+expectError(@() c.call('PerceptionService', 'SegmentScene', struct()), 'graspsim:UNIMPLEMENTED', {});
 expectError(@() c.call('SceneService', 'NoSuchMethod', struct()), 'graspsim:NOT_FOUND', {'NoSuchMethod'});
 expectError(@() c.call('SceneService', 'GetScene', struct('scene_idd', sid)), 'graspsim:INVALID_ARGUMENT', ...
             {'scene_idd'});

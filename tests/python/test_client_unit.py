@@ -11,8 +11,9 @@ import pytest
 import graspsim
 from graspsim import inertia, meshes
 from graspsim._upload import upload_chunks
+from graspsim._sensors import reading_from_proto
 from graspsim._watch import Snapshot
-from graspsim.v1 import common_pb2, scene_pb2
+from graspsim.v1 import common_pb2, scene_pb2, tactile_pb2
 
 
 @contextlib.contextmanager
@@ -148,6 +149,33 @@ def test_snapshot_unpacks_packed_arrays():
     assert snap.joint_position("j") == 0.5 and (snap.sequence, snap.revision) == (3, 7)
     with pytest.raises(ValueError):
         Snapshot.from_proto(scene_pb2.SceneSnapshot(body_ids=["a"], body_poses=b"\0" * 8))
+
+
+def test_tactile_reading_unpacks_little_endian_texels():
+    intensities = np.arange(6, dtype="<u2") * 700          # 2 rows x 3 cols, row-major
+    forces = np.arange(18, dtype="<f4") / 4                # x y z per texel
+    msg = tactile_pb2.SensorReading(sensor_id="g/pad", time=1.5, tactile=tactile_pb2.TactileReading(
+        rows=2, cols=3, intensities=intensities.tobytes(), forces=forces.tobytes(), intensity_sum=10500,
+        force_sum=common_pb2.Vec3(x=1, y=2, z=3)))
+    frame = reading_from_proto(msg)
+    assert isinstance(frame, graspsim.TactileFrame)
+    assert (frame.sensor_id, frame.time, frame.rows, frame.cols, frame.intensity_sum) == ("g/pad", 1.5, 2, 3, 10500)
+    assert frame.intensities.dtype == np.uint16 and frame.intensities.shape == (2, 3)
+    assert frame.intensities[1, 0] == 2100, "row-major: texel (1, 0) is the fourth value"
+    assert frame.forces.dtype == np.float32 and frame.forces.shape == (2, 3, 3)
+    np.testing.assert_array_equal(frame.forces[1, 2], [3.75, 4.0, 4.25])
+    np.testing.assert_array_equal(frame.force_sum, [1, 2, 3])
+    with pytest.raises(ValueError, match="2 x 3"):
+        msg.tactile.forces = forces[:-3].tobytes()
+        reading_from_proto(msg)
+
+
+def test_gripper_reading_and_unknown_kind():
+    msg = tactile_pb2.SensorReading(sensor_id="g/gripper", time=0.25, gripper=tactile_pb2.GripperReading(
+        finger_distance=0.06, motor_current=-1.5, finger_velocity=-0.02))
+    assert reading_from_proto(msg) == graspsim.GripperState("g/gripper", 0.25, 0.06, -1.5, -0.02)
+    with pytest.raises(ValueError, match="force_torque"):
+        reading_from_proto(tactile_pb2.SensorReading(sensor_id="j", force_torque=tactile_pb2.ForceTorqueReading()))
 
 
 def test_error_str_names_code():

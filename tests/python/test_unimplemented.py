@@ -12,8 +12,8 @@ CALLS = {
         grasp_pb2.SimulateGraspRequest(scene_id="s", body_id="b", hand_id="h"), timeout=10),
     "PerceptionService.SegmentScene": lambda ch: perception_pb2_grpc.PerceptionServiceStub(ch).SegmentScene(
         perception_pb2.SegmentSceneRequest(), timeout=10),
-    "TactileService.Sample": lambda ch: tactile_pb2_grpc.TactileServiceStub(ch).Sample(
-        tactile_pb2.SampleRequest(scene_id="s", sensor_id="x"), timeout=10),
+    "TactileService.RunWorkCycle": lambda ch: next(tactile_pb2_grpc.TactileServiceStub(ch).RunWorkCycle(
+        tactile_pb2.RunWorkCycleRequest(scene_id="s"), timeout=10)),
 }
 
 

@@ -47,15 +47,21 @@ Accuracy SettleAccuracy(Integrator integrator, double time_step) {
   Accuracy out;
   out.steps = std::lround(3.0 / time_step);
   const auto start = std::chrono::steady_clock::now();
+  double deepest = 0;
   try {
-    simulation.Step(&world.state, static_cast<int>(out.steps));
+    for (long i = 0; i < out.steps; ++i) {
+      simulation.Step(&world.state, 1);
+      deepest = std::max(deepest, r - world.state.body_poses[1].position.z());
+    }
   } catch (const Error& error) {
     out.error = error.what();
   }
   out.seconds = Since(start);
   if (out.error.empty() && simulation.contacts().size() != 1) out.error = "contacts != 1";
-  const double depth = r - world.state.body_poses[1].position.z();
-  out.rel_error = std::abs(depth / (m * kG / (1e4 / 2)) - 1);
+  const double k = 1e4 / 2, c = 20.0 / 2, d_s = m * kG / k;
+  const double zeta = c / (2 * std::sqrt(k * m));
+  out.rel_error = std::abs((r - world.state.body_poses[1].position.z()) / d_s - 1);
+  out.peak_rel_error = std::abs(deepest / (d_s * (1 + std::exp(-zeta * M_PI / std::sqrt(1 - zeta * zeta)))) - 1);
   return out;
 }
 
@@ -98,7 +104,9 @@ Accuracy StribeckAccuracy(Integrator integrator, double time_step) {
     if (!out.error.empty()) break;
     const double g = normal * (mu_d + (mu_s - mu_d) * std::exp(-speed * speed / (v_s * v_s)));
     const double friction = -simulation.contact_forces().at(0).x();
-    out.rel_error = std::max(out.rel_error, std::abs(friction / (g + c_t * speed) - 1));
+    const double error = std::abs(friction / (g + c_t * speed) - 1);
+    if (error > out.rel_error) out.worst_speed = speed;
+    out.rel_error = std::max(out.rel_error, error);
   }
   return out;
 }

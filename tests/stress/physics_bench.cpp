@@ -1,6 +1,6 @@
 // graspsim_physics_bench: the in-process accuracy figures of `tests/bench/run physics` as one JSON object:
 // {"settle": [...], "stribeck": [...]}, one entry per time step × integrator with the relative error against the
-// analytic answer and the wall time (stress/accuracy.h).
+// analytic answer (settle: also of the transient's peak) and the wall time (stress/accuracy.h). Progress: stderr.
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -23,12 +23,16 @@ int main() {
     for (Integrator integrator : integrators) {
       for (double dt : steps) {
         const Accuracy a = std::string(test) == "settle" ? SettleAccuracy(integrator, dt) : StribeckAccuracy(integrator, dt);
-        std::cerr << test << " " << Name(integrator) << " dt=" << dt << ": " << a.rel_error << " in " << a.seconds
+        std::cerr << test << " " << Name(integrator) << " dt=" << dt << ": " << a.rel_error << " (peak "
+                  << a.peak_rel_error << ") in " << a.seconds
                   << " s " << a.error << "\n";
         std::string error;
         for (char ch : a.error) error += (ch == '"' || ch == '\\') ? '\'' : ch;
         out << (first ? "" : ",") << "{\"integrator\":\"" << Name(integrator) << "\",\"dt\":" << dt
-            << ",\"rel_error\":" << a.rel_error << ",\"seconds\":" << a.seconds << ",\"steps\":" << a.steps
+            << ",\"rel_error\":" << a.rel_error;
+        if (std::string(test) == "settle") out << ",\"peak_rel_error\":" << a.peak_rel_error;
+        if (std::string(test) == "stribeck") out << ",\"worst_speed\":" << a.worst_speed;
+        out << ",\"seconds\":" << a.seconds << ",\"steps\":" << a.steps
             << ",\"error\":\"" << error << "\"}";
         first = false;
       }

@@ -1,5 +1,5 @@
-"""Tables and plot of the stability sweep: reads graspsim_stress's JSON lines, writes an SVG of the largest stable
-time step against k per integrator, and prints (or writes into a Markdown file between the markers
+"""Tables and plot of the stability sweep: reads graspsim_stress's JSON lines, writes an SVG map of the stable
+region over k × dt per integrator, and prints (or writes into a Markdown file between the markers
 <!-- stress-tables:begin --> and <!-- stress-tables:end -->) the tables of docs/physics-stability.md.
 
 usage: report.py SWEEP.jsonl SVG [MARKDOWN]
@@ -7,7 +7,6 @@ usage: report.py SWEEP.jsonl SVG [MARKDOWN]
 Plain Python (no matplotlib in build/venv): the SVG is written by hand.
 """
 import json
-import math
 import re
 import sys
 from collections import defaultdict
@@ -87,59 +86,39 @@ def tables(rows, meta):
 
 
 def svg(rows, path):
-    """Three panels (one per integrator): largest stable dt against k, one line per scenario and mass."""
-    colours = {"tip_on_table": "#1f77b4", "tip_on_object": "#d62728", "slide": "#2ca02c"}
-    dashes = {0.05: "", 0.3: "6,3", 3.0: "2,3"}
-    w, h, left, top, pw, ph, gap = 1020, 380, 60, 40, 280, 260, 50
-    kmin, kmax, dmin, dmax = 1e2, 1e6, 3e-6, 1e-2
-
-    def x(panel, k):
-        return left + panel * (pw + gap) + pw * (math.log10(k) - math.log10(kmin)) / (math.log10(kmax / kmin))
-
-    def y(dt):
-        return top + ph * (1 - (math.log10(dt) - math.log10(dmin)) / math.log10(dmax / dmin))
-
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" '
-           'font-size="11"><rect width="100%" height="100%" fill="white"/>']
-    groups = defaultdict(list)
+    """Three heat maps (one per integrator) over k × dt of the main grid: each cell coloured by the share of its
+    scenario × mass runs that are stable (red none … green all), with the count written in it."""
+    ks = sorted({r["k"] for r in rows if r["grid"] == "main"})
+    dts = sorted({r["dt"] for r in rows if r["grid"] == "main"})
+    cells = defaultdict(list)
     for r in rows:
         if r["grid"] == "main":
-            groups[(r["integrator"], r["scenario"], r["mass"], r["k"])].append(r)
+            cells[(r["integrator"], r["k"], r["dt"])].append(r["stable"])
+    cw, ch, left, top, gap = 52, 30, 70, 40, 40
+    pw = cw * len(ks)
+    w, h = left + 3 * pw + 2 * gap + 20, top + ch * len(dts) + 60
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" '
+           'font-size="11"><rect width="100%" height="100%" fill="white"/>']
     for p, integrator in enumerate(INTEGRATORS):
         x0 = left + p * (pw + gap)
-        out.append(f'<rect x="{x0}" y="{top}" width="{pw}" height="{ph}" fill="none" stroke="#444"/>')
         out.append(f'<text x="{x0 + pw / 2}" y="{top - 12}" text-anchor="middle" font-size="13">{SHORT[integrator]}</text>')
-        for k in [1e2, 1e3, 1e4, 1e5, 1e6]:
-            out.append(f'<line x1="{x(p, k)}" y1="{top}" x2="{x(p, k)}" y2="{top + ph}" stroke="#ddd"/>')
-            out.append(f'<text x="{x(p, k)}" y="{top + ph + 14}" text-anchor="middle">{fmt(k)}</text>')
-        for dt in [1e-5, 1e-4, 1e-3, 1e-2]:
-            out.append(f'<line x1="{x0}" y1="{y(dt)}" x2="{x0 + pw}" y2="{y(dt)}" stroke="#ddd"/>')
-            if p == 0:
-                out.append(f'<text x="{x0 - 4}" y="{y(dt) + 4}" text-anchor="end">{fmt(dt)}</text>')
-        out.append(f'<text x="{x0 + pw / 2}" y="{top + ph + 30}" text-anchor="middle">k (N/m)</text>')
-        for scenario in SCENARIOS:
-            for mass in sorted({m for (_, _, m, _) in groups}):
-                points = []
-                for k in [1e2, 1e3, 1e4, 1e5, 1e6]:
-                    runs = groups.get((integrator, scenario, mass, k))
-                    if runs:
-                        best = largest_stable(runs)[0]
-                        points.append((x(p, k), y(best) if best else y(dmin)))
-                if points:
-                    d = " ".join(f"{a:.1f},{b:.1f}" for a, b in points)
-                    out.append(f'<polyline points="{d}" fill="none" stroke="{colours[scenario]}" stroke-width="1.8" '
-                               f'stroke-dasharray="{dashes.get(mass, "")}"/>')
-    out.append(f'<text x="16" y="{top + ph / 2}" transform="rotate(-90 16 {top + ph / 2})" text-anchor="middle">'
-               'largest stable dt (s); bottom edge: none</text>')
-    ly = h - 22
-    for i, scenario in enumerate(SCENARIOS):
-        out.append(f'<line x1="{left + i * 150}" y1="{ly}" x2="{left + i * 150 + 24}" y2="{ly}" '
-                   f'stroke="{colours[scenario]}" stroke-width="2"/><text x="{left + i * 150 + 30}" y="{ly + 4}">'
-                   f'{scenario}</text>')
-    for i, (mass, dash) in enumerate(dashes.items()):
-        lx = left + 470 + i * 120
-        out.append(f'<line x1="{lx}" y1="{ly}" x2="{lx + 24}" y2="{ly}" stroke="#444" stroke-width="2" '
-                   f'stroke-dasharray="{dash}"/><text x="{lx + 30}" y="{ly + 4}">{mass:g} kg</text>')
+        for i, k in enumerate(ks):
+            out.append(f'<text x="{x0 + (i + 0.5) * cw}" y="{top + ch * len(dts) + 14}" text-anchor="middle">{fmt(k)}</text>')
+            for j, dt in enumerate(reversed(dts)):
+                stable = cells.get((integrator, k, dt), [])
+                share = sum(stable) / len(stable) if stable else 0
+                red, green = int(215 - 170 * share), int(60 + 140 * share)
+                out.append(f'<rect x="{x0 + i * cw}" y="{top + j * ch}" width="{cw}" height="{ch}" '
+                           f'fill="rgb({red},{green},70)" stroke="white"/>')
+                out.append(f'<text x="{x0 + (i + 0.5) * cw}" y="{top + (j + 0.5) * ch + 4}" text-anchor="middle" '
+                           f'fill="white">{sum(stable)}/{len(stable)}</text>')
+                if p == 0 and i == 0:
+                    out.append(f'<text x="{x0 - 6}" y="{top + (j + 0.5) * ch + 4}" text-anchor="end">{fmt(dt)}</text>')
+        out.append(f'<text x="{x0 + pw / 2}" y="{top + ch * len(dts) + 30}" text-anchor="middle">k (N/m)</text>')
+    out.append(f'<text x="14" y="{top + ch * len(dts) / 2}" transform="rotate(-90 14 {top + ch * len(dts) / 2})" '
+               'text-anchor="middle">time step (s)</text>')
+    out.append(f'<text x="{left}" y="{h - 8}">cells: stable runs of the 9 (scenario × mass) cases: fingertip on table, '
+               'fingertip on 3 kg object, slide; 0.05, 0.3, 3 kg</text>')
     out.append("</svg>")
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")

@@ -63,8 +63,18 @@ Simulation::Simulation(std::shared_ptr<const SceneModel> model)
     : model_(std::move(model)),
       params_(model_->simulation),
       multibody_(*model_),
-      finder_(*model_, ContactFinderOptions{params_.sample_spacing, 0}) {
+      finder_(*model_, ContactFinderOptions{params_.sample_spacing, 0}),
+      pads_(*model_) {
   for (const BodySpec& body : model_->bodies) body_params_.push_back(BodyContactParams(body.material, params_.contact));
+  for (const TactileArraySpec& pad : model_->tactile_arrays) {
+    // Spring, damper and bristle constants are per element of an undivided pad: subdividing shares them.
+    ContactParams law = pad.contact;
+    const double share = 1.0 / (std::max(1u, pad.subdivision) * std::max(1u, pad.subdivision));
+    for (double* x : {&law.stiffness, &law.damping, &law.bristle_stiffness, &law.bristle_damping, &law.viscous_friction}) {
+      *x *= share;
+    }
+    pad_params_.push_back(law);
+  }
 }
 
 void Simulation::PrepareState(SceneState* state) const {
@@ -72,6 +82,10 @@ void Simulation::PrepareState(SceneState* state) const {
   state->joint_velocities.resize(model_->joints.size(), 0);
   state->sleeping.resize(model_->bodies.size(), false);
   state->rest_time.resize(model_->bodies.size(), 0);
+  state->pad_forces.resize(model_->tactile_arrays.size());
+  for (uint32_t pad = 0; pad < model_->tactile_arrays.size(); ++pad) {
+    state->pad_forces[pad].resize(pads_.Elements(pad).size(), Vec3::Zero());
+  }
 }
 
 ContactParams Simulation::PairParams(uint32_t a, uint32_t b) const {
@@ -129,6 +143,7 @@ void Simulation::SubStep(SceneState* state, double h) {
     multibody_.SetVelocities(v_next, state);
     multibody_.Integrate(v_next, h, state);
   }
+  RecordPadForces(state);
   ClampJointLimits(state);
   UpdateSleep(state, h);
 }
@@ -142,11 +157,38 @@ void Simulation::FindContacts(SceneState* state) {
     return model_->bodies[body].motion == BodyMotion::kStatic || state->sleeping[body];
   };
   std::erase_if(contacts_, [&](const ContactPoint& c) { return resting(c.body_a) && resting(c.body_b); });
+  contact_params_.clear();
+  for (const ContactPoint& c : contacts_) contact_params_.push_back(PairParams(c.body_a, c.body_b));
+  AddPadContacts(*state);
   for (const ContactPoint& c : contacts_) {
     if (state->sleeping[c.body_a] || state->sleeping[c.body_b]) {
       state->sleeping[c.body_a] = state->sleeping[c.body_b] = false;
       state->rest_time[c.body_a] = state->rest_time[c.body_b] = 0;
     }
+  }
+}
+
+void Simulation::AddPadContacts(const SceneState& state) {
+  // Each sensing element's segment into the foam: a hit is a soft contact with the pad's own law, acting on the
+  // touching body (body_a) and the pad's link (body_b). Pads whose foam touches nothing cast nothing.
+  if (model_->tactile_arrays.empty()) return;
+  pad_hits_.clear();
+  pads_.Cast(state.body_poses, &pad_hits_);
+  for (const PadHit& hit : pad_hits_) {
+    const auto link = static_cast<uint32_t>(model_->body_index.at(model_->tactile_arrays[hit.pad].body_id));
+    contacts_.push_back({hit.body, link, PadFeature(hit.pad, hit.element), hit.point, hit.normal, hit.depth});
+    contact_params_.push_back(pad_params_[hit.pad]);
+  }
+}
+
+void Simulation::RecordPadForces(SceneState* state) const {
+  // The reaction on the pad (body_b) of each element's contact force; elements without contact read zero.
+  for (std::vector<Vec3>& pad : state->pad_forces) std::fill(pad.begin(), pad.end(), Vec3::Zero());
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    const uint64_t feature = contacts_[i].feature;
+    if ((feature >> 63) == 0) continue;
+    const auto pad = static_cast<uint32_t>((feature >> 32) & 0x7fffffff), element = static_cast<uint32_t>(feature);
+    state->pad_forces[pad][element] = -forces_[i];
   }
 }
 
@@ -176,14 +218,14 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     while (end < contacts_.size() && contacts_[end].body_a == a && contacts_[end].body_b == b) ++end;
     const Multibody::SpatialJacobian W = multibody_.BodyJacobian(state, a) - multibody_.BodyJacobian(state, b);
     const Vec6 twist = W * v;
-    const ContactParams params = PairParams(a, b);
     Vec6 wrench = Vec6::Zero();
     Mat6 K = Mat6::Zero(), D = Mat6::Zero();
     for (size_t i = begin; i < end; ++i) {
       const ContactPoint& c = contacts_[i];
       const Vec3 z = forces->bristle[i] = FindBristle(state, ContactKey{a, b, c.feature});
       const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
-      const ContactForce& force = forces->contact[i] = EvaluateContact(params, c.depth, c.normal, relative, z);
+      const ContactForce& force = forces->contact[i] =
+          EvaluateContact(contact_params_[i], c.depth, c.normal, relative, z);
       forces->contact_pair[i] = forces->pair_jacobians.size();
       forces_[i] = force.force;
       wrench.head<3>() += c.point.cross(force.force);
@@ -256,7 +298,7 @@ void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v,
   for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists.push_back(W * v);
   for (size_t i = 0; i < contacts_.size(); ++i) {
     const ContactPoint& c = contacts_[i];
-    const ContactParams params = PairParams(c.body_a, c.body_b);
+    const ContactParams& params = contact_params_[i];
     if (!params.HasFriction()) continue;
     const Vec6& twist = twists[forces.contact_pair[i]];
     const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "collision/contact_finder.h"
+#include "collision/tactile_rays.h"
 #include "physics/actuators.h"
 #include "physics/contact_law.h"
 #include "physics/multibody.h"
@@ -23,6 +24,11 @@
 #include "world/state.h"
 
 namespace graspsim {
+
+// The contact feature of a tactile pad's sensing element: the top bit keeps it apart from surface samples.
+constexpr uint64_t PadFeature(uint32_t pad, uint32_t element) {
+  return (uint64_t{1} << 63) | (uint64_t{pad} << 32) | element;
+}
 
 // Checks a parameter set at the boundary; throws Error(kInvalidArgument) naming the field.
 void ValidateSimulationParams(const SimulationParams& params);
@@ -46,7 +52,8 @@ class Simulation {
   // and the quantity, and leaves *state as it was before the call.
   StepStats Step(SceneState* state, int steps);
 
-  // The contact points and their forces (on body_a, world, N) of the last sub-step.
+  // The contact points and their forces (on body_a, world, N) of the last sub-step. Tactile pad contacts are
+  // among them: body_a the touching body, body_b the pad's link, feature = PadFeature(pad, element).
   const std::vector<ContactPoint>& contacts() const { return contacts_; }
   const std::vector<Vec3>& contact_forces() const { return forces_; }
 
@@ -67,6 +74,8 @@ class Simulation {
   // The stages of one sub-step, in order.
   void SubStep(SceneState* state, double h);
   void FindContacts(SceneState* state);
+  void AddPadContacts(const SceneState& state);
+  void RecordPadForces(SceneState* state) const;
   void ContactForces(const SceneState& state, const Eigen::VectorXd& v, Forces* forces);
   void ActuatorForces(SceneState* state, double h, Forces* forces);
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
@@ -81,8 +90,12 @@ class Simulation {
   const SimulationParams& params_;
   Multibody multibody_;
   ContactFinder finder_;
+  TactileRayCaster pads_;
+  std::vector<ContactParams> pad_params_;  // per tactile array: its foam's law per sensing element
   std::vector<ContactParams> body_params_;  // per body, materials merged with the defaults
   std::vector<ContactPoint> contacts_;
+  std::vector<ContactParams> contact_params_;  // per contact: the pair's combined law, or the pad's
+  std::vector<PadHit> pad_hits_;
   std::vector<Vec3> forces_;
 };
 

@@ -9,6 +9,7 @@
 #include "core/format.h"
 #include "core/log.h"
 #include "rpc/scene_service.h"
+#include "rpc/tactile_service.h"
 #include "rpc/unimplemented_services.h"
 
 namespace graspsim::rpc {
@@ -21,7 +22,7 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
   services_.push_back(std::make_unique<SceneServiceImpl>(&registry_, &pool_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<PerceptionServiceStub>());
   services_.push_back(std::make_unique<GraspServiceStub>());
-  services_.push_back(std::make_unique<TactileServiceStub>());
+  services_.push_back(std::make_unique<TactileServiceImpl>(&registry_, &pool_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<GatewayServiceStub>());
 
   grpc::ServerBuilder builder;

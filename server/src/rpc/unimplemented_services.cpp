@@ -28,7 +28,6 @@ Unary* NotBuiltYetUnary(Context* context, const char* method, const char* capabi
 constexpr char kShapeCompletion[] = "shape completion";
 constexpr char kGraspPlanning[] = "grasp planning";
 constexpr char kMotionPlanning[] = "arm motion planning and pick-and-place";
-constexpr char kTactile[] = "tactile sensing";
 constexpr char kGateway[] = "the hardware gateway";
 
 }  // namespace
@@ -51,19 +50,6 @@ Unary* GraspServiceStub::PlanArmPath(Context* c, const v1::PlanArmPathRequest*, 
 }
 Writer<v1::PickAndPlaceProgress>* GraspServiceStub::PickAndPlace(Context* c, const v1::PickAndPlaceRequest*) {
   return NotBuiltYetStream<v1::PickAndPlaceProgress>(c, "GraspService/PickAndPlace", kMotionPlanning);
-}
-
-Unary* TactileServiceStub::Sample(Context* c, const v1::SampleRequest*, v1::SensorReading*) {
-  return NotBuiltYetUnary(c, "TactileService/Sample", kTactile);
-}
-Writer<v1::SensorReading>* TactileServiceStub::Stream(Context* c, const v1::StreamRequest*) {
-  return NotBuiltYetStream<v1::SensorReading>(c, "TactileService/Stream", kTactile);
-}
-Unary* TactileServiceStub::GetTactileImage(Context* c, const v1::GetTactileImageRequest*, v1::TactileImage*) {
-  return NotBuiltYetUnary(c, "TactileService/GetTactileImage", kTactile);
-}
-Writer<v1::WorkCycleProgress>* TactileServiceStub::RunWorkCycle(Context* c, const v1::RunWorkCycleRequest*) {
-  return NotBuiltYetStream<v1::WorkCycleProgress>(c, "TactileService/RunWorkCycle", kTactile);
 }
 
 grpc::ServerBidiReactor<v1::GatewayMessage, v1::GatewayCommand>* GatewayServiceStub::Connect(Context* c) {

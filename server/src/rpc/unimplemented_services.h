@@ -5,7 +5,6 @@
 #include "graspsim/v1/gateway.grpc.pb.h"
 #include "graspsim/v1/grasp.grpc.pb.h"
 #include "graspsim/v1/perception.grpc.pb.h"
-#include "graspsim/v1/tactile.grpc.pb.h"
 
 namespace graspsim::rpc {
 
@@ -26,14 +25,6 @@ class GraspServiceStub final : public v1::GraspService::CallbackService {
   Unary* SimulateGrasp(Context*, const v1::SimulateGraspRequest*, v1::Grasp*) override;
   Unary* PlanArmPath(Context*, const v1::PlanArmPathRequest*, v1::PlanArmPathResponse*) override;
   Writer<v1::PickAndPlaceProgress>* PickAndPlace(Context*, const v1::PickAndPlaceRequest*) override;
-};
-
-class TactileServiceStub final : public v1::TactileService::CallbackService {
- public:
-  Unary* Sample(Context*, const v1::SampleRequest*, v1::SensorReading*) override;
-  Writer<v1::SensorReading>* Stream(Context*, const v1::StreamRequest*) override;
-  Unary* GetTactileImage(Context*, const v1::GetTactileImageRequest*, v1::TactileImage*) override;
-  Writer<v1::WorkCycleProgress>* RunWorkCycle(Context*, const v1::RunWorkCycleRequest*) override;
 };
 
 class GatewayServiceStub final : public v1::GatewayService::CallbackService {

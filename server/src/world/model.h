@@ -79,13 +79,24 @@ struct JointSpec {
 
 // A pad's frame: origin at the centre of the sensing area on the surface it is mounted on; cols along x, rows
 // along y, the foam filling 0 <= z <= thickness and sensing along +z (toward what it touches).
+// The sensing mesh is a flat grid of (rows · subdivision) × (cols · subdivision) elements at the centres of
+// equal cells, at z = 0 (the mounting surface); each element casts a segment of length `thickness` along +z and
+// belongs to the texel containing it. Contact parameters are per element of an undivided pad (one element per
+// texel); subdivided pads scale stiffness and damping by 1/subdivision² so the pad as a whole keeps them.
 struct TactileArraySpec {
   std::string id;                 // "<robot>/<sensor>"
   std::string body_id;
   Pose origin;                    // pad frame in the body frame
   unsigned rows = 0, cols = 0;
   double pitch = 0;               // m
-  double thickness = 0;           // m
+  double thickness = 0;           // m, the foam: maximum penetration
+  unsigned subdivision = 1;       // sensing elements per texel edge
+  // The foam's contact law (PAPERS.md part B's sensor definition: k 1e3, c 10, σ0 200, σ1 0.5, μs 0.9, μd 0.6).
+  ContactParams contact{1e3, 10, 0.9, 0.6, 200, 0.5, 0, 1e-3};
+  // DSA 9205 output: intensity = min(4095, intensity_per_newton · texel normal force). Assumption (no datasheet
+  // value): 4095 at 3 N per 3.4 mm texel, about 260 kPa.
+  double intensity_per_newton = 4095.0 / 3.0;
+  unsigned max_intensity = 4095;  // 12 bit
 };
 
 struct RobotSpec {

@@ -38,6 +38,9 @@ struct SceneState {
   // reports contacts in, so a step rebuilds it in order and looks keys up by binary search.
   std::vector<std::pair<ContactKey, Vec3>> bristles;
   std::map<size_t, JointActuator> actuators;  // by joint index: driven joints
+  // Per tactile array, per sensing element (collision/tactile_rays.h order): the force the touching object
+  // exerts on the pad, N, world frame; all zero when nothing touches. Sized by the simulation.
+  std::vector<std::vector<Vec3>> pad_forces;
 };
 
 // The bristle deflection of a contact, or zero for a new one.

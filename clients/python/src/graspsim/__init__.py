@@ -11,9 +11,11 @@ from graspsim import inertia, meshes
 from graspsim._client import Client, connect
 from graspsim._errors import GraspsimError
 from graspsim._pose import Pose, as_pose, quaternion_about_axis, quaternion_to_matrix
+from graspsim._sensors import GripperState, SensorStream, TactileFrame
 from graspsim._watch import SceneWatch, Snapshot
-from graspsim.v1 import common_pb2, scene_pb2
+from graspsim.v1 import common_pb2, scene_pb2, tactile_pb2
 
-__all__ = ["Client", "GraspsimError", "Pose", "SceneWatch", "Snapshot", "as_pose", "common_pb2", "connect",
-           "inertia", "meshes", "quaternion_about_axis", "quaternion_to_matrix", "scene_pb2"]
+__all__ = ["Client", "GraspsimError", "GripperState", "Pose", "SceneWatch", "SensorStream", "Snapshot",
+           "TactileFrame", "as_pose", "common_pb2", "connect", "inertia", "meshes", "quaternion_about_axis",
+           "quaternion_to_matrix", "scene_pb2", "tactile_pb2"]
 __version__ = "0.1.0"

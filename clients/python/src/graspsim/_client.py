@@ -8,9 +8,10 @@ import grpc
 from graspsim import _build
 from graspsim._errors import GraspsimError, translated_errors
 from graspsim._pose import Pose, PoseLike, as_pose
+from graspsim._sensors import Reading, SensorStream, reading_from_proto
 from graspsim._upload import FileData, upload_chunks
 from graspsim._watch import SceneWatch
-from graspsim.v1 import common_pb2, scene_pb2, scene_pb2_grpc
+from graspsim.v1 import common_pb2, scene_pb2, scene_pb2_grpc, tactile_pb2, tactile_pb2_grpc
 
 _CHANNEL_OPTIONS = [
     ("grpc.max_receive_message_length", 256 << 20),  # scenes with include_geometry can be large
@@ -39,13 +40,14 @@ class Client:
 
     Units are SI: m, kg, s, rad; poses are Pose, [x y z qw qx qy qz] or (position, quaternion (w, x, y, z)).
     Every method raises GraspsimError (gRPC code + server message) when the server refuses a request.
-    The raw stub is available as `scene_stub` for messages this class does not wrap.
+    The raw stubs are available as `scene_stub` and `tactile_stub` for messages this class does not wrap.
     """
 
     def __init__(self, channel: grpc.Channel, call_timeout: float = 60.0):
         self.channel = channel
         self.call_timeout = call_timeout
         self.scene_stub = scene_pb2_grpc.SceneServiceStub(channel)
+        self.tactile_stub = tactile_pb2_grpc.TactileServiceStub(channel)
 
     def close(self) -> None:
         """Closes the channel; open WatchScene streams end."""
@@ -57,9 +59,9 @@ class Client:
     def __exit__(self, *exc) -> None:
         self.close()
 
-    def _unary(self, method: str, request):
+    def _unary(self, method: str, request, stub=None):
         with translated_errors():
-            return getattr(self.scene_stub, method)(request, timeout=self.call_timeout)
+            return getattr(stub or self.scene_stub, method)(request, timeout=self.call_timeout)
 
     # --- scenes -------------------------------------------------------------------------------------------
     def create_scene(self, name: str = "scene") -> scene_pb2.SceneSummary:
@@ -241,3 +243,22 @@ class Client:
         command = scene_pb2.ActuatorCommand(joint_id=joint_id, mode=scene_pb2.ActuatorMode.Value(
             "ACTUATOR_MODE_" + mode.upper()), value=value, current_limit=current_limit)
         self._unary("SetActuators", scene_pb2.SetActuatorsRequest(scene_id=scene_id, commands=[command]))
+    # --- sensors ------------------------------------------------------------------------------------------
+    def sample(self, scene_id: str, sensor_id: str) -> Reading:
+        """One reading of a sensor in the scene's current state: a TactileFrame for a tactile array
+        ("pg70/pad_left"), a GripperState for a robot's gripper ("pg70/gripper")."""
+        request = tactile_pb2.SampleRequest(scene_id=scene_id, sensor_id=sensor_id)
+        return reading_from_proto(self._unary("Sample", request, self.tactile_stub))
+
+    def stream_sensors(self, scene_id: str, sensor_ids: Iterable[str], rate_hz: float) -> SensorStream:
+        """A live iterator of readings (TactileFrame / GripperState, one per sensor id in each round): at once,
+        then whenever the scene changes, at most rate_hz rounds per second (the server caps it at its
+        --watch-max-rate-hz), always of the newest state. cancel() it (or use a with-block) to end it."""
+        request = tactile_pb2.StreamRequest(scene_id=scene_id, sensor_ids=list(sensor_ids), rate_hz=rate_hz)
+        return SensorStream(self.tactile_stub.Stream(request))
+
+    def tactile_image(self, scene_id: str, sensor_id: str, scale: int = 20) -> bytes:
+        """A tactile array's current reading as a PNG heat map (inferno colour map, black = no pressure),
+        scale pixels per texel: a PG70 pad (6 x 14 texels) at scale 20 is 120 x 280 px (at most 4096 px a side)."""
+        request = tactile_pb2.GetTactileImageRequest(scene_id=scene_id, sensor_id=sensor_id, scale=scale)
+        return self._unary("GetTactileImage", request, self.tactile_stub).png

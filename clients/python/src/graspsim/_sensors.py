@@ -1,0 +1,119 @@
+"""TactileService readings as dataclasses with numpy arrays, and Stream as an iterator of them."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterator, Union
+
+import grpc
+import numpy as np
+
+from graspsim._errors import from_rpc_error
+from graspsim.v1 import tactile_pb2
+
+
+@dataclass(frozen=True)
+class TactileFrame:
+    """One tactile-array reading, as the Weiss DSACON32 controller delivers it.
+
+    Attributes:
+        sensor_id: the tactile array ("<robot>/<pad>").
+        time: simulation time of the state read, s.
+        rows, cols: texels; rows run along the pad's y, cols along its x.
+        intensities: (rows, cols) uint16, 0..4095 (12 bit): proportional to the texel's normal force, saturated.
+        forces: (rows, cols, 3) float32, N: the force the object exerts on each texel, pad frame (+z presses).
+        intensity_sum: sum of intensities.
+        force_sum: (3,) float64, N, pad frame.
+    """
+
+    sensor_id: str
+    time: float
+    rows: int
+    cols: int
+    intensities: np.ndarray
+    forces: np.ndarray
+    intensity_sum: int
+    force_sum: np.ndarray
+
+    @classmethod
+    def from_proto(cls, sensor_id: str, time: float, msg: tactile_pb2.TactileReading) -> TactileFrame:
+        """Unpacks the little-endian uint16 intensities and float32 forces of a TactileReading."""
+        texels = msg.rows * msg.cols
+        intensities = np.frombuffer(msg.intensities, dtype="<u2").astype(np.uint16)
+        forces = np.frombuffer(msg.forces, dtype="<f4").astype(np.float32)
+        if intensities.size != texels or forces.size != 3 * texels:
+            raise ValueError(f"tactile reading of {sensor_id!r}: {intensities.size} intensities and {forces.size} "
+                             f"force values for {msg.rows} x {msg.cols} texels")
+        return cls(sensor_id, time, msg.rows, msg.cols, intensities.reshape(msg.rows, msg.cols),
+                   forces.reshape(msg.rows, msg.cols, 3), msg.intensity_sum,
+                   np.array([msg.force_sum.x, msg.force_sum.y, msg.force_sum.z], dtype=np.float64))
+
+
+@dataclass(frozen=True)
+class GripperState:
+    """The Schunk PG70's own sensor: jaw opening, motor current, finger speed.
+
+    Attributes:
+        sensor_id: "<robot>/gripper".
+        time: simulation time of the state read, s.
+        finger_distance: m, the sum of the finger joints' positions (0 = closed).
+        motor_current: A, of the driven finger's motor (0 when undriven).
+        finger_velocity: m/s, of the driven finger (negative = closing).
+    """
+
+    sensor_id: str
+    time: float
+    finger_distance: float
+    motor_current: float
+    finger_velocity: float
+
+
+Reading = Union[TactileFrame, GripperState]
+
+
+def reading_from_proto(msg: tactile_pb2.SensorReading) -> Reading:
+    """The dataclass of a SensorReading; ValueError for a kind this client does not know."""
+    kind = msg.WhichOneof("reading")
+    if kind == "tactile":
+        return TactileFrame.from_proto(msg.sensor_id, msg.time, msg.tactile)
+    if kind == "gripper":
+        g = msg.gripper
+        return GripperState(msg.sensor_id, msg.time, g.finger_distance, g.motor_current, g.finger_velocity)
+    raise ValueError(f"reading of {msg.sensor_id!r}: kind {kind!r} is not supported by this client")
+
+
+class SensorStream:
+    """Iterator over a TactileService.Stream: one reading per sensor each time the scene changes, at most at the
+    requested rate, always of the newest state. cancel() (or close(), or leaving a with-block) ends it.
+
+    Iteration blocks until the next reading; after cancel() it stops cleanly (StopIteration). Server errors
+    (bad ids, the scene deleted) are raised as GraspsimError.
+    """
+
+    def __init__(self, call: grpc.Call):
+        self._call = call
+        self._cancelled = False
+
+    def __iter__(self) -> Iterator[Reading]:
+        return self
+
+    def __next__(self) -> Reading:
+        try:
+            return reading_from_proto(next(self._call))
+        except grpc.RpcError as err:
+            if self._cancelled and err.code() == grpc.StatusCode.CANCELLED:
+                raise StopIteration from None
+            raise from_rpc_error(err) from None
+
+    def cancel(self) -> None:
+        """Ends the stream; safe to call from another thread and more than once."""
+        self._cancelled = True
+        self._call.cancel()
+
+    close = cancel
+
+    def __enter__(self) -> SensorStream:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.cancel()
+

@@ -1,0 +1,453 @@
+// Tactile pad elements and their segments cast into Embree BVHs of every body (see tactile_rays.h).
+#include "collision/tactile_rays.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <unordered_map>
+
+#include "collision/mesh_query.h"
+#include "collision/samples.h"
+#include "core/error.h"
+
+namespace graspsim {
+namespace {
+
+using collision::Aabb;
+
+// Largest gap allowed between a tessellated sphere or cylinder and the true surface, m.
+constexpr double kChordError = 1e-4;
+// A 10 m sphere at 0.1 mm would need millions of triangles; beyond this a primitive stays coarser than kChordError.
+constexpr size_t kMaxTrianglesPerPrimitive = size_t{1} << 21;
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// A triangle soup in double, one geometry in its own frame before placement.
+struct LocalMesh {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+};
+
+// Primitives are convex and centred on their frame: a triangle whose normal points toward the centre is flipped,
+// so every primitive comes out counter-clockwise seen from outside whatever order the builder used.
+void OrientOutward(LocalMesh* mesh) {
+  for (auto& t : mesh->triangles) {
+    const Vec3& a = mesh->vertices[t[0]];
+    const Vec3& b = mesh->vertices[t[1]];
+    const Vec3& c = mesh->vertices[t[2]];
+    if ((b - a).cross(c - a).dot(a + b + c) < 0) std::swap(t[1], t[2]);
+  }
+}
+
+// Two triangles per face of the quad (a, b, c, d).
+void AddQuad(uint32_t a, uint32_t b, uint32_t c, uint32_t d, LocalMesh* mesh) {
+  mesh->triangles.push_back({a, b, c});
+  mesh->triangles.push_back({a, c, d});
+}
+
+// Exactly 12 triangles on the 8 corners.
+LocalMesh BoxMesh(const Vec3& half) {
+  LocalMesh mesh;
+  for (int k = 0; k < 8; ++k) {
+    mesh.vertices.emplace_back((k & 1 ? 1 : -1) * half.x(), (k & 2 ? 1 : -1) * half.y(), (k & 4 ? 1 : -1) * half.z());
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    const int b = 1 << ((axis + 1) % 3), c = 1 << ((axis + 2) % 3);
+    for (int side : {0, 1 << axis}) {
+      const uint32_t base = static_cast<uint32_t>(side);
+      AddQuad(base, base | b, base | b | c, base | c, &mesh);
+    }
+  }
+  OrientOutward(&mesh);
+  return mesh;
+}
+
+// The largest distance between a convex inscribed tessellation and the sphere of `radius` about the origin:
+// per triangle, radius minus the distance to the triangle's point closest to the centre.
+double SphereGap(const LocalMesh& mesh, double radius) {
+  double gap = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 c = collision::ClosestPointOnTriangle(Vec3::Zero(), mesh.vertices[t[0]], mesh.vertices[t[1]],
+                                                     mesh.vertices[t[2]]);
+    gap = std::max(gap, radius - c.norm());
+  }
+  return gap;
+}
+
+// A cube sphere: each cube face an n × n grid at equal angles (tan mapping keeps cells near uniform), projected
+// onto the sphere. Vertices are keyed by their integer lattice point so faces share edge vertices exactly and the
+// mesh is watertight. n grows until the measured gap is within kChordError.
+LocalMesh SphereMesh(double radius) {
+  // Cells span (π/2)/n; a triangle's circumradius is about half a cell diagonal, 1.11/n rad, and the gap r(1 − cos φ).
+  int n = std::max(1, static_cast<int>(std::ceil(1.11 / std::sqrt(2 * kChordError / std::max(radius, 1e-12)))));
+  for (;;) {
+    LocalMesh mesh;
+    std::unordered_map<uint64_t, uint32_t> index;
+    const uint64_t side = static_cast<uint64_t>(n) + 1;
+    auto vertex = [&](const std::array<int, 3>& l) {
+      const uint64_t key = (l[0] * side + l[1]) * side + l[2];
+      auto [it, fresh] = index.try_emplace(key, static_cast<uint32_t>(mesh.vertices.size()));
+      if (fresh) {
+        Vec3 u;
+        for (int k = 0; k < 3; ++k) u[k] = std::tan((2.0 * l[k] / n - 1) * std::numbers::pi / 4);
+        mesh.vertices.push_back(radius * u.normalized());
+      }
+      return it->second;
+    };
+    for (int axis = 0; axis < 3; ++axis) {
+      const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+      for (int face : {0, n}) {
+        for (int i = 0; i < n; ++i) {
+          for (int j = 0; j < n; ++j) {
+            std::array<int, 3> l00{}, l10{}, l11{}, l01{};
+            for (auto* l : {&l00, &l10, &l11, &l01}) (*l)[axis] = face;
+            l00[b] = i, l00[c] = j;
+            l10[b] = i + 1, l10[c] = j;
+            l11[b] = i + 1, l11[c] = j + 1;
+            l01[b] = i, l01[c] = j + 1;
+            AddQuad(vertex(l00), vertex(l10), vertex(l11), vertex(l01), &mesh);
+          }
+        }
+      }
+    }
+    const int next = n + std::max(1, n / 8);
+    if (SphereGap(mesh, radius) <= kChordError || 12 * size_t(next) * size_t(next) > kMaxTrianglesPerPrimitive) {
+      OrientOutward(&mesh);
+      return mesh;
+    }
+    n = next;
+  }
+}
+
+// n side segments with sagitta r(1 − cos(π/n)) ≤ kChordError; the caps are fans, planar and exact.
+LocalMesh CylinderMesh(double radius, double half_length) {
+  const double c = std::clamp(1 - kChordError / std::max(radius, 1e-12), -1.0, 1.0);
+  const double segments = std::ceil(std::numbers::pi / std::max(std::acos(c), 1e-9));
+  const uint32_t n = static_cast<uint32_t>(std::clamp(segments, 3.0, double(kMaxTrianglesPerPrimitive / 4)));
+  LocalMesh mesh;
+  mesh.vertices.emplace_back(0, 0, -half_length);  // 0: bottom centre
+  mesh.vertices.emplace_back(0, 0, half_length);   // 1: top centre
+  for (uint32_t i = 0; i < n; ++i) {
+    const double phi = 2 * std::numbers::pi * i / n;
+    mesh.vertices.emplace_back(radius * std::cos(phi), radius * std::sin(phi), -half_length);  // 2 + 2i
+    mesh.vertices.emplace_back(radius * std::cos(phi), radius * std::sin(phi), half_length);   // 3 + 2i
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t b0 = 2 + 2 * i, t0 = b0 + 1, b1 = 2 + 2 * ((i + 1) % n), t1 = b1 + 1;
+    mesh.triangles.push_back({0, b1, b0});
+    mesh.triangles.push_back({1, t0, t1});
+    AddQuad(b0, b1, t1, t0, &mesh);
+  }
+  OrientOutward(&mesh);
+  return mesh;
+}
+
+[[noreturn]] void ThrowEmbree(RTCDevice device, const std::string& what) {
+  throw Error(ErrorCode::kInternal,
+              "embree: " + what + " failed (error " + std::to_string(rtcGetDeviceError(device)) + ")");
+}
+
+struct SceneDeleter {
+  void operator()(RTCScene scene) const { rtcReleaseScene(scene); }
+};
+using ScenePtr = std::unique_ptr<RTCSceneTy, SceneDeleter>;
+
+// One body's collision geometry as the rays see it, in the body frame.
+struct Target {
+  ScenePtr scene;              // null: nothing to hit
+  std::vector<Vec3> normals;   // unit, per Embree primitive: says whether a hit enters or leaves
+  Aabb bounds;                 // of the triangles, grown by float slack
+  std::string robot_id;
+};
+
+struct Pad {
+  std::vector<PadElement> elements;
+  size_t link = 0;             // body index
+  Pose origin;
+  double thickness = 0;
+  Aabb foam;                   // pad frame: every element's segment
+};
+
+// Does the segment o + t d, 0 <= t <= length, meet the box? (slab test)
+bool SegmentMeetsBox(const Vec3& o, const Vec3& d, double length, const Aabb& box) {
+  double lo = 0, hi = length;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0) {
+      if (o[k] < box.lo[k] || o[k] > box.hi[k]) return false;
+      continue;
+    }
+    double t0 = (box.lo[k] - o[k]) / d[k], t1 = (box.hi[k] - o[k]) / d[k];
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0);
+    hi = std::min(hi, t1);
+    if (lo > hi) return false;
+  }
+  return true;
+}
+
+bool Contains(const Aabb& box, const Vec3& p) {
+  return (p.array() >= box.lo.array()).all() && (p.array() <= box.hi.array()).all();
+}
+
+}  // namespace
+
+std::vector<PadElement> MakePadElements(const TactileArraySpec& pad) {
+  const uint32_t s = std::max(pad.subdivision, 1u);
+  const uint32_t rows = pad.rows * s, cols = pad.cols * s;
+  const double cell = pad.pitch / s;
+  std::vector<PadElement> elements(size_t(rows) * cols);
+  for (uint32_t r = 0; r < rows; ++r) {
+    for (uint32_t c = 0; c < cols; ++c) {
+      PadElement& e = elements[size_t(r) * cols + c];
+      e.position = Vec3((c + 0.5) * cell - 0.5 * pad.cols * pad.pitch, (r + 0.5) * cell - 0.5 * pad.rows * pad.pitch, 0);
+      e.row = r / s;
+      e.col = c / s;
+      e.normal = Vec3::Zero();
+    }
+  }
+  // The elements are the vertices of a triangle grid (counter-clockwise seen from +z); each vertex normal is the
+  // normalised sum of its faces' unit normals. Written for any vertex positions so a curved pad can reuse it.
+  auto add_face = [&](size_t a, size_t b, size_t c) {
+    const Vec3 n = (elements[b].position - elements[a].position).cross(elements[c].position - elements[a].position);
+    if (n.squaredNorm() == 0) return;
+    for (size_t v : {a, b, c}) elements[v].normal += n.normalized();
+  };
+  for (uint32_t r = 0; r + 1 < rows; ++r) {
+    for (uint32_t c = 0; c + 1 < cols; ++c) {
+      const size_t v00 = size_t(r) * cols + c, v01 = v00 + 1, v10 = v00 + cols, v11 = v10 + 1;
+      add_face(v00, v01, v11);
+      add_face(v00, v11, v10);
+    }
+  }
+  // A single row or column has no faces: such a strip is flat and faces +z.
+  for (PadElement& e : elements) e.normal = e.normal.squaredNorm() > 0 ? Vec3(e.normal.normalized()) : Vec3::UnitZ();
+  return elements;
+}
+
+struct TactileRayCaster::Impl {
+  collision::EmbreeDevice device;  // declared first: released after the scenes
+  std::vector<Target> bodies;
+  std::vector<Pad> pads;
+  // Scratch of Cast, sized in the constructor so Cast allocates nothing (Cast is therefore not reentrant).
+  mutable std::vector<RTCRayHit> rays;
+  mutable std::vector<double> best_depth, best_t;  // per element of the current pad; depth 0: no hit
+  mutable std::vector<uint32_t> best_body;
+  mutable std::vector<uint8_t> from_inside;        // per packed ray: its base is inside the body's box
+  mutable std::vector<Aabb> world_bounds;          // per body
+  mutable uint64_t ray_count = 0;
+
+  void Build(const BodySpec& body, Target* target);
+};
+
+void TactileRayCaster::Impl::Build(const BodySpec& body, Target* target) {
+  target->robot_id = body.robot_id;
+  std::vector<float> vertices;  // body frame, xyz
+  std::vector<uint32_t> indices;
+  for (const Geometry& g : body.collision) {
+    LocalMesh local;
+    switch (g.kind) {
+      case Geometry::Kind::kBox:
+        local = BoxMesh(0.5 * g.box_size);
+        break;
+      case Geometry::Kind::kSphere:
+        local = SphereMesh(g.radius);
+        break;
+      case Geometry::Kind::kCylinder:
+        local = CylinderMesh(g.radius, 0.5 * g.length);
+        break;
+      case Geometry::Kind::kMesh:
+        if (!g.mesh) continue;
+        for (const auto& v : g.mesh->vertices) local.vertices.push_back(v.cast<double>());
+        local.triangles = g.mesh->triangles;
+        break;
+    }
+    const uint32_t base = static_cast<uint32_t>(vertices.size() / 3);
+    for (const Vec3& v : local.vertices) {
+      const Vec3 p = g.origin * v;
+      for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(p[k]));
+    }
+    // Normals from the float vertices Embree will intersect; zero-area triangles are dropped (no normal to give).
+    auto at = [&](uint32_t i) {
+      return Vec3(vertices[3 * (base + i)], vertices[3 * (base + i) + 1], vertices[3 * (base + i) + 2]);
+    };
+    for (const auto& t : local.triangles) {
+      const Vec3 n = (at(t[1]) - at(t[0])).cross(at(t[2]) - at(t[0]));
+      if (!(n.squaredNorm() > 0)) continue;
+      target->normals.push_back(n.normalized());
+      for (uint32_t i : t) indices.push_back(base + i);
+    }
+  }
+  if (indices.empty()) return;
+  for (size_t i = 0; i < vertices.size(); i += 3) target->bounds.Add(Vec3(vertices[i], vertices[i + 1], vertices[i + 2]));
+  // Float vertices and float rays: grow the box a little so the culling never drops a hit on its faces.
+  const double slack = 1e-6 * (target->bounds.hi - target->bounds.lo).maxCoeff() + 1e-9;
+  target->bounds.lo.array() -= slack;
+  target->bounds.hi.array() += slack;
+
+  RTCDevice dev = device.get();
+  RTCGeometry geometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+  if (geometry == nullptr) ThrowEmbree(dev, "rtcNewGeometry");
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                         3 * sizeof(float), vertices.size() / 3));
+  auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                            3 * sizeof(uint32_t), indices.size() / 3));
+  if (vb == nullptr || ib == nullptr) {
+    rtcReleaseGeometry(geometry);
+    ThrowEmbree(dev, "rtcSetNewGeometryBuffer");
+  }
+  std::copy(vertices.begin(), vertices.end(), vb);
+  std::copy(indices.begin(), indices.end(), ib);
+  rtcCommitGeometry(geometry);
+  target->scene.reset(rtcNewScene(dev));
+  // Robust: a ray through a shared edge (element rows line up with box diagonals) must not slip through.
+  // Built once per model and cast against every step: spend the build time on a high-quality BVH.
+  rtcSetSceneFlags(target->scene.get(), RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(target->scene.get(), RTC_BUILD_QUALITY_HIGH);
+  rtcAttachGeometry(target->scene.get(), geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(target->scene.get());
+  if (rtcGetDeviceError(dev) != RTC_ERROR_NONE) ThrowEmbree(dev, "building the BVH of body '" + body.id + "'");
+}
+
+TactileRayCaster::TactileRayCaster(const SceneModel& model) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.bodies.resize(model.bodies.size());
+  for (size_t b = 0; b < model.bodies.size(); ++b) m.Build(model.bodies[b], &m.bodies[b]);
+  size_t max_elements = 0;
+  for (const TactileArraySpec& spec : model.tactile_arrays) {
+    Pad& pad = m.pads.emplace_back();
+    const auto link = model.body_index.find(spec.body_id);
+    if (link == model.body_index.end()) {
+      ThrowInvalidArgument("tactile array '" + spec.id + "': no body '" + spec.body_id + "'");
+    }
+    pad.link = link->second;
+    pad.origin = spec.origin;
+    pad.thickness = spec.thickness;
+    pad.elements = MakePadElements(spec);
+    for (const PadElement& e : pad.elements) {
+      pad.foam.Add(e.position);
+      pad.foam.Add(e.position + spec.thickness * e.normal);
+    }
+    max_elements = std::max(max_elements, pad.elements.size());
+  }
+  m.rays.resize(max_elements);
+  m.best_depth.resize(max_elements);
+  m.best_t.resize(max_elements);
+  m.best_body.resize(max_elements);
+  m.from_inside.resize(max_elements);
+  m.world_bounds.resize(m.bodies.size());
+}
+
+TactileRayCaster::~TactileRayCaster() = default;
+TactileRayCaster::TactileRayCaster(TactileRayCaster&&) noexcept = default;
+TactileRayCaster& TactileRayCaster::operator=(TactileRayCaster&&) noexcept = default;
+
+const std::vector<PadElement>& TactileRayCaster::Elements(uint32_t pad) const { return impl_->pads.at(pad).elements; }
+
+uint64_t TactileRayCaster::last_ray_count() const { return impl_->ray_count; }
+
+void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<PadHit>* hits) const {
+  const Impl& m = *impl_;
+  if (body_poses.size() != m.bodies.size()) {
+    throw Error(ErrorCode::kInternal, "TactileRayCaster::Cast: " + std::to_string(body_poses.size()) +
+                                          " poses for " + std::to_string(m.bodies.size()) + " bodies");
+  }
+  m.ray_count = 0;
+  for (size_t b = 0; b < m.bodies.size(); ++b) {
+    if (!m.bodies[b].scene) continue;
+    m.world_bounds[b] = collision::TransformAabb(m.bodies[b].bounds, body_poses[b].orientation.toRotationMatrix(),
+                                                 body_poses[b].position);
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one pad's rays are near-parallel and side by side
+
+  for (uint32_t p = 0; p < m.pads.size(); ++p) {
+    const Pad& pad = m.pads[p];
+    const size_t n = pad.elements.size();
+    if (n == 0 || !(pad.thickness > 0)) continue;
+    const Pose pad_world = body_poses[pad.link] * pad.origin;
+    const Mat3 pad_rotation = pad_world.orientation.toRotationMatrix();
+    const Aabb foam = collision::TransformAabb(pad.foam, pad_rotation, pad_world.position);
+    const std::string& own_robot = m.bodies[pad.link].robot_id;
+    std::fill_n(m.best_depth.begin(), n, 0.0);
+
+    for (uint32_t b = 0; b < m.bodies.size(); ++b) {
+      const Target& target = m.bodies[b];
+      if (b == pad.link || !target.scene) continue;
+      if (!own_robot.empty() && target.robot_id == own_robot) continue;  // the hand never senses itself
+      if (!m.world_bounds[b].Overlaps(foam)) continue;
+      // Pad frame → body frame in one map, so each element costs a matrix-vector product.
+      const Pose to_body = body_poses[b].Inverse() * pad_world;
+      const Mat3 rotation = to_body.orientation.toRotationMatrix();
+      uint32_t count = 0;
+      for (uint32_t e = 0; e < n; ++e) {
+        const Vec3 o = rotation * pad.elements[e].position + to_body.position;
+        const Vec3 d = rotation * pad.elements[e].normal;
+        // A segment that misses the body's box can neither enter it nor start inside it: no ray.
+        if (!SegmentMeetsBox(o, d, pad.thickness, target.bounds)) continue;
+        const bool inside = Contains(target.bounds, o);
+        m.from_inside[count] = inside;
+        RTCRayHit& rh = m.rays[count++];
+        rh.ray.org_x = static_cast<float>(o.x());
+        rh.ray.org_y = static_cast<float>(o.y());
+        rh.ray.org_z = static_cast<float>(o.z());
+        rh.ray.dir_x = static_cast<float>(d.x());
+        rh.ray.dir_y = static_cast<float>(d.y());
+        rh.ray.dir_z = static_cast<float>(d.z());
+        rh.ray.tnear = 0;
+        // From inside the box the ray runs on until it leaves the body, so a base buried deeper than the foam
+        // still reads as fully compressed; from outside only the segment matters (the first hit enters).
+        rh.ray.tfar = inside ? kInfinity : std::nextafter(static_cast<float>(pad.thickness), kInfinity);
+        rh.ray.time = 0;
+        rh.ray.mask = 0xffffffffu;
+        rh.ray.id = e;
+        rh.ray.flags = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      }
+      if (count == 0) continue;
+      rtcIntersect1M(target.scene.get(), &context, m.rays.data(), count, sizeof(RTCRayHit));
+      m.ray_count += count;
+      for (uint32_t i = 0; i < count; ++i) {
+        const RTCRayHit& rh = m.rays[i];
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+        const uint32_t e = rh.ray.id;
+        const Vec3 d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+        const double facing = target.normals[rh.hit.primID].dot(d);
+        double depth = 0, t = 0;
+        if (facing < 0) {  // enters the surface
+          t = rh.ray.tfar;
+          depth = pad.thickness - t;
+        } else if (facing > 0 && m.from_inside[i]) {
+          // Leaves first: the base is inside. (Outside the box it cannot be, whatever an open mesh says.)
+          depth = pad.thickness;
+        }
+        if (depth <= 0) continue;  // at or beyond the foam's end: no compression
+        depth = std::min(depth, pad.thickness);
+        // The deepest over the bodies; ties stay with the lower body index (bodies go in order).
+        if (depth > m.best_depth[e]) {
+          m.best_depth[e] = depth;
+          m.best_t[e] = t;
+          m.best_body[e] = b;
+        }
+      }
+    }
+    for (uint32_t e = 0; e < n; ++e) {
+      if (m.best_depth[e] <= 0) continue;
+      PadHit& hit = hits->emplace_back();
+      hit.pad = p;
+      hit.element = e;
+      hit.body = m.best_body[e];
+      hit.depth = m.best_depth[e];
+      hit.normal = pad_rotation * pad.elements[e].normal;
+      hit.point = pad_world * pad.elements[e].position + m.best_t[e] * hit.normal;
+    }
+  }
+}
+
+}  // namespace graspsim

@@ -1,0 +1,116 @@
+#include "rpc/sensor_readings.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <vector>
+
+#include "core/error.h"
+#include "rpc/convert.h"
+#include "sensors/readings.h"
+
+namespace graspsim::rpc {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "graspsim's packed arrays assume a little-endian host");
+
+constexpr char kGripperSuffix[] = "/gripper";
+constexpr size_t kListedSensors = 10;  // an error lists this many available sensors, then a count
+
+bool HasPrismaticJoint(const SceneModel& model, const RobotSpec& robot) {
+  return std::any_of(robot.joint_ids.begin(), robot.joint_ids.end(), [&](const std::string& id) {
+    return model.joints[model.joint_index.at(id)].type == JointType::kPrismatic;
+  });
+}
+
+std::string Shortened(const std::string& id) { return id.size() > 80 ? id.substr(0, 80) + "..." : id; }
+
+std::string AvailableSensors(const SceneModel& model) {
+  std::vector<std::string> ids;
+  for (const TactileArraySpec& pad : model.tactile_arrays) ids.push_back(pad.id);
+  for (const RobotSpec& robot : model.robots) {
+    if (HasPrismaticJoint(model, robot)) ids.push_back(robot.id + kGripperSuffix);
+  }
+  if (ids.empty()) return "the scene has no sensors (tactile arrays and grippers come with robots)";
+  std::sort(ids.begin(), ids.end());
+  std::string list;
+  for (size_t i = 0; i < std::min(ids.size(), kListedSensors); ++i) list += (i ? ", " : "") + ids[i];
+  if (ids.size() > kListedSensors) list += " and " + std::to_string(ids.size() - kListedSensors) + " more";
+  return "available: " + list;
+}
+
+template <typename T>
+std::string Packed(const std::vector<T>& values) {
+  std::string bytes(values.size() * sizeof(T), '\0');
+  if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
+  return bytes;
+}
+
+void TactileToProto(const TactileFrame& frame, v1::TactileReading* out) {
+  out->set_rows(frame.rows);
+  out->set_cols(frame.cols);
+  out->set_intensities(Packed(frame.intensities));
+  std::vector<float> forces;
+  forces.reserve(frame.forces.size() * 3);
+  for (const Vec3& f : frame.forces) forces.insert(forces.end(), {float(f.x()), float(f.y()), float(f.z())});
+  out->set_forces(Packed(forces));
+  out->set_intensity_sum(frame.intensity_sum);
+  ToProto(frame.force_sum, out->mutable_force_sum());
+}
+
+}  // namespace
+
+SensorRef FindSensor(const SceneView& view, const std::string& field, const std::string& id) {
+  const SceneModel& model = *view.model;
+  if (id.empty()) ThrowInvalidArgument(field + ": empty; name a sensor (" + AvailableSensors(model) + ")");
+  if (const auto pad = model.tactile_index.find(id); pad != model.tactile_index.end()) {
+    return {SensorRef::Kind::kTactile, pad->second};
+  }
+  if (id.size() > std::strlen(kGripperSuffix) && id.ends_with(kGripperSuffix)) {
+    const std::string robot_id = id.substr(0, id.size() - std::strlen(kGripperSuffix));
+    if (const auto robot = model.robot_index.find(robot_id); robot != model.robot_index.end()) {
+      if (!HasPrismaticJoint(model, model.robots[robot->second])) {
+        ThrowNotFound(field + ": no sensor '" + Shortened(id) + "' in scene '" + view.id + "': robot '" + robot_id +
+                      "' has no prismatic joints, so no gripper state; " + AvailableSensors(model));
+      }
+      return {SensorRef::Kind::kGripper, robot->second};
+    }
+  }
+  if (const auto joint = model.joint_index.find(id); joint != model.joint_index.end()) {
+    return {SensorRef::Kind::kForceTorque, joint->second};
+  }
+  ThrowNotFound(field + ": no sensor '" + Shortened(id) + "' in scene '" + view.id + "'; " + AvailableSensors(model));
+}
+
+SensorRef FindReadableSensor(const SceneView& view, const std::string& field, const std::string& id) {
+  const SensorRef sensor = FindSensor(view, field, id);
+  if (sensor.kind == SensorRef::Kind::kForceTorque) {
+    throw Error(ErrorCode::kUnimplemented, field + ": '" + id + "' is a joint; its force/torque sensor is not built "
+                                           "yet (a later issue); tactile arrays and grippers can be read");
+  }
+  return sensor;
+}
+
+void ReadSensor(const SceneView& view, const SensorRef& sensor, const std::string& id, v1::SensorReading* out) {
+  const SceneModel& model = *view.model;
+  out->set_sensor_id(id);
+  out->set_time(view.state.time);
+  switch (sensor.kind) {
+    case SensorRef::Kind::kTactile:
+      TactileToProto(ReadTactileArray(model, view.state, sensor.index), out->mutable_tactile());
+      return;
+    case SensorRef::Kind::kGripper: {
+      const GripperReading reading = ReadGripper(model, view.state, model.robots[sensor.index]);
+      auto* gripper = out->mutable_gripper();
+      gripper->set_finger_distance(reading.finger_distance);
+      gripper->set_motor_current(reading.motor_current);
+      gripper->set_finger_velocity(reading.finger_velocity);
+      return;
+    }
+    case SensorRef::Kind::kForceTorque:
+      break;
+  }
+  throw Error(ErrorCode::kUnimplemented, "sensor '" + id + "': force/torque sensors are not built yet");
+}
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,29 @@
+// Sensor ids of TactileService and their readings as messages. A scene's sensors: each tactile array (its id,
+// "<robot>/<pad>") and, for each robot with prismatic joints, its gripper state ("<robot>/gripper"). Joint ids
+// name the force/torque sensors that a later issue builds.
+#pragma once
+
+#include <string>
+
+#include "graspsim/v1/tactile.pb.h"
+#include "world/scene.h"
+
+namespace graspsim::rpc {
+
+struct SensorRef {
+  enum class Kind { kTactile, kGripper, kForceTorque };
+  Kind kind = Kind::kTactile;
+  size_t index = 0;  // into the model's tactile_arrays, robots or joints, by kind
+};
+
+// The sensor `id` names in `view`. Errors name `field` and the id: INVALID_ARGUMENT when empty, NOT_FOUND
+// listing the scene's sensors when unknown.
+SensorRef FindSensor(const SceneView& view, const std::string& field, const std::string& id);
+
+// FindSensor for Sample and Stream: a joint id is UNIMPLEMENTED (its force/torque sensor is not built yet).
+SensorRef FindReadableSensor(const SceneView& view, const std::string& field, const std::string& id);
+
+// One reading of `sensor` in `view`'s state, time stamped with the state's time.
+void ReadSensor(const SceneView& view, const SensorRef& sensor, const std::string& id, v1::SensorReading* out);
+
+}  // namespace graspsim::rpc

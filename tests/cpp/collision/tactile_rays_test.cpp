@@ -1,0 +1,329 @@
+// TactileRayCaster against analytic answers. A 6 × 14 pad (3.4 mm pitch, 4 mm foam) on a finger link at an
+// arbitrary pose; objects are placed in the pad frame so the expected depth is a one-line formula. Boxes and meshes
+// must match to 1e-6 m (float BVHs); spheres and cylinders are inscribed tessellations within 0.1 mm of the
+// surface radially, so along a ray at distance ρ from the centre (axis) they may read shallower by at most
+// sqrt(r² − ρ²) − sqrt((r − 0.1 mm)² − ρ²), never deeper.
+#include "collision/tactile_rays.h"
+
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include <gtest/gtest.h>
+
+#include "collision_fixtures.h"
+#include "test_util.h"
+
+namespace graspsim {
+namespace {
+
+using namespace collision_fixtures;
+
+constexpr double kPitch = 3.4e-3, kThickness = 4e-3;
+constexpr unsigned kRows = 6, kCols = 14;
+constexpr double kTol = 1e-6;        // m: float BVH and float rays
+constexpr double kChordError = 1e-4;  // m: the promised tessellation bound
+constexpr uint32_t kFirstObject = 2;  // bodies 0 (finger, carries the pad) and 1 (palm) belong to robot "hand"
+
+const Pose kLink = At(0.3, -0.2, 0.5, QuatFromRpy(0.3, -0.4, 1.1));
+const Pose kPadOrigin = At(0.01, 0.02, 0.005, QuatFromRpy(0.1, 0.2, -0.3));
+const Pose kPadWorld = kLink * kPadOrigin;
+const Pose kPalmAway = At(-1, -1, -1);
+
+TactileArraySpec PadSpec(unsigned subdivision = 1) {
+  TactileArraySpec pad;
+  pad.id = "hand/pad";
+  pad.body_id = "hand/finger";
+  pad.origin = kPadOrigin;
+  pad.rows = kRows;
+  pad.cols = kCols;
+  pad.pitch = kPitch;
+  pad.thickness = kThickness;
+  pad.subdivision = subdivision;
+  return pad;
+}
+
+BodySpec RobotLink(const std::string& id, Geometry geometry) {
+  BodySpec body = Body(id, geometry, BodyMotion::kArticulated);
+  body.robot_id = "hand";
+  return body;
+}
+
+// The finger's own box sits right behind the pad (its top face is the pad's z = 0): it must never be sensed.
+SceneModel Scene(std::vector<BodySpec> objects, unsigned subdivision = 1) {
+  Geometry finger = BoxGeometry(Vec3(0.06, 0.03, 0.01));
+  finger.origin = kPadOrigin * At(0, 0, -0.005);
+  std::vector<BodySpec> bodies = {RobotLink("hand/finger", finger), RobotLink("hand/palm", BoxGeometry(Vec3(0.1, 0.1, 0.02)))};
+  for (BodySpec& o : objects) bodies.push_back(std::move(o));
+  SceneModel model = Model(std::move(bodies));
+  model.tactile_arrays.push_back(PadSpec(subdivision));
+  model.Reindex();
+  return model;
+}
+
+// World poses: the hand as above, then each object at its given pose in the pad frame.
+std::vector<Pose> Poses(const std::vector<Pose>& in_pad, const Pose& palm = kPalmAway) {
+  std::vector<Pose> poses = {kLink, palm};
+  for (const Pose& p : in_pad) poses.push_back(kPadWorld * p);
+  return poses;
+}
+
+std::vector<PadHit> Cast(const TactileRayCaster& caster, const std::vector<Pose>& poses) {
+  std::vector<PadHit> hits;
+  caster.Cast(poses, &hits);
+  return hits;
+}
+
+// A 10 × 10 × 2 cm box whose bottom face is at pad height z, yawed so its edges are not the pad's.
+const Vec3 kBigBox(0.1, 0.1, 0.02);
+Pose BoxBottomAt(double z) { return At(0, 0, z + 0.01, QuatFromRpy(0, 0, 0.3)); }
+
+void ExpectFlatContact(const TactileRayCaster& caster, const std::vector<PadHit>& hits, double face_z, uint32_t body) {
+  const auto& elements = caster.Elements(0);
+  ASSERT_EQ(hits.size(), elements.size());
+  const Vec3 normal = kPadWorld.orientation * Vec3::UnitZ();
+  for (uint32_t e = 0; e < hits.size(); ++e) {
+    const PadHit& h = hits[e];
+    EXPECT_EQ(h.pad, 0u);
+    EXPECT_EQ(h.element, e);  // ordered by element
+    EXPECT_EQ(h.body, body);
+    EXPECT_NEAR(h.depth, kThickness - face_z, kTol) << e;
+    const Vec3 expected = kPadWorld * Vec3(elements[e].position.x(), elements[e].position.y(), face_z);
+    EXPECT_LT((h.point - expected).norm(), kTol) << e;
+    EXPECT_LT((h.normal - normal).norm(), 1e-12) << e;
+  }
+}
+
+TEST(TactileRaysTest, ElementsAreAFlatSymmetricGridFacingUp) {
+  const std::vector<PadElement> elements = MakePadElements(PadSpec());
+  ASSERT_EQ(elements.size(), kRows * kCols);
+  for (size_t i = 0; i < elements.size(); ++i) {
+    const PadElement& e = elements[i];
+    EXPECT_LT((e.normal - Vec3::UnitZ()).norm(), 1e-12) << i;
+    EXPECT_EQ(e.row, i / kCols);
+    EXPECT_EQ(e.col, i % kCols);
+    EXPECT_NEAR(e.position.x(), (e.col + 0.5) * kPitch - kCols * kPitch / 2, 1e-12);
+    EXPECT_NEAR(e.position.y(), (e.row + 0.5) * kPitch - kRows * kPitch / 2, 1e-12);
+    EXPECT_EQ(e.position.z(), 0);
+    // Point symmetry about the pad origin: element i mirrors element N − 1 − i.
+    EXPECT_LT((e.position + elements[elements.size() - 1 - i].position).norm(), 1e-12) << i;
+  }
+  EXPECT_NEAR(elements.front().position.x(), -0.0221, 1e-12);
+  EXPECT_NEAR(elements.front().position.y(), -0.0085, 1e-12);
+  EXPECT_EQ(MakePadElements(PadSpec(0)).size(), kRows * kCols);  // subdivision 0 means 1
+  TactileArraySpec single = PadSpec();
+  single.rows = single.cols = 1;  // no faces at all: still +z
+  EXPECT_LT((MakePadElements(single).at(0).normal - Vec3::UnitZ()).norm(), 1e-12);
+}
+
+TEST(TactileRaysTest, SubdivisionTwoGivesFourElementsPerTexel) {
+  const std::vector<PadElement> elements = MakePadElements(PadSpec(2));
+  ASSERT_EQ(elements.size(), 4u * kRows * kCols);
+  std::vector<int> per_texel(kRows * kCols, 0);
+  for (size_t i = 0; i < elements.size(); ++i) {
+    const PadElement& e = elements[i];
+    const size_t r = i / (2 * kCols), c = i % (2 * kCols);
+    EXPECT_EQ(e.row, r / 2);
+    EXPECT_EQ(e.col, c / 2);
+    EXPECT_NEAR(e.position.x(), (c + 0.5) * kPitch / 2 - kCols * kPitch / 2, 1e-12);
+    EXPECT_NEAR(e.position.y(), (r + 0.5) * kPitch / 2 - kRows * kPitch / 2, 1e-12);
+    // Inside its texel's square.
+    EXPECT_NEAR(e.position.x(), (e.col + 0.5) * kPitch - kCols * kPitch / 2, kPitch / 4 + 1e-12);
+    ++per_texel[e.row * kCols + e.col];
+  }
+  for (int n : per_texel) EXPECT_EQ(n, 4);
+
+  const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))}, 2);
+  const TactileRayCaster caster(model);
+  ASSERT_EQ(caster.Elements(0).size(), elements.size());
+  ExpectFlatContact(caster, Cast(caster, Poses({BoxBottomAt(2.5e-3)})), 2.5e-3, kFirstObject);
+}
+
+TEST(TactileRaysTest, BoxPressedIntoTheWholePad) {
+  const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))});
+  const TactileRayCaster caster(model);
+  const auto hits = Cast(caster, Poses({BoxBottomAt(2.5e-3)}));
+  ExpectFlatContact(caster, hits, 2.5e-3, kFirstObject);
+  EXPECT_EQ(caster.last_ray_count(), kRows * kCols);
+}
+
+TEST(TactileRaysTest, BoxOverPartOfThePadHitsExactlyTheElementsUnderIt) {
+  // x from -6.8 mm (between columns 4 and 5), y from -3.4 to 6.8 mm (rows 2..4); a static body counts too.
+  const Vec3 size(0.05, 0.0102, 0.01);
+  const SceneModel model = Scene({Body("block", BoxGeometry(size), BodyMotion::kStatic)});
+  const TactileRayCaster caster(model);
+  const Pose pose = At(-0.0068 + size.x() / 2, -0.0034 + size.y() / 2, 1e-3 + size.z() / 2);
+  const auto hits = Cast(caster, Poses({pose}));
+  ASSERT_EQ(hits.size(), 27u);
+  std::set<std::pair<uint32_t, uint32_t>> texels;
+  for (const PadHit& h : hits) {
+    const PadElement& e = caster.Elements(0)[h.element];
+    texels.insert({e.row, e.col});
+    EXPECT_NEAR(h.depth, 3e-3, kTol);
+  }
+  std::set<std::pair<uint32_t, uint32_t>> expected;
+  for (uint32_t r = 2; r <= 4; ++r) {
+    for (uint32_t c = 5; c < kCols; ++c) expected.insert({r, c});
+  }
+  EXPECT_EQ(texels, expected);
+}
+
+TEST(TactileRaysTest, TiltedBoxDepthIsLinearAcrossThePad) {
+  // Bottom face through (0, 0, 2 mm), tilted about pad y: z(x) = 2 mm − tan θ x, depth = 2 mm + tan θ x.
+  const double theta = std::atan(0.05);
+  const Quat tilt(Eigen::AngleAxisd(theta, Vec3::UnitY()));
+  const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))});
+  const TactileRayCaster caster(model);
+  const Pose pose{Vec3(0, 0, 2e-3) + tilt * Vec3(0, 0, 0.01), tilt};
+  const auto hits = Cast(caster, Poses({pose}));
+  ASSERT_EQ(hits.size(), kRows * kCols);
+  for (const PadHit& h : hits) {
+    const Vec3& p = caster.Elements(0)[h.element].position;
+    EXPECT_NEAR(h.depth, 2e-3 + std::tan(theta) * p.x(), kTol) << h.element;
+    const Vec3 expected = kPadWorld * Vec3(p.x(), p.y(), kThickness - h.depth);
+    EXPECT_LT((h.point - expected).norm(), kTol);
+  }
+}
+
+// Checks hits against a round surface whose entry height and radial distance per element are given.
+template <typename Surface>
+void ExpectRound(const TactileRayCaster& caster, const std::vector<PadHit>& hits, double radius, Surface surface) {
+  std::vector<const PadHit*> by_element(caster.Elements(0).size(), nullptr);
+  for (const PadHit& h : hits) by_element.at(h.element) = &h;
+  int hit_count = 0;
+  for (uint32_t e = 0; e < by_element.size(); ++e) {
+    const Vec3& p = caster.Elements(0)[e].position;
+    const auto [rho, centre_z] = surface(p);  // distance from the centre (axis) to the ray, height of the centre
+    const bool crosses = rho < radius;
+    const double analytic = crosses ? kThickness - (centre_z - std::sqrt(radius * radius - rho * rho)) : -1;
+    const double inner = radius - kChordError;
+    const double slack = rho < inner ? std::sqrt(radius * radius - rho * rho) - std::sqrt(inner * inner - rho * rho) : 1;
+    const PadHit* h = by_element[e];
+    if (analytic <= 0) {
+      EXPECT_EQ(h, nullptr) << e;
+    } else if (analytic - slack > kTol) {
+      ASSERT_NE(h, nullptr) << e;
+    }
+    if (h == nullptr) continue;
+    ++hit_count;
+    EXPECT_LE(h->depth, analytic + kTol) << e;          // inscribed: never deeper
+    EXPECT_GE(h->depth, analytic - slack - kTol) << e;  // and within the chord error
+  }
+  EXPECT_GT(hit_count, 20);
+}
+
+TEST(TactileRaysTest, SphereDepthMatchesTheAnalyticSurface) {
+  const double r = 0.02;
+  const Vec3 centre(1e-3, -0.5e-3, 1.5e-3 + r);  // lowest point 2.5 mm into the foam
+  const SceneModel model = Scene({Body("ball", SphereGeometry(r))});
+  const TactileRayCaster caster(model);
+  const auto hits = Cast(caster, Poses({At(centre.x(), centre.y(), centre.z())}));
+  ExpectRound(caster, hits, r, [&](const Vec3& p) {
+    return std::pair{std::hypot(p.x() - centre.x(), p.y() - centre.y()), centre.z()};
+  });
+  for (const PadHit& h : hits) {
+    const double distance = (h.point - kPadWorld * centre).norm();
+    EXPECT_LE(distance, r + kTol);
+    EXPECT_GE(distance, r - kChordError - kTol);
+  }
+}
+
+TEST(TactileRaysTest, CylinderOnItsSideMatchesTheAnalyticSurface) {
+  const double r = 0.015;
+  const double cy = 0.7e-3, cz = 1e-3 + r;  // axis along pad x, lowest line 3 mm into the foam
+  const SceneModel model = Scene({Body("roller", CylinderGeometry(r, 0.1))});
+  const TactileRayCaster caster(model);
+  const auto hits = Cast(caster, Poses({At(0, cy, cz, Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitY())))}));
+  ExpectRound(caster, hits, r, [&](const Vec3& p) { return std::pair{std::abs(p.y() - cy), cz}; });
+}
+
+TEST(TactileRaysTest, MeshCubeReadsLikeTheBox) {
+  // A unit cube mesh scaled to the box, placed through a geometry origin inside the body.
+  auto mesh = std::make_shared<TriangleMesh>(*BoxMesh(Vec3(1, 1, 1)));
+  for (auto& v : mesh->vertices) v = v.cwiseProduct(kBigBox.cast<float>());
+  Geometry geometry = MeshGeometry(mesh);
+  const Pose offset = At(0.01, -0.02, 0.003, QuatFromRpy(0, 0, 0.5));
+  geometry.origin = offset;
+  const SceneModel model = Scene({Body("mesh", geometry)});
+  const TactileRayCaster caster(model);
+  // body pose = (desired geometry pose) · offset⁻¹
+  ExpectFlatContact(caster, Cast(caster, Poses({BoxBottomAt(1.2e-3) * offset.Inverse()})), 1.2e-3, kFirstObject);
+}
+
+TEST(TactileRaysTest, NothingNearCastsNoRays) {
+  const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))});
+  const TactileRayCaster caster(model);
+  EXPECT_TRUE(Cast(caster, Poses({BoxBottomAt(0.05)})).empty());
+  EXPECT_EQ(caster.last_ray_count(), 0u);
+  EXPECT_FALSE(Cast(caster, Poses({BoxBottomAt(2e-3)})).empty());  // the count resets per Cast
+  EXPECT_GT(caster.last_ray_count(), 0u);
+  EXPECT_TRUE(Cast(caster, Poses({BoxBottomAt(0.05)})).empty());
+  EXPECT_EQ(caster.last_ray_count(), 0u);
+}
+
+TEST(TactileRaysTest, LinksOfTheSameRobotAreIgnored) {
+  // The palm (robot "hand") pressed 1.5 mm into the pad: no hits, no rays; an object there is sensed.
+  const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))});
+  const TactileRayCaster caster(model);
+  std::vector<Pose> poses = Poses({BoxBottomAt(0.05)}, kPadWorld * BoxBottomAt(2.5e-3));
+  EXPECT_TRUE(Cast(caster, poses).empty());
+  EXPECT_EQ(caster.last_ray_count(), 0u);
+  poses[kFirstObject] = kPadWorld * BoxBottomAt(2.5e-3);
+  ExpectFlatContact(caster, Cast(caster, poses), 2.5e-3, kFirstObject);
+}
+
+TEST(TactileRaysTest, ThePadsOwnBodyIsIgnoredWithoutARobot) {
+  // A pad on a free object (no robot id) sunk 2 mm into that object's own box: nothing to sense, no rays.
+  Geometry own = BoxGeometry(Vec3(0.06, 0.03, 0.007));
+  own.origin = kPadOrigin * At(0, 0, -1.5e-3);
+  SceneModel model = Model({Body("probe", own)});
+  model.tactile_arrays.push_back(PadSpec());
+  model.tactile_arrays[0].body_id = "probe";
+  model.Reindex();
+  const TactileRayCaster caster(model);
+  EXPECT_TRUE(Cast(caster, {kLink}).empty());
+  EXPECT_EQ(caster.last_ray_count(), 0u);
+}
+
+TEST(TactileRaysTest, BaseInsideABodyIsFullyCompressed) {
+  const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))});
+  const TactileRayCaster caster(model);
+  // Exit within the segment (box from -17 mm to 3 mm) and beyond it (from -1 mm to 19 mm).
+  for (double bottom : {-17e-3, -1e-3}) {
+    const auto hits = Cast(caster, Poses({BoxBottomAt(bottom)}));
+    ASSERT_EQ(hits.size(), kRows * kCols) << bottom;
+    for (const PadHit& h : hits) {
+      EXPECT_EQ(h.depth, kThickness);
+      EXPECT_LT((h.point - kPadWorld * caster.Elements(0)[h.element].position).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(TactileRaysTest, DeepestBodyWinsPerElement) {
+  // Box A 1 mm in over the whole pad; box B 2 mm in over x > 0 (columns 7..13). Both body orders, so that
+  // neither "first wins" nor "last wins" passes.
+  const Pose a = BoxBottomAt(3e-3), b = At(0.05, 0, 2e-3 + 0.01);
+  for (bool b_first : {false, true}) {
+    const SceneModel model = Scene({Body("x", BoxGeometry(kBigBox)), Body("y", BoxGeometry(kBigBox))});
+    const TactileRayCaster caster(model);
+    const uint32_t body_a = b_first ? kFirstObject + 1 : kFirstObject, body_b = b_first ? kFirstObject : kFirstObject + 1;
+    const auto hits = Cast(caster, Poses(b_first ? std::vector<Pose>{b, a} : std::vector<Pose>{a, b}));
+    ASSERT_EQ(hits.size(), kRows * kCols);
+    for (const PadHit& h : hits) {
+      const bool under_b = caster.Elements(0)[h.element].col >= 7;
+      EXPECT_EQ(h.body, under_b ? body_b : body_a) << h.element << " b_first " << b_first;
+      EXPECT_NEAR(h.depth, under_b ? 2e-3 : 1e-3, kTol) << h.element;
+    }
+  }
+}
+
+TEST(TactileRaysTest, MovedCasterStillCasts) {
+  const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))});
+  TactileRayCaster first(model);
+  TactileRayCaster second = std::move(first);
+  ExpectFlatContact(second, Cast(second, Poses({BoxBottomAt(2.5e-3)})), 2.5e-3, kFirstObject);
+  test_util::ExpectError([&] { Cast(second, {kLink}); }, ErrorCode::kInternal, {"1 poses for 3 bodies"});
+}
+
+}  // namespace
+}  // namespace graspsim
