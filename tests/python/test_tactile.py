@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import graspsim
-from graspsim.v1 import tactile_pb2
+from graspsim.v1 import tactile_pb2, tactile_pb2_grpc
 
 from _support import IA, assert_rejected, two_link_urdf
 
@@ -138,6 +138,28 @@ def test_stream_cancel_from_another_thread(client, pg70):
     timer.start()
     assert list(stream) == []
     timer.join()
+
+
+# A small stream window and no BDP probing: the never-reader's flow-control window fills after a few readings.
+STALLED_CHANNEL_OPTIONS = [("grpc.http2.bdp_probe", 0), ("grpc.http2.lookahead_bytes", 16384)]
+
+
+def test_a_reader_that_never_reads_slows_nothing(server, client, pg70):
+    client.set_actuator(pg70, LEFT, "velocity", 0.02, current_limit=2.0)
+    with grpc.insecure_channel(server.address, options=STALLED_CHANNEL_OPTIONS) as stalled_channel:
+        stalled = tactile_pb2_grpc.TactileServiceStub(stalled_channel).Stream(
+            tactile_pb2.StreamRequest(scene_id=pg70, sensor_ids=PADS, rate_hz=60), timeout=60)
+        stalled.initial_metadata()  # accepted; never read
+        with client.stream_sensors(pg70, ["pg70/gripper"], rate_hz=60) as live:
+            next(live)
+            started = time.monotonic()
+            for _ in range(100):  # 100 revisions, each a new state for both streams
+                client.step_simulation(pg70, steps=5)
+            assert time.monotonic() - started < 10
+            reading = next(live)
+            while reading.time < 0.5 - 1e-9:  # the live reader catches up with the newest state
+                reading = next(live)
+    assert client.sample(pg70, "pg70/gripper").time == pytest.approx(0.5, abs=1e-9)
 
 
 def test_unknown_sensors_are_not_found_and_list_the_available_ones(client, pg70):

@@ -9,6 +9,7 @@
 //   otherwise keep holding a force above μ_s|F_n| — a released object would stay glued to the finger. The cap is
 //   the static bound, not g(v), so LuGre's frictional memory while sliding (z lagging g(v)) is untouched.
 // - Linearisation: see EvaluateContact.
+// - σ1 falls with the slip speed (contact_law.h), in the force and in its linearisation alike.
 #include "physics/contact_law.h"
 
 #include <algorithm>
@@ -46,7 +47,7 @@ double StribeckLimit(const ContactParams& params, double normal_force, double sl
 }
 
 ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
-                             const Vec3& bristle) {
+                             const Vec3& bristle, double dt) {
   ContactForce out;
   if (!(depth > 0)) return out;  // not touching (or a NaN depth): no force at all
 
@@ -76,25 +77,32 @@ ContactForce EvaluateContact(const ContactParams& params, double depth, const Ve
   const Vec3 z = ProjectBristle(P, bristle, StaticLimit(params, out.normal_force) / sigma0);
   const Vec3 z_rate = slip - (sigma0 * speed / g) * z;
   out.bristle_rate = z_rate;
-  out.force -= sigma0 * z + params.bristle_damping * z_rate + params.viscous_friction * slip;
+  const double vs = params.stribeck_velocity;
+  const double sigma1 = params.bristle_damping * (vs > 0 ? std::exp(-(speed * speed) / (vs * vs)) : 0.0);
+  out.force -= sigma0 * z + sigma1 * z_rate + params.viscous_friction * slip;
 
   // Tangential damping, ∂F_t/∂v_t at fixed z = −(σ1 ∂ż/∂v_t + c_t) P. Exactly, ∂ż/∂v_t = I − σ0 z ∂(|v|/g)/∂v,
   // which along the slip falls to ~0 at steady sliding and below 0 on the Stribeck drop (negative damping).
   // The conservative −(σ1 + c_t) P keeps the implicit solve stable; it only over-damps transients (a steady
   // slide has Δv = 0, so this term never biases it).
-  out.damping -= (params.bristle_damping + params.viscous_friction) * P;
+  out.damping -= (sigma1 + params.viscous_friction) * P;
 
   // Tangential stiffness, −σ0 ∂z/∂δ: the bristle spring. A displacement δ deflects the bristles by
   // ∂ż/∂v_t · δ; along the slip direction ŝ that is (1 − σ0 z·ŝ / g) — LuGre's tangent stiffness, 1 while
   // sticking, 0 at steady sliding — and across it 1. So −σ0 (P − (1 − s) ŝŝᵀ) with s clamped to [0, 1] (the
   // non-symmetric part z ŝᵀ is dropped). Unlike the plain −σ0 P this matters: the implicit solve applies K to
   // the step's displacement h v, so −σ0 P would add a drag σ0 h per contact to every steady slide.
-  out.stiffness -= sigma0 * P;
+  Mat3 tangent = P;
   if (speed > 0) {
     const Vec3 direction = slip / speed;
     const double stick = std::clamp(1 - sigma0 * z.dot(direction) / g, 0.0, 1.0);
-    out.stiffness += sigma0 * (1 - stick) * direction * direction.transpose();
+    tangent -= (1 - stick) * direction * direction.transpose();
   }
+  // Over a step the exact update moves z by (1 − e^{a dt})/(−a) · v, a = −σ0|v|/g, not dt · v: the bristles of a
+  // contact slipping many bristle lengths per step saturate, and their stiffness falls by that ratio.
+  const double a_dt = speed > 0 && dt > 0 ? -sigma0 * speed / g * dt : 0;
+  const double follow = a_dt < -1e-12 ? -std::expm1(a_dt) / -a_dt : 1.0;
+  out.stiffness -= sigma0 * follow * tangent;
   return out;
 }
 

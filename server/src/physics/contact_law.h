@@ -6,7 +6,10 @@
 //   Normal force on a:   F_n = max(0, k d + c ḋ) n                          (never pulls)
 //   Bristles:            ż = v_t - σ0 |v_t| / g(v_t) z,   g = α0 + α1 exp(-|v_t|² / v_s²),
 //                        α0 = |F_n| μ_d,  α1 = |F_n| (μ_s - μ_d)
-//   Friction force on a: F_t = -(σ0 z + σ1 ż + c_t v_t)
+//   Friction force on a: F_t = -(σ0 z + σ1(v_t) ż + c_t v_t),  σ1(v) = σ1 exp(-|v|² / v_s²)
+// The velocity-dependent micro-damping σ1(v) is Canudas de Wit's dissipative variant of LuGre (Olsson et al.
+// 1998): it damps presliding as σ1 does, but a contact that starts sliding fast (ż ≈ v_t) is not hit with a
+// force σ1 |v_t| unrelated to, and possibly thousands of times, μ |F_n|.
 // Body b receives -(F_n + F_t). At constant slip v the bristles settle at z_ss = g(v)/σ0 · v/|v|, so
 // |F_t| = g(v) + c_t |v|: the Stribeck curve. z lives in the tangent plane (world frame).
 #pragma once
@@ -28,9 +31,11 @@ struct ContactForce {
 // Stribeck function g(v) for slip speed v (m/s) and normal force (N); N.
 double StribeckLimit(const ContactParams& params, double normal_force, double slip_speed);
 
-// The force at one contact point given its bristle deflection z.
+// The force at one contact point given its bristle deflection z. With a step dt > 0, the tangential stiffness is
+// that of the exact bristle update over dt (AdvanceBristle), which the implicit solve needs: a fast new contact
+// saturates its bristles within the step, so it must not be linearised as a stuck spring.
 ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
-                             const Vec3& bristle);
+                             const Vec3& bristle, double dt = 0);
 
 // The bristle deflection after dt with the slip velocity held constant over the step, integrated exactly:
 // z⁺ = e^{aΔt} z + (e^{aΔt} - 1)/a · v_t with a = -σ0|v_t|/g (and z⁺ = z + Δt v_t when a = 0). Stable for any

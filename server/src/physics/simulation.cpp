@@ -118,7 +118,7 @@ void Simulation::SubStep(SceneState* state, double h) {
   const Eigen::VectorXd v = multibody_.Velocities(*state);
   Forces forces;
   FindContacts(state);
-  ContactForces(*state, v, &forces);
+  ContactForces(*state, v, h, &forces);
   ActuatorForces(state, h, &forces);
   if (params_.integrator == Integrator::kVelocityVerlet) {
     // Kick half a step, drift, evaluate again at the new configuration, kick the other half.
@@ -126,7 +126,7 @@ void Simulation::SubStep(SceneState* state, double h) {
     multibody_.Integrate(v_half, h, state);
     FindContacts(state);
     Forces second;
-    ContactForces(*state, v_half, &second);
+    ContactForces(*state, v_half, h, &second);
     second.actuators = forces.actuators;
     second.actuator_damping = forces.actuator_damping;
     second.actuator_stiffness = forces.actuator_stiffness;
@@ -192,7 +192,7 @@ void Simulation::RecordPadForces(SceneState* state) const {
   }
 }
 
-void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v, Forces* forces) {
+void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v, double h, Forces* forces) {
   // Penalty normal force and LuGre friction at each point, mapped to generalised forces, with their stiffness
   // and damping for the linearly implicit solve.
   const int nv = multibody_.velocity_count();
@@ -225,7 +225,7 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
       const Vec3 z = forces->bristle[i] = FindBristle(state, ContactKey{a, b, c.feature});
       const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
       const ContactForce& force = forces->contact[i] =
-          EvaluateContact(contact_params_[i], c.depth, c.normal, relative, z);
+          EvaluateContact(contact_params_[i], c.depth, c.normal, relative, z, h);
       forces->contact_pair[i] = forces->pair_jacobians.size();
       forces_[i] = force.force;
       wrench.head<3>() += c.point.cross(force.force);

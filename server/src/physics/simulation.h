@@ -76,7 +76,7 @@ class Simulation {
   void FindContacts(SceneState* state);
   void AddPadContacts(const SceneState& state);
   void RecordPadForces(SceneState* state) const;
-  void ContactForces(const SceneState& state, const Eigen::VectorXd& v, Forces* forces);
+  void ContactForces(const SceneState& state, const Eigen::VectorXd& v, double h, Forces* forces);
   void ActuatorForces(SceneState* state, double h, Forces* forces);
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
                                       double h) const;
