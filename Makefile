@@ -27,7 +27,7 @@ build: deps $(BUILD)/build.ninja
 
 $(VENV)/.installed: $(PROTOS) $(CLIENT_FILES) | deps
 	@test -x $(PYTHON) || python3 -m venv $(VENV)
-	@$(PYTHON) -m pip install -q -e 'clients/python[test]'
+	@$(PYTHON) -m pip install -q -e 'clients/python[test,plot]'
 	@touch $@
 
 python: $(VENV)/.installed

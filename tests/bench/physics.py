@@ -46,7 +46,7 @@ def grasp(client) -> dict:
     client.step_simulation(scene_id, steps=1000)          # 10 mm to close at 20 mm/s, then settle
     finger = client.get_joint_positions(scene_id, [FINGER])[FINGER]
     z0 = client.get_body_poses(scene_id, ["cube"])["cube"].position[2]
-    log(f"grasped: finger at {finger * 1e3:.3f} mm (cube face at 20 mm), cube z {z0:.6f} m")
+    log(f"grasped: finger at {finger * 1e3:.3f} mm (pad foam meets the cube at 24 mm), cube z {z0:.6f} m")
     per_s, response = timed_steps(client, scene_id)
     figures = {"steps_per_s": round(per_s), "timed_steps": TIMED_STEPS, "contacts": response.contacts,
                "finger_mm": round(finger * 1e3, 3)}

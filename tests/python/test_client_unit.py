@@ -202,3 +202,179 @@ def test_connect_without_server_is_unavailable():
         with pytest.raises(graspsim.GraspsimError) as info:
             graspsim.connect(f"127.0.0.1:{port}", timeout=0.5)
     assert info.value.code == grpc.StatusCode.UNAVAILABLE and "127.0.0.1" in info.value.message
+
+
+def work_cycle_message(stage, t, left, right, z, axis=0.1, limit=1.0, rows=2, cols=3):
+    """A hand-made WorkCycleProgress: pads filled with `left` / `right` per texel, the cube at height z."""
+    def pad(name, value):
+        values = np.full(rows * cols, value, dtype="<u2")
+        return tactile_pb2.SensorReading(sensor_id=f"cell/pad_{name}", time=t, tactile=tactile_pb2.TactileReading(
+            rows=rows, cols=cols, intensities=values.tobytes(), forces=np.zeros(3 * rows * cols, "<f4").tobytes(),
+            intensity_sum=int(values.sum())))
+    gripper = tactile_pb2.SensorReading(sensor_id="cell/gripper", time=t, gripper=tactile_pb2.GripperReading(
+        finger_distance=0.05, motor_current=limit / 2, finger_velocity=-0.01))
+    pose = graspsim.Pose([0.0, 0.0, z], [1, 0, 0, 0]).to_proto()
+    return tactile_pb2.WorkCycleProgress(stage=stage, time=t, object_pose=pose, axis_position=axis,
+                                         current_limit=limit, readings=[pad("left", left), pad("right", right),
+                                                                        gripper])
+
+
+# (stage, t, left per texel, right per texel, cube z, axis): 6 texels, set-point 6000 -> 1000 per texel
+CYCLE = [("approach", 0.0, 0, 0, 0.775, 0.00), ("approach", 0.1, 0, 0, 0.775, 0.05),
+         ("grasp", 0.2, 0, 0, 0.775, 0.10), ("grasp", 0.3, 400, 380, 0.775, 0.10),
+         ("grasp", 0.4, 950, 940, 0.775, 0.10), ("lift", 0.5, 1000, 990, 0.775, 0.10),
+         ("lift", 0.6, 1000, 995, 0.800, 0.075), ("hold", 0.7, 1000, 990, 0.8245, 0.05),
+         ("hold", 0.8, 1010, 1000, 0.8245, 0.05), ("move_down", 0.9, 1000, 1000, 0.80, 0.075),
+         ("release", 1.0, 200, 210, 0.7751, 0.10), ("done", 1.1, 0, 0, 0.7751, 0.0)]
+
+
+def work_cycle_result(**settings):
+    messages = [work_cycle_message(s, t, l, r, z, axis) for s, t, l, r, z, axis in CYCLE]
+    return graspsim.WorkCycleResult.from_progress(messages, **settings)
+
+
+def test_work_cycle_frame_decodes_pads_gripper_and_pose():
+    frame = graspsim.WorkCycleFrame.from_proto(work_cycle_message("grasp", 0.3, 400, 380, 0.775, limit=1.5))
+    assert (frame.stage, frame.time, frame.axis_position, frame.current_limit) == ("grasp", 0.3, 0.1, 1.5)
+    assert (frame.left.sensor_id, frame.right.sensor_id) == ("cell/pad_left", "cell/pad_right")
+    assert frame.left.intensity_sum == 2400 and frame.right.intensities[1, 2] == 380
+    assert frame.gripper == graspsim.GripperState("cell/gripper", 0.3, 0.05, 0.75, -0.01)
+    np.testing.assert_array_equal(frame.object_pose.position, [0, 0, 0.775])
+    broken = work_cycle_message("grasp", 0.3, 1, 1, 0.775)
+    del broken.readings[2]
+    with pytest.raises(ValueError, match="2 tactile and 0 gripper"):
+        graspsim.WorkCycleFrame.from_proto(broken)
+
+
+def test_work_cycle_result_time_series():
+    result = work_cycle_result(tactile_setpoint=6000)
+    n = len(CYCLE)
+    assert len(result) == n and result.stage == [c[0] for c in CYCLE]
+    assert result.stages() == ["approach", "grasp", "lift", "hold", "move_down", "release", "done"]
+    np.testing.assert_allclose(result.time, [c[1] for c in CYCLE])
+    np.testing.assert_array_equal(result.left_sum, [6 * c[2] for c in CYCLE])
+    np.testing.assert_array_equal(result.right_sum, [6 * c[3] for c in CYCLE])
+    assert result.left_images.shape == result.right_images.shape == (n, 2, 3)
+    assert result.left_images.dtype == np.uint16 and result.left_images[4, 1, 1] == 950
+    for name in ("finger_distance", "motor_current", "finger_velocity", "axis_position", "current_limit"):
+        assert getattr(result, name).shape == (n,) and getattr(result, name).dtype == np.float64, name
+    assert result.object_position.shape == (n, 3) and result.object_orientation.shape == (n, 4)
+    np.testing.assert_array_equal(result.object_orientation[-1], [1, 0, 0, 0])
+    np.testing.assert_allclose(result.object_position[:, 2], [c[4] for c in CYCLE])
+    assert (result.left_id, result.right_id, result.gripper_sensor_id) == ("cell/pad_left", "cell/pad_right",
+                                                                            "cell/gripper")
+    assert result.stage_starts() == [("approach", 0.0), ("grasp", 0.2), ("lift", 0.5), ("hold", 0.7),
+                                     ("move_down", 0.9), ("release", 1.0), ("done", 1.1)]
+    assert result.stage_spans()[1] == ("grasp", 0.2, 0.4)
+    assert result.stage_mask("hold").tolist() == [False] * 7 + [True] * 2 + [False] * 3
+
+
+def test_work_cycle_defaults_and_empty_result():
+    result = work_cycle_result()
+    assert (result.tactile_setpoint, result.lift_height, result.coverage) == (60000.0, 0.05, 1.0)
+    assert work_cycle_result(coverage=0.15, lift_height=0.02).coverage == 0.15
+    empty = graspsim.WorkCycleResult.from_frames([])
+    assert len(empty) == 0 and empty.left_images.shape == (0, 0, 0) and empty.object_position.shape == (0, 3)
+    assert empty.stage_spans() == [] and empty.peak_index() == -1
+    assert np.isnan(empty.summary().lift) and empty.summary().peak_left == 0.0
+
+
+def test_work_cycle_rejects_pads_that_change_shape():
+    messages = [work_cycle_message("grasp", 0.0, 1, 1, 0.775), work_cycle_message("grasp", 0.1, 1, 1, 0.775, rows=3)]
+    with pytest.raises(ValueError, match="different shapes"):
+        graspsim.WorkCycleResult.from_progress(messages)
+
+
+def test_work_cycle_summary():
+    summary = work_cycle_result(tactile_setpoint=6000).summary()
+    assert (summary.peak_left, summary.peak_right) == (6060.0, 6000.0)
+    assert summary.peak_mismatch == pytest.approx(60 / 6030)
+    assert summary.hold_mismatch == pytest.approx(max(60 / 5970, 60 / 6030))
+    assert summary.first_contact_time == pytest.approx(0.3)
+    assert summary.rise_time == pytest.approx(0.1), "mean 945 per texel >= 90 % of 1000 at t = 0.4"
+    assert summary.lift == pytest.approx(0.0495) and summary.slip == pytest.approx(0.0005)
+    assert summary.final_offset == pytest.approx(0.0001)
+
+
+def test_run_work_cycle_streams_frames_through_a_fake_stub():
+    class FakeCall:
+        def __init__(self, messages, error=None):
+            self.messages, self.error, self.cancelled = messages, error, False
+
+        def __iter__(self):
+            yield from self.messages
+            if self.error is not None:
+                raise self.error
+
+        def cancel(self):
+            self.cancelled = True
+
+    class RpcFailure(grpc.RpcError):
+        def code(self):
+            return grpc.StatusCode.INVALID_ARGUMENT
+
+        def details(self):
+            return "coverage 1.5 is outside (0, 1]"
+
+    client = graspsim.Client(grpc.insecure_channel("127.0.0.1:1"))
+    requests, seen = [], []
+    messages = [work_cycle_message(s, t, l, r, z, axis) for s, t, l, r, z, axis in CYCLE]
+    call = FakeCall(messages)
+
+    class FakeStub:
+        def RunWorkCycle(self, request, timeout=None):
+            requests.append(request)
+            return call
+
+    client.tactile_stub = FakeStub()
+    result = client.run_work_cycle("s", "cell", "cube", coverage=0.6, hold_time=0.2, on_frame=seen.append)
+    assert (requests[0].scene_id, requests[0].gripper_id, requests[0].object_id) == ("s", "cell", "cube")
+    assert (requests[0].coverage, requests[0].hold_time, requests[0].tactile_setpoint) == (0.6, 0.2, 0.0)
+    assert [f.stage for f in seen] == result.stage and isinstance(seen[0], graspsim.WorkCycleFrame)
+    assert result.coverage == 0.6 and len(result) == len(CYCLE)
+
+    call = FakeCall(messages[:2], RpcFailure())
+    with pytest.raises(graspsim.GraspsimError, match="coverage") as info:
+        client.run_work_cycle("s", "cell", "cube", coverage=1.5)
+    assert info.value.code == grpc.StatusCode.INVALID_ARGUMENT and call.cancelled
+
+    call = FakeCall(messages)
+
+    def stop(frame):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        client.run_work_cycle("s", "cell", "cube", on_frame=stop)
+    assert call.cancelled, "a callback that raises cancels the cycle"
+    client.close()
+
+
+def test_plot_helpers_draw_and_save(tmp_path):
+    pytest.importorskip("matplotlib")
+    import graspsim.plot
+
+    result = work_cycle_result(tactile_setpoint=6000)
+    fig = graspsim.plot.work_cycle_figure({"15 %": result, "100 %": work_cycle_result(tactile_setpoint=6000)})
+    top = fig.axes[0]
+    assert len(top.get_lines()) >= 4 and top.get_ylabel() == "tactile sum (intensity)"
+    png = graspsim.plot.save(fig, tmp_path / "cycle.png")
+    assert open(png, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+    fig = graspsim.plot.new_figure()
+    ax = fig.subplots()
+    lines = graspsim.plot.sums_over_time(ax, result)
+    np.testing.assert_array_equal(lines[1].get_ydata(), result.right_sum)
+    image = graspsim.plot.tactile_image(fig.add_subplot(2, 2, 4), result.left_images[4])
+    assert image.get_array().shape == (2, 3) and image.get_clim() == (0, 4095)
+    frame = graspsim.WorkCycleFrame.from_proto(work_cycle_message("grasp", 0.3, 400, 380, 0.775)).left
+    assert "cell/pad_left" in graspsim.plot.tactile_image(ax, frame).axes.get_title()
+    with pytest.raises(ValueError, match="rows, cols"):
+        graspsim.plot.tactile_image(ax, np.zeros(3))
+    graspsim.plot.save(graspsim.plot.peak_images_figure(result), tmp_path / "peak.png")
+    assert (tmp_path / "peak.png").stat().st_size > 0
+
+
+def test_base_client_does_not_import_matplotlib():
+    import subprocess
+    import sys
+    code = "import sys, graspsim; sys.exit('matplotlib' in sys.modules)"
+    assert subprocess.run([sys.executable, "-c", code]).returncode == 0

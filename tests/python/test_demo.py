@@ -3,16 +3,24 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 DEMO = Path(__file__).resolve().parents[2] / "clients" / "python" / "examples" / "demo.py"
 
 
-def test_demo_runs(server):
-    result = subprocess.run([sys.executable, str(DEMO), "--server", server.address, "--http", server.http_url],
-                            capture_output=True, text=True, timeout=120)
+def test_demo_runs(server, tmp_path):
+    result = subprocess.run([sys.executable, str(DEMO), "--server", server.address, "--http", server.http_url,
+                             "--out", str(tmp_path)], capture_output=True, text=True, timeout=180)
     assert result.returncode == 0, f"demo failed:\n{result.stdout}\n{result.stderr}"
     for expected in ("pg70", "cube_5cm", "pg70/finger_left_joint", "14 rows x 6 cols", "5 bodies, 1 robot",
-                     "cube at rest on the table", "PG70 closed", "held by friction"):
+                     "cube at rest on the table", "PG70 closed", "held by friction",
+                     "tactile work cycle", "approach > grasp > lift > hold > move_down > release > done",
+                     "peak sums", "cube lifted", "put back"):
         assert expected in result.stdout, f"{expected!r} missing from:\n{result.stdout}"
+    pytest.importorskip("matplotlib")
+    for name in ("demo-work-cycle.png", "demo-work-cycle-peak-100pct.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+        assert str(tmp_path / name) in result.stdout
 
 
 def test_demo_fails_without_server():

@@ -217,14 +217,6 @@ def test_image_errors_name_the_field(client, pg70):
                     lambda: client.tactile_image(pg70, "pg70/pad"))
 
 
-def test_work_cycle_is_not_built_yet(client, pg70):
-    call = client.tactile_stub.RunWorkCycle(tactile_pb2.RunWorkCycleRequest(scene_id=pg70), timeout=10)
-    with pytest.raises(grpc.RpcError) as info:
-        next(call)
-    assert info.value.code() == grpc.StatusCode.UNIMPLEMENTED
-    assert "RunWorkCycle" in info.value.details() and "not implemented yet" in info.value.details()
-
-
 def http_post(server, path: str, body: dict, query: str = ""):
     """(content type, text) of a POST to the HTTP gateway."""
     request = urllib.request.Request(f"{server.http_url}/v1/{path}" + (f"?{query}" if query else ""),

@@ -1,9 +1,9 @@
-"""Declared but not yet implemented: the four other services answer UNIMPLEMENTED, with a message."""
+"""Declared but not yet implemented: the three other services answer UNIMPLEMENTED, with a message."""
 import grpc
 import pytest
 
 from graspsim.v1 import (gateway_pb2, gateway_pb2_grpc, grasp_pb2, grasp_pb2_grpc, perception_pb2,
-                         perception_pb2_grpc, tactile_pb2, tactile_pb2_grpc)
+                         perception_pb2_grpc)
 
 CALLS = {
     "GatewayService.ListDevices": lambda ch: gateway_pb2_grpc.GatewayServiceStub(ch).ListDevices(
@@ -12,8 +12,6 @@ CALLS = {
         grasp_pb2.SimulateGraspRequest(scene_id="s", body_id="b", hand_id="h"), timeout=10),
     "PerceptionService.SegmentScene": lambda ch: perception_pb2_grpc.PerceptionServiceStub(ch).SegmentScene(
         perception_pb2.SegmentSceneRequest(), timeout=10),
-    "TactileService.RunWorkCycle": lambda ch: next(tactile_pb2_grpc.TactileServiceStub(ch).RunWorkCycle(
-        tactile_pb2.RunWorkCycleRequest(scene_id="s"), timeout=10)),
 }
 
 

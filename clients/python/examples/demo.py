@@ -4,20 +4,25 @@
 Stages: list the built-in models, build the scene with the open gripper around the cube, print what the
 server holds (bodies, joints, tactile arrays, one live snapshot), read the same scene through the HTTP/JSON
 gateway that Matlab and browsers use, then simulate: the cube settles, the PG70 closes on it under velocity
-control with a current (force) limit, and the table is taken away while the fingers hold the cube.
-Exits non-zero on any error.
+control with a current (force) limit, and the table is taken away while the fingers hold the cube. Last, the
+tactile work cycle in a fresh scene (a PG70 on a vertical axis: approach, grasp under tactile force control,
+lift, hold, move down, release; examples/tactile_cycle.py runs it at several coverages) with its summary, and
+its plots when matplotlib is installed. Exits non-zero on any error.
 
-    python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080
+    python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080 [--out DIR]
 """
 import argparse
 import json
 import sys
+import tempfile
 import time
 import urllib.request
+from pathlib import Path
 
 import numpy as np
 
 import graspsim
+import tactile_cycle  # examples/tactile_cycle.py, next to this file
 from graspsim.v1 import common_pb2
 
 TABLE_TOP_Z = 0.75        # m, top surface of the built-in table placed at the origin
@@ -32,7 +37,7 @@ POINTING_DOWN = graspsim.quaternion_about_axis([1, 0, 0], np.pi)  # gripper z (a
 def list_models(client: graspsim.Client) -> None:
     print("built-in models:")
     for model in client.builtin_models():
-        print(f"  {model.kind:<6} {model.name:<12} {model.description}")
+        print(f"  {model.kind:<6} {model.name:<22} {model.description}")
 
 
 def build_scene(client: graspsim.Client) -> str:
@@ -131,11 +136,25 @@ def simulate_grasp(client: graspsim.Client, scene_id: str) -> None:
           f"friction ({rate:.0f} steps/s with {step.contacts} contacts)")
 
 
+def run_work_cycle(client: graspsim.Client, out) -> None:
+    """The tactile work cycle at full coverage (a scene of its own, deleted after), its summary and plots."""
+    print("\ntactile work cycle (schunk_pg70_on_z_axis picks the cube, coverage 1.0):")
+    result = tactile_cycle.run_cycle(client, 1.0, hold_time=0.5)
+    tactile_cycle.print_summary("coverage 100 %", result)
+    if not tactile_cycle.matplotlib_available():
+        print("  (matplotlib not installed: no plots; pip install 'graspsim[plot]')")
+        return
+    out = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix="graspsim-demo-"))
+    for path in tactile_cycle.write_figures({"coverage 100 %": result}, out, prefix="demo-work-cycle"):
+        print(f"  plot: {path}")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--server", default="127.0.0.1:50051", help="host:port of graspsim-server")
     parser.add_argument("--http", default="http://127.0.0.1:8080", help="URL of the server's HTTP/JSON gateway")
     parser.add_argument("--keep", action="store_true", help="keep the scene on the server (default: delete it)")
+    parser.add_argument("--out", default=None, help="directory for the work cycle's plots (default: a temp dir)")
     args = parser.parse_args(argv)
     try:
         with graspsim.connect(args.server) as client:
@@ -152,6 +171,7 @@ def main(argv=None) -> int:
             simulate_grasp(client, scene_id)
             if not args.keep:
                 client.delete_scene(scene_id)
+            run_work_cycle(client, args.out)
     except (graspsim.GraspsimError, OSError) as err:
         print(f"demo failed: {err}", file=sys.stderr)
         return 1

@@ -73,7 +73,7 @@ grpc::ServerUnaryReactor* SceneServiceImpl::DeleteScene(grpc::CallbackServerCont
                                            v1::DeleteSceneResponse*) {
   return RunUnary(context, "DeleteScene", pool_, [=, this] {
     registry_->Delete(request->scene_id());
-    simulations_.Forget(request->scene_id());
+    simulations_->Forget(request->scene_id());
   });
 }
 

@@ -13,8 +13,9 @@ namespace graspsim::rpc {
 
 class SceneServiceImpl final : public v1::SceneService::CallbackService {
  public:
-  SceneServiceImpl(SceneRegistry* registry, WorkerPool* pool, double watch_max_rate_hz)
-      : registry_(registry), pool_(pool), watch_max_rate_hz_(watch_max_rate_hz) {}
+  // `simulations` is shared with TactileService (its work cycle steps the same scenes); it outlives the service.
+  SceneServiceImpl(SceneRegistry* registry, WorkerPool* pool, SimulationCache* simulations, double watch_max_rate_hz)
+      : registry_(registry), pool_(pool), simulations_(simulations), watch_max_rate_hz_(watch_max_rate_hz) {}
 
   using Context = grpc::CallbackServerContext;
   using Unary = grpc::ServerUnaryReactor;
@@ -42,7 +43,7 @@ class SceneServiceImpl final : public v1::SceneService::CallbackService {
  private:
   SceneRegistry* registry_;
   WorkerPool* pool_;
-  SimulationCache simulations_;
+  SimulationCache* simulations_;
   const double watch_max_rate_hz_;
 };
 

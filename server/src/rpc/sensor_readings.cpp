@@ -46,7 +46,9 @@ std::string Packed(const std::vector<T>& values) {
   return bytes;
 }
 
-void TactileToProto(const TactileFrame& frame, v1::TactileReading* out) {
+}  // namespace
+
+void ToProto(const TactileFrame& frame, v1::TactileReading* out) {
   out->set_rows(frame.rows);
   out->set_cols(frame.cols);
   out->set_intensities(Packed(frame.intensities));
@@ -58,7 +60,11 @@ void TactileToProto(const TactileFrame& frame, v1::TactileReading* out) {
   ToProto(frame.force_sum, out->mutable_force_sum());
 }
 
-}  // namespace
+void ToProto(const GripperReading& reading, v1::GripperReading* out) {
+  out->set_finger_distance(reading.finger_distance);
+  out->set_motor_current(reading.motor_current);
+  out->set_finger_velocity(reading.finger_velocity);
+}
 
 SensorRef FindSensor(const SceneView& view, const std::string& field, const std::string& id) {
   const SceneModel& model = *view.model;
@@ -97,16 +103,11 @@ void ReadSensor(const SceneView& view, const SensorRef& sensor, const std::strin
   out->set_time(view.state.time);
   switch (sensor.kind) {
     case SensorRef::Kind::kTactile:
-      TactileToProto(ReadTactileArray(model, view.state, sensor.index), out->mutable_tactile());
+      ToProto(ReadTactileArray(model, view.state, sensor.index), out->mutable_tactile());
       return;
-    case SensorRef::Kind::kGripper: {
-      const GripperReading reading = ReadGripper(model, view.state, model.robots[sensor.index]);
-      auto* gripper = out->mutable_gripper();
-      gripper->set_finger_distance(reading.finger_distance);
-      gripper->set_motor_current(reading.motor_current);
-      gripper->set_finger_velocity(reading.finger_velocity);
+    case SensorRef::Kind::kGripper:
+      ToProto(ReadGripper(model, view.state, model.robots[sensor.index]), out->mutable_gripper());
       return;
-    }
     case SensorRef::Kind::kForceTorque:
       break;
   }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "graspsim/v1/tactile.pb.h"
+#include "sensors/readings.h"
 #include "world/scene.h"
 
 namespace graspsim::rpc {
@@ -22,6 +23,10 @@ SensorRef FindSensor(const SceneView& view, const std::string& field, const std:
 
 // FindSensor for Sample and Stream: a joint id is UNIMPLEMENTED (its force/torque sensor is not built yet).
 SensorRef FindReadableSensor(const SceneView& view, const std::string& field, const std::string& id);
+
+// The readings as messages: intensities and forces packed little-endian (uint16, float32 x y z per texel).
+void ToProto(const TactileFrame& frame, v1::TactileReading* out);
+void ToProto(const GripperReading& reading, v1::GripperReading* out);
 
 // One reading of `sensor` in `view`'s state, time stamped with the state's time.
 void ReadSensor(const SceneView& view, const SensorRef& sensor, const std::string& id, v1::SensorReading* out);

@@ -19,10 +19,12 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
 
-  services_.push_back(std::make_unique<SceneServiceImpl>(&registry_, &pool_, options.watch_max_rate_hz));
+  services_.push_back(
+      std::make_unique<SceneServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<PerceptionServiceStub>());
   services_.push_back(std::make_unique<GraspServiceStub>());
-  services_.push_back(std::make_unique<TactileServiceImpl>(&registry_, &pool_, options.watch_max_rate_hz));
+  services_.push_back(
+      std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<GatewayServiceStub>());
 
   grpc::ServerBuilder builder;

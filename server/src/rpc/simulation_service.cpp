@@ -4,10 +4,10 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/validate.h"
-#include "physics/actuators.h"
 #include "rpc/call.h"
 #include "rpc/convert.h"
 #include "rpc/scene_service.h"
+#include "workcycle/drives.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -19,11 +19,6 @@ uint64_t StepsPerChunk(const SimulationParams& params) {
 }
 
 constexpr uint64_t kMaxStepsPerRequest = 100'000'000;
-
-// A joint without its own motor settings gets its robot's drive: the PG70's for the built-in PG70.
-DcMotorParams DefaultDrive(const RobotSpec& robot) {
-  return robot.source == "builtin:schunk_pg70" ? Pg70DriveParams() : DcMotorParams();
-}
 
 }  // namespace
 
@@ -70,10 +65,12 @@ grpc::ServerUnaryReactor* SceneServiceImpl::SetActuators(grpc::CallbackServerCon
           state->actuators.erase(found->second);
           continue;
         }
+        // A joint without its own motor settings gets its robot's drive (workcycle/drives.h): the PG70's for
+        // the built-in PG70s' fingers, the axis drive for the z axis.
         const RobotSpec& robot = model->robots[model->robot_index.at(joint.robot_id)];
         JointActuator& actuator = state->actuators[found->second];
         actuator.motor = command.has_motor() ? DcMotorFromProto(field + ".motor", command.motor())
-                                             : DefaultDrive(robot);
+                                             : BuiltinDrive(robot, joint);
         actuator.command = ActuatorCommandFromProto(field, command);
       }
     });
@@ -117,7 +114,7 @@ grpc::ServerUnaryReactor* SceneServiceImpl::StepSimulation(grpc::CallbackServerC
       if (context->IsCancelled()) break;  // the caller gave up (or its deadline passed): stop between chunks
       const uint64_t chunk = std::min(steps - done, StepsPerChunk(view.model->simulation));
       const uint64_t revision = scene->Update([&](const std::shared_ptr<const SceneModel>& model, SceneState* state) {
-        stats = simulations_.For(scene->id(), model)->Step(state, static_cast<int>(chunk));
+        stats = simulations_->For(scene->id(), model)->Step(state, static_cast<int>(chunk));
       });
       response->set_revision(revision);
       done += chunk;

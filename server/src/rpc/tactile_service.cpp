@@ -10,6 +10,7 @@
 #include "rpc/failed_call.h"
 #include "rpc/sensor_readings.h"
 #include "rpc/sensor_stream.h"
+#include "rpc/work_cycle_stream.h"
 #include "sensors/readings.h"
 
 namespace graspsim::rpc {
@@ -90,15 +91,30 @@ grpc::ServerWriteReactor<v1::SensorReading>* TactileServiceImpl::Stream(Context*
                            std::chrono::nanoseconds(static_cast<int64_t>(interval_ns)), pool_, context);
 }
 
-grpc::ServerWriteReactor<v1::WorkCycleProgress>* TactileServiceImpl::RunWorkCycle(Context* context,
-                                                                                   const v1::RunWorkCycleRequest*) {
-  const grpc::Status status(grpc::StatusCode::UNIMPLEMENTED,
-                            "graspsim.v1.TactileService/RunWorkCycle is declared in API v1 but not implemented yet: "
-                            "the grasp work cycle (approach, grasp with tactile force control, lift, move down, "
-                            "release) is a later part of the tactile-sensing issue; Sample, Stream and "
-                            "GetTactileImage work now");
-  LogRequest("TactileService/RunWorkCycle", *context, status, {});
-  return new FailedWriter<v1::WorkCycleProgress>(status);
+grpc::ServerWriteReactor<v1::WorkCycleProgress>* TactileServiceImpl::RunWorkCycle(
+    Context* context, const v1::RunWorkCycleRequest* request) {
+  // 0 means the default, as the message documents; every other value is checked by the cycle (ranges, and
+  // the ids against the scene's model on the pool, since reading the model takes the scene's lock).
+  auto or_default = [](double value, double fallback) { return value == 0 ? fallback : value; };
+  const WorkCycleRequest defaults;
+  WorkCycleRequest cycle;
+  cycle.gripper_id = request->gripper_id();
+  cycle.object_id = request->object_id();
+  cycle.tactile_setpoint = or_default(request->tactile_setpoint(), defaults.tactile_setpoint);
+  cycle.lift_height = or_default(request->lift_height(), defaults.lift_height);
+  cycle.coverage = or_default(request->coverage(), defaults.coverage);
+  cycle.frame_rate_hz = or_default(request->frame_rate_hz(), defaults.frame_rate_hz);
+  cycle.hold_time = or_default(request->hold_time(), defaults.hold_time);
+  std::shared_ptr<Scene> scene;
+  try {
+    scene = registry_->Get(request->scene_id());
+  } catch (const Error& error) {
+    // Logged here only when refused: a started run logs once, when it finishes.
+    const grpc::Status status = ToStatus(error);
+    LogRequest("TactileService/RunWorkCycle", *context, status, {});
+    return new FailedWriter<v1::WorkCycleProgress>(status);
+  }
+  return StartWorkCycleStream(std::move(scene), std::move(cycle), simulations_, pool_, context);
 }
 
 }  // namespace graspsim::rpc

@@ -1,9 +1,10 @@
-// graspsim.v1.TactileService: sensor readings of a scene's state (sensors/readings.h) as messages. Bodies run on
-// the worker pool; Stream is a reactor per reader (sensor_stream.h). RunWorkCycle is a later part of the
-// tactile-sensing issue and answers UNIMPLEMENTED.
+// graspsim.v1.TactileService: sensor readings of a scene's state (sensors/readings.h) as messages, and the grasp
+// work cycle (workcycle/work_cycle.h). Bodies run on the worker pool; Stream is a reactor per reader
+// (sensor_stream.h), RunWorkCycle one per run (work_cycle_stream.h).
 #pragma once
 
 #include "core/worker_pool.h"
+#include "physics/simulation_cache.h"
 #include "graspsim/v1/tactile.grpc.pb.h"
 #include "world/scene_registry.h"
 
@@ -12,8 +13,10 @@ namespace graspsim::rpc {
 class TactileServiceImpl final : public v1::TactileService::CallbackService {
  public:
   // `max_rate_hz` caps Stream's rate_hz: the server's --watch-max-rate-hz, the limit of every stream.
-  TactileServiceImpl(SceneRegistry* registry, WorkerPool* pool, double max_rate_hz)
-      : registry_(registry), pool_(pool), max_rate_hz_(max_rate_hz) {}
+  // `simulations` is the server's (shared with SceneService.StepSimulation), so both step a scene with the same
+  // Simulation.
+  TactileServiceImpl(SceneRegistry* registry, WorkerPool* pool, SimulationCache* simulations, double max_rate_hz)
+      : registry_(registry), pool_(pool), simulations_(simulations), max_rate_hz_(max_rate_hz) {}
 
   using Context = grpc::CallbackServerContext;
   using Unary = grpc::ServerUnaryReactor;
@@ -26,6 +29,7 @@ class TactileServiceImpl final : public v1::TactileService::CallbackService {
  private:
   SceneRegistry* registry_;
   WorkerPool* pool_;
+  SimulationCache* simulations_;
   const double max_rate_hz_;
 };
 

@@ -52,13 +52,31 @@ TactileFrame ReadTactileArray(const SceneModel& model, const SceneState& state, 
   return frame;
 }
 
+namespace {
+
+// A finger is a prismatic joint with no prismatic joint below it: a linear axis that carries the gripper (the
+// z axis of "schunk_pg70_on_z_axis") is not one.
+bool IsFinger(const SceneModel& model, const RobotSpec& robot, const JointSpec& joint) {
+  if (joint.type != JointType::kPrismatic) return false;
+  std::vector<std::string> below = {joint.child_body};  // bodies in the joint's subtree
+  for (const std::string& id : robot.joint_ids) {  // topological order: parents before children
+    const JointSpec& other = model.joints[model.joint_index.at(id)];
+    if (std::find(below.begin(), below.end(), other.parent_body) == below.end()) continue;
+    if (other.type == JointType::kPrismatic) return false;
+    below.push_back(other.child_body);
+  }
+  return true;
+}
+
+}  // namespace
+
 GripperReading ReadGripper(const SceneModel& model, const SceneState& state, const RobotSpec& robot) {
   GripperReading reading;
   bool have_driver = false;
   for (const std::string& id : robot.joint_ids) {
     const size_t index = model.joint_index.at(id);
     const JointSpec& joint = model.joints[index];
-    if (joint.type != JointType::kPrismatic) continue;
+    if (!IsFinger(model, robot, joint)) continue;
     if (index < state.joint_positions.size()) reading.finger_distance += state.joint_positions[index];
     // The first independent finger is the one the motor drives; mimic fingers follow it.
     if (have_driver || joint.mimic) continue;

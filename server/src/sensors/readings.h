@@ -29,7 +29,9 @@ TactileFrame ReadTactileArray(const SceneModel& model, const SceneState& state, 
 
 // The Schunk PG70's own sensor: jaw opening, motor current, finger speed.
 struct GripperReading {
-  double finger_distance = 0;  // m: the sum of the robot's prismatic finger joint positions (0 = closed)
+  // m: the sum of the robot's prismatic finger joint positions (0 = closed). Fingers are prismatic joints with
+  // no prismatic joint below them, so a linear axis carrying the gripper does not count.
+  double finger_distance = 0;
   double motor_current = 0;    // A: the driving joint's motor, 0 when undriven
   double finger_velocity = 0;  // m/s: the driving (independent) finger joint's velocity
 };

@@ -22,6 +22,10 @@ const std::vector<BuiltinModelInfo>& BuiltinModels() {
        "datasheets"},
       {"table", "object", true, "Table, 1.2 x 0.8 m top with its upper surface 0.75 m above the floor, 20 kg"},
       {"cube_5cm", "object", false, "Cube of 5 cm edge, 0.1 kg (density 800 kg/m^3, like hardwood)"},
+      {"schunk_pg70_on_z_axis", "robot", false,
+       "The Schunk PG 70 with its two DSA 9205 pads, pointing down from the carriage (1 kg) of a vertical linear "
+       "axis (joint z_axis: 0.30 m travel, 0.2 m/s, 500 N): the set-up of the grasp work cycle "
+       "(TactileService.RunWorkCycle); Schunk PG 70 and Weiss DSA 9205 datasheets, generic axis"},
   };
   return models;
 }

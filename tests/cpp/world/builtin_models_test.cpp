@@ -34,9 +34,9 @@ Mat3 BoxInertia(double mass, const Vec3& size) {
   return (mass / 12 * Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
 }
 
-TEST(BuiltinModelsTest, ListsTheThreeModels) {
+TEST(BuiltinModelsTest, ListsTheFourModels) {
   const std::vector<BuiltinModelInfo>& models = BuiltinModels();
-  ASSERT_EQ(models.size(), 3u);
+  ASSERT_EQ(models.size(), 4u);
   EXPECT_EQ(models[0].name, "schunk_pg70");
   EXPECT_EQ(models[0].kind, "robot");
   EXPECT_EQ(models[1].name, "table");
@@ -45,6 +45,8 @@ TEST(BuiltinModelsTest, ListsTheThreeModels) {
   EXPECT_EQ(models[2].name, "cube_5cm");
   EXPECT_EQ(models[2].kind, "object");
   EXPECT_FALSE(models[2].is_static);
+  EXPECT_EQ(models[3].name, "schunk_pg70_on_z_axis");  // tests/cpp/workcycle checks its kinematics
+  EXPECT_EQ(models[3].kind, "robot");
   for (const BuiltinModelInfo& model : models) {
     EXPECT_FALSE(model.description.empty());
     const RobotDescription robot = LoadBuiltin(model.name);
@@ -58,7 +60,7 @@ TEST(BuiltinModelsTest, UnknownNameIsNotFound) {
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kNotFound);
-    EXPECT_STREQ(e.what(), "builtin model 'ur5' is not known; known: cube_5cm, schunk_pg70, table");
+    EXPECT_STREQ(e.what(), "builtin model 'ur5' is not known; known: cube_5cm, schunk_pg70, schunk_pg70_on_z_axis, table");
   }
 }
 

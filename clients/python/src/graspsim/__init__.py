@@ -6,6 +6,7 @@
         client.add_object(scene.id, "cube", box=(0.05, 0.05, 0.05), mass=0.1, pose=[0, 0, 0.5, 1, 0, 0, 0])
 
 Units are SI (m, kg, s, rad); quaternions are (w, x, y, z). The generated messages live in graspsim.v1.
+Matplotlib helpers (optional extra "plot") live in graspsim.plot, imported only when asked for.
 """
 from graspsim import inertia, meshes
 from graspsim._client import Client, connect
@@ -13,9 +14,11 @@ from graspsim._errors import GraspsimError
 from graspsim._pose import Pose, as_pose, quaternion_about_axis, quaternion_to_matrix
 from graspsim._sensors import GripperState, SensorStream, TactileFrame
 from graspsim._watch import SceneWatch, Snapshot
+from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult, WorkCycleSummary
 from graspsim.v1 import common_pb2, scene_pb2, tactile_pb2
 
 __all__ = ["Client", "GraspsimError", "GripperState", "Pose", "SceneWatch", "SensorStream", "Snapshot",
-           "TactileFrame", "as_pose", "common_pb2", "connect", "inertia", "meshes", "quaternion_about_axis",
-           "quaternion_to_matrix", "scene_pb2", "tactile_pb2"]
+           "TactileFrame", "WorkCycleFrame", "WorkCycleResult", "WorkCycleSummary", "as_pose", "common_pb2",
+           "connect", "inertia", "meshes", "quaternion_about_axis", "quaternion_to_matrix", "scene_pb2",
+           "tactile_pb2"]
 __version__ = "0.1.0"

@@ -1,16 +1,17 @@
 """Client: the graspsim SceneService with Python values in and numpy/dataclasses out."""
 from __future__ import annotations
 
-from typing import Dict, Iterable, List, Mapping, Optional, Sequence
+from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence
 
 import grpc
 
 from graspsim import _build
-from graspsim._errors import GraspsimError, translated_errors
+from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
 from graspsim._pose import Pose, PoseLike, as_pose
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
 from graspsim._upload import FileData, upload_chunks
 from graspsim._watch import SceneWatch
+from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult
 from graspsim.v1 import common_pb2, scene_pb2, scene_pb2_grpc, tactile_pb2, tactile_pb2_grpc
 
 _CHANNEL_OPTIONS = [
@@ -262,3 +263,35 @@ class Client:
         scale pixels per texel: a PG70 pad (6 x 14 texels) at scale 20 is 120 x 280 px (at most 4096 px a side)."""
         request = tactile_pb2.GetTactileImageRequest(scene_id=scene_id, sensor_id=sensor_id, scale=scale)
         return self._unary("GetTactileImage", request, self.tactile_stub).png
+
+    def run_work_cycle(self, scene_id: str, gripper_id: str, object_id: str, *, tactile_setpoint: float = 0,
+                       lift_height: float = 0, coverage: float = 0, frame_rate_hz: float = 0, hold_time: float = 0,
+                       on_frame: Optional[Callable[[WorkCycleFrame], None]] = None,
+                       timeout: Optional[float] = None) -> WorkCycleResult:
+        """Runs the grasp work cycle on a gripper carried by a z axis (built-in "schunk_pg70_on_z_axis") and
+        returns its time series: approach, grasp (velocity control until the first tactile contact, then force
+        control of the tactile sum), lift, hold, move_down, release, done.
+
+        tactile_setpoint: intensity sum per pad the force controller holds (0 = 60000); lift_height m (0 = 0.05);
+        coverage: fraction (0, 1] of the pads' length the object covers (0 = 1); frame_rate_hz: progress frames
+        per simulated second (0 = 50); hold_time: s held at the top (0 = 1). on_frame(frame) is called with each
+        WorkCycleFrame as it arrives; if it raises, the cycle is cancelled and the exception propagates.
+        timeout (s) bounds the whole call (None: no deadline). The server's refusals raise GraspsimError.
+        """
+        request = tactile_pb2.RunWorkCycleRequest(
+            scene_id=scene_id, gripper_id=gripper_id, object_id=object_id, tactile_setpoint=tactile_setpoint,
+            lift_height=lift_height, coverage=coverage, frame_rate_hz=frame_rate_hz, hold_time=hold_time)
+        call = self.tactile_stub.RunWorkCycle(request, timeout=timeout)
+        frames: List[WorkCycleFrame] = []
+        try:
+            for message in call:
+                frame = WorkCycleFrame.from_proto(message)
+                frames.append(frame)
+                if on_frame is not None:
+                    on_frame(frame)
+        except grpc.RpcError as err:
+            raise from_rpc_error(err) from None
+        finally:
+            call.cancel()  # a no-op once the stream has ended; stops the server's run otherwise
+        return WorkCycleResult.from_frames(frames, tactile_setpoint=tactile_setpoint, lift_height=lift_height,
+                                           coverage=coverage)

@@ -1,0 +1,214 @@
+#include "rpc/work_cycle_stream.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <mutex>
+#include <optional>
+
+#include "rpc/call.h"
+#include "rpc/convert.h"
+#include "rpc/sensor_readings.h"
+
+namespace graspsim::rpc {
+namespace {
+
+constexpr char kMethod[] = "TactileService/RunWorkCycle";
+// Frames simulated ahead of the writer before the simulation pauses: 64 frames are ~150 kB, and a chunk adds
+// at most one frame per step (17 at 1 ms steps and 1 kHz frames).
+constexpr size_t kMaxBuffered = 64;
+
+// As StepSimulation: the scene's lock is released and the state committed every 1/60 s of simulated time, so
+// viewers (WatchScene) see the cycle and other requests are served between chunks.
+uint64_t StepsPerChunk(const SimulationParams& params) {
+  return std::max<uint64_t>(1, static_cast<uint64_t>(std::lround((1.0 / 60) / params.time_step)));
+}
+
+void FrameToProto(const WorkCycle& cycle, const WorkCycleFrame& frame, v1::WorkCycleProgress* out) {
+  out->set_stage(StageName(frame.stage));
+  out->set_time(frame.time);
+  for (size_t i = 0; i < frame.pads.size(); ++i) {
+    v1::SensorReading* reading = out->add_readings();
+    reading->set_sensor_id(cycle.pad_ids()[i]);
+    reading->set_time(frame.time);
+    ToProto(frame.pads[i], reading->mutable_tactile());
+  }
+  v1::SensorReading* gripper = out->add_readings();
+  gripper->set_sensor_id(cycle.gripper_id() + "/gripper");
+  gripper->set_time(frame.time);
+  ToProto(frame.gripper, gripper->mutable_gripper());
+  ToProto(frame.object_pose, out->mutable_object_pose());
+  out->set_axis_position(frame.axis_position);
+  out->set_current_limit(frame.current_limit);
+}
+
+class WorkCycleReactor;
+
+// The run's state, shared with the scene's hub and the pool job; it outlives the reactor when one of them
+// arrives late, and then does nothing: every use of the reactor checks reactor_ under the mutex.
+// Lock order: the hub notifies under the scene's lock, so the scene's lock (View, Update) is never taken while
+// holding mutex_.
+class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this<WorkCycleRun> {
+ public:
+  WorkCycleRun(WorkCycleReactor* reactor, grpc::CallbackServerContext* context, std::shared_ptr<Scene> scene,
+               WorkCycleRequest request, SimulationCache* simulations, WorkerPool* pool)
+      : reactor_(reactor), context_(context), scene_(std::move(scene)), request_(std::move(request)),
+        simulations_(simulations), pool_(pool), start_(std::chrono::steady_clock::now()) {}
+
+  void Start() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!scene_->snapshots().Subscribe(shared_from_this())) {
+      StopLocked(grpc::Status(grpc::StatusCode::NOT_FOUND, "scene_id: scene '" + scene_->id() + "' was deleted"));
+      return;
+    }
+    PumpLocked();
+  }
+  void OnSnapshotAvailable() override {}  // the run makes the snapshots; it only listens for the hub closing
+  void OnHubClosed(const std::string& reason) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    StopLocked(grpc::Status(grpc::StatusCode::UNAVAILABLE, reason + "; the work cycle stopped"));
+  }
+  void OnWriteDone(bool ok) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    writing_ = false;
+    if (!ok) StopLocked(grpc::Status(grpc::StatusCode::CANCELLED, "the work cycle's reader went away"));
+    PumpLocked();
+  }
+  void OnCancel() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    StopLocked(grpc::Status(grpc::StatusCode::CANCELLED, "work cycle cancelled"));
+  }
+  void Detach() {
+    scene_->snapshots().Unsubscribe(this);
+    std::lock_guard<std::mutex> lock(mutex_);
+    reactor_ = nullptr;
+  }
+
+ private:
+  void Simulate();
+  // Writes the next frame, finishes when everything is written and the run has ended, or schedules the next
+  // chunk while the buffer has room.
+  void PumpLocked();
+  // Ends the run early: frames not yet written are dropped.
+  void StopLocked(grpc::Status status) {
+    if (finished_) return;
+    pending_.clear();
+    end_ = std::make_unique<grpc::Status>(std::move(status));
+    PumpLocked();
+  }
+
+  std::mutex mutex_;
+  WorkCycleReactor* reactor_;
+  grpc::CallbackServerContext* const context_;  // valid while reactor_ is set
+  const std::shared_ptr<Scene> scene_;
+  const WorkCycleRequest request_;
+  SimulationCache* const simulations_;
+  WorkerPool* const pool_;
+  const std::chrono::steady_clock::time_point start_;
+  std::unique_ptr<WorkCycle> cycle_;  // only the one pool job in flight touches it
+  std::deque<v1::WorkCycleProgress> pending_;
+  v1::WorkCycleProgress message_;     // the frame being written; untouched until its write completes
+  bool writing_ = false, simulating_ = false, finished_ = false;
+  std::unique_ptr<grpc::Status> end_;  // set when no chunk follows: finish with it once pending_ is written
+};
+
+class WorkCycleReactor : public grpc::ServerWriteReactor<v1::WorkCycleProgress> {
+ public:
+  WorkCycleReactor(grpc::CallbackServerContext* context, std::shared_ptr<Scene> scene, WorkCycleRequest request,
+                   SimulationCache* simulations, WorkerPool* pool)
+      : run_(std::make_shared<WorkCycleRun>(this, context, std::move(scene), std::move(request), simulations,
+                                            pool)) {
+    run_->Start();
+  }
+  void OnWriteDone(bool ok) override { run_->OnWriteDone(ok); }
+  void OnCancel() override { run_->OnCancel(); }
+  void OnDone() override {
+    run_->Detach();
+    delete this;
+  }
+
+ private:
+  std::shared_ptr<WorkCycleRun> run_;
+};
+
+void WorkCycleRun::PumpLocked() {
+  if (!reactor_ || finished_) return;
+  if (!writing_ && !pending_.empty()) {
+    message_ = std::move(pending_.front());
+    pending_.pop_front();
+    writing_ = true;
+    reactor_->StartWrite(&message_);
+  }
+  if (!writing_ && pending_.empty() && end_) {
+    // A pool job still in flight finds finished_ and drops its chunk.
+    finished_ = true;
+    LogRequest(kMethod, *context_, *end_, std::chrono::steady_clock::now() - start_);
+    reactor_->Finish(*end_);
+    return;
+  }
+  if (!simulating_ && !end_ && pending_.size() < kMaxBuffered) {
+    simulating_ = true;
+    pool_->Post([self = shared_from_this()] { self->Simulate(); });
+  }
+}
+
+void WorkCycleRun::Simulate() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!reactor_ || finished_ || end_) {
+      simulating_ = false;
+      return;
+    }
+  }
+  std::vector<WorkCycleFrame> frames;
+  grpc::Status status;
+  bool done = false;
+  try {
+    if (!cycle_) {  // the request against the scene as it is now; errors end the stream before any frame
+      const SceneView view = scene_->View();
+      cycle_ = std::make_unique<WorkCycle>(view.model, view.state, request_);
+    }
+    std::optional<Error> failure;
+    scene_->Update([&](const std::shared_ptr<const SceneModel>& model, SceneState* state) {
+      try {
+        cycle_->Advance(simulations_->For(scene_->id(), model).get(), state, StepsPerChunk(model->simulation),
+                        &frames);
+      } catch (const Error& error) {
+        failure = error;  // commit the steps done before it: the scene then matches the frames sent
+      }
+    });
+    if (failure) throw *failure;
+    done = cycle_->done();
+  } catch (const Error& error) {
+    status = ToStatus(error);
+  } catch (const std::bad_alloc&) {
+    status = grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, std::string(kMethod) + ": out of memory");
+  } catch (const std::exception& error) {
+    status = grpc::Status(grpc::StatusCode::INTERNAL, std::string(kMethod) + ": " + error.what());
+  }
+  std::vector<v1::WorkCycleProgress> messages(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) FrameToProto(*cycle_, frames[i], &messages[i]);
+
+  std::lock_guard<std::mutex> lock(mutex_);
+  simulating_ = false;
+  if (!reactor_ || finished_ || end_) return;  // stopped meanwhile: this chunk is not sent
+  for (auto& message : messages) pending_.push_back(std::move(message));
+  if (!status.ok()) {
+    end_ = std::make_unique<grpc::Status>(status);
+  } else if (done) {
+    end_ = std::make_unique<grpc::Status>(grpc::Status::OK);
+  }
+  PumpLocked();
+}
+
+}  // namespace
+
+grpc::ServerWriteReactor<v1::WorkCycleProgress>* StartWorkCycleStream(std::shared_ptr<Scene> scene,
+                                                                      WorkCycleRequest request,
+                                                                      SimulationCache* simulations, WorkerPool* pool,
+                                                                      grpc::CallbackServerContext* context) {
+  return new WorkCycleReactor(context, std::move(scene), std::move(request), simulations, pool);
+}
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,158 @@
+"""tactile: speed and accuracy of the tactile pads and the grasp work cycle, beside MuJoCo's touch_grid (issue 4).
+
+- realtime_factor: simulated s / wall s of a 45 s work cycle (the paper's: 45 s in 2 min, 0.375) through the
+  Python client's run_work_cycle on a server of our own: the built-in "schunk_pg70_on_z_axis" over the table and
+  the 5 cm cube, as clients/python/examples/tactile_cycle.py builds it, full coverage; a first cycle with a 1 s
+  hold measures the rest of the cycle, the timed one holds long enough to make 45 s. Wall time of the whole
+  streaming call (frames at the default 50 Hz included). pad_sum_mismatch: the mean over the "hold" frames of
+  |left − right| / their mean. Without RunWorkCycle on the server both are null and "work_cycle" says why.
+- ms_per_step, rays_per_s, static_load_rel_error, runtime_vs_error, cells_reporting: graspsim_tactile_bench
+  (tests/stress/tactile_bench.cpp), in process. ms_per_step: the built-in PG70's pads squeezing the 5 cm cube,
+  dt = 1 ms; rays_per_s: the pads' segments per second of the caster's own time (rays_per_s_of_step: per second
+  of whole steps); static_load_rel_error: a 0.2 kg box on a 6 × 14 pad after 1 s at dt = 1 ms, one element per
+  texel (runtime_vs_error: dt ∈ {1e-4, 3e-4, 1e-3, 3e-3} × elements per texel edge ∈ {1, 2, 4}); cells_reporting:
+  texels with a non-zero intensity under a 3 × 6 cm box covering the pad (cells_covered: texels under it).
+- mujoco_realtime_factor, mujoco_cells_reporting: the same cycle and the same pressed box in MuJoCo with
+  touch_grid pads (tests/bench/mujoco_tactile.py), in this process.
+- shape_iou: the shape-recognition experiment's IoU, read from its gtest (TactileShape*) when graspsim_tests has
+  one; otherwise null with a note (this benchmark does not duplicate that experiment).
+Wall-clock figures depend on the machine's load: load_avg_1m (before, after) is reported with them.
+"""
+import json
+import math
+import os
+import re
+import subprocess
+import time
+
+import numpy as np
+
+import graspsim
+
+import mujoco_tactile
+from _harness import REPO, Server, log
+
+BIN = REPO / "build" / "bin"
+CYCLE_S = 45.0            # the paper's cycle
+TABLE_TOP_Z, CUBE_EDGE, GRIPPER_BASE_Z = 0.75, 0.05, 1.05   # as clients/python/examples/tactile_cycle.py
+GRIPPER, CUBE = "cell", "cube"
+PAPER_REALTIME_FACTOR = 45 / 120
+
+
+def inprocess() -> dict:
+    log("graspsim_tactile_bench: static load (4 dt x 3 resolutions), PG70 grasp steps, pressed box")
+    data = json.loads(subprocess.run([str(BIN / "graspsim_tactile_bench")], capture_output=True, text=True,
+                                     check=True).stdout)
+    table = [{"dt": row["dt"], "subdivision": row["subdivision"], "elements": row["elements"],
+              "error": float(f"{row['rel_error']:.3g}"), "run_s": round(row["seconds"], 4),
+              "realtime_factor": round(row["realtime_factor"], 1), **({"failed": row["error"]} if row["error"] else {})}
+             for row in data["static_load"]]
+    default = next(r for r in table if r["dt"] == 1e-3 and r["subdivision"] == 1)
+    grasp = data["grasp"]
+    cells = {c["box"]: c for c in data["cells"]}
+    left, right = grasp["pad_sums"]
+    return {"ms_per_step": round(grasp["ms_per_step"], 4), "inprocess_grasp_realtime_factor": round(grasp["realtime_factor"], 1),
+            "rays_per_s": round(grasp["rays_per_s_of_cast"]), "rays_per_s_of_step": round(grasp["rays_per_s_of_step"]),
+            "rays_per_step": grasp["rays_per_step"], "grasp_contacts": grasp["contacts"],
+            "grasp_pad_sums": [left, right],
+            "grasp_pad_sum_mismatch": round(abs(left - right) / max((left + right) / 2, 1e-12), 5),
+            "static_load_rel_error": default["error"],
+            "static_load_rel_error_max": max(r["error"] for r in table),
+            "runtime_vs_error": table,
+            "cells_reporting": cells["covering"]["cells_reporting"], "cells_covered": cells["covering"]["cells_covered"],
+            "cells_reporting_cube_2cm": cells["cube_2cm"]["cells_reporting"],
+            "cells_covered_cube_2cm": cells["cube_2cm"]["cells_covered"]}
+
+
+def _cycle(client, hold_time: float):
+    scene_id = client.create_scene("tactile bench").id
+    try:
+        client.add_object(scene_id, "table", builtin="table")
+        client.add_object(scene_id, CUBE, builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
+        client.add_robot(scene_id, GRIPPER, builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, GRIPPER_BASE_Z, 1, 0, 0, 0])
+        started = time.perf_counter()
+        result = client.run_work_cycle(scene_id, GRIPPER, CUBE, coverage=1.0, hold_time=hold_time, timeout=900)
+        return result, time.perf_counter() - started
+    finally:
+        client.delete_scene(scene_id)
+
+
+def work_cycle(client) -> dict:
+    """Our 45 s cycle through RunWorkCycle, or nulls with the reason when the server cannot run it."""
+    try:
+        probe, probe_wall = _cycle(client, hold_time=1.0)
+    except graspsim.GraspsimError as err:
+        log(f"work cycle unavailable: {err}")
+        return {"realtime_factor": None, "pad_sum_mismatch": None, "work_cycle": f"unavailable: {err}"}
+    rest = float(probe.time[-1] - probe.time[0]) - 1.0
+    log(f"probe cycle: {probe.time[-1] - probe.time[0]:.2f} s simulated in {probe_wall:.2f} s; timing a "
+        f"{CYCLE_S:g} s cycle (hold {CYCLE_S - rest:.2f} s)")
+    result, wall = _cycle(client, hold_time=max(CYCLE_S - rest, 1.0))
+    simulated = float(result.time[-1] - result.time[0])
+    hold = np.array([s == "hold" for s in result.stage])
+    mismatch, hold_cells = None, None
+    if hold.any():
+        left, right = result.left_sum[hold].astype(float), result.right_sum[hold].astype(float)
+        mismatch = round(float(np.mean(np.abs(left - right) / np.maximum((left + right) / 2, 1e-12))), 5)
+        hold_cells = [int(np.median(np.count_nonzero(images[hold].reshape(int(hold.sum()), -1), axis=1)))
+                      for images in (result.left_images, result.right_images)]
+    summary = result.summary()
+
+    def num(x, digits=5):
+        return None if math.isnan(x) else round(float(x), digits)
+    log(f"work cycle: {simulated:.2f} s simulated in {wall:.2f} s, stages {' > '.join(result.stages())}")
+    return {"realtime_factor": round(simulated / wall, 3), "pad_sum_mismatch": mismatch, "work_cycle": "ran",
+            "cycle_simulated_s": round(simulated, 3), "cycle_wall_s": round(wall, 3), "cycle_frames": len(result),
+            "cycle_stages": result.stages(), "cycle_hold_mismatch_max": num(summary.hold_mismatch),
+            "cycle_lift_mm": num(summary.lift * 1e3, 3), "cycle_slip_mm": num(summary.slip * 1e3, 3),
+            "cycle_rise_time_s": num(summary.rise_time, 4), "cycle_hold_cells_reporting": hold_cells}
+
+
+def shape() -> dict:
+    """The shape experiment's IoU from its gtest, if it exists (written elsewhere; not duplicated here)."""
+    tests = BIN / "graspsim_tests"
+    listing = subprocess.run([str(tests), "--gtest_list_tests"], capture_output=True, text=True).stdout \
+        if tests.exists() else ""
+    suites = [line.rstrip(".") for line in listing.splitlines() if line and not line.startswith(" ")
+              and "shape" in line.lower() and "tactile" in line.lower()]
+    if not suites:
+        return {"shape_iou": None, "shape_note": "no TactileShape* test in graspsim_tests yet: the shape-recognition "
+                                                 "experiment is written elsewhere (tests/cpp/physics/tactile_shape_test)"}
+    out = subprocess.run([str(tests), f"--gtest_filter={':'.join(s + '.*' for s in suites)}"], capture_output=True,
+                         text=True)
+    ious = [float(x) for x in re.findall(r"iou\W{0,3}\s*[=:]?\s*([01]\.\d+)", out.stdout + out.stderr, re.IGNORECASE)]
+    note = f"from {', '.join(suites)} ({'passed' if out.returncode == 0 else 'FAILED'})"
+    if not ious:
+        return {"shape_iou": None, "shape_note": note + ": it prints no IoU figure"}
+    return {"shape_iou": round(min(ious), 4), "shape_iou_all": [round(x, 4) for x in ious], "shape_note": note}
+
+
+def run():
+    if not (BIN / "graspsim_tactile_bench").exists():
+        raise RuntimeError(f"{BIN / 'graspsim_tactile_bench'} not built: run 'make build'")
+    load_before = round(os.getloadavg()[0], 2)
+    figures = {}
+    with Server() as server, graspsim.connect(server.address) as client:
+        figures.update(work_cycle(client))
+    figures.update(inprocess())
+    figures.update(shape())
+    log("MuJoCo peer: the same cycle with touch_grid pads, and the pressed box")
+    try:
+        peer = mujoco_tactile.run()
+    except Exception as err:  # noqa: BLE001 — the peer missing must not hide our own figures
+        log(f"MuJoCo peer failed: {type(err).__name__}: {err}")
+        peer = {"mujoco_realtime_factor": None, "mujoco_cells_reporting": None, "mujoco_note": str(err)}
+    figures.update(peer)
+    ours = figures["realtime_factor"]
+    figures.update({
+        "paper_realtime_factor": PAPER_REALTIME_FACTOR,
+        "all_covered_cells_report": figures["cells_reporting"] == figures["cells_covered"],
+        "beats_mujoco_realtime": None if ours is None or peer["mujoco_realtime_factor"] is None
+        else ours > peer["mujoco_realtime_factor"],
+        "load_avg_1m": [load_before, round(os.getloadavg()[0], 2)],
+    })
+    return figures, server.exit_code
+
+
+if __name__ == "__main__":  # alone, without the dispatcher
+    print(json.dumps(run()[0]))

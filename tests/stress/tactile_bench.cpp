@@ -1,0 +1,233 @@
+// graspsim_tactile_bench: the in-process figures of `tests/bench/run tactile` as one JSON object (stdout; progress
+// on stderr). Wall times are reported, never judged.
+//
+//   "static_load": per time step dt ∈ {1e-4, 3e-4, 1e-3, 3e-3} s × pad subdivision s ∈ {1, 2, 4}: a 0.2 kg box
+//                  (3 × 6 cm, covering the whole pad) resting on a DSA 9205-like pad (6 × 14 texels, 3.4 mm
+//                  pitch, 4 mm foam) on a welded stand, as in tests/cpp/physics/tactile_contact_test.cpp; after
+//                  1 s of simulated time the relative error of the elements' normal-force sum against m g, and the
+//                  wall time of that second (its realtime factor).
+//   "grasp":       the built-in schunk_pg70 (two DSA 9205 pads, 84 elements each) pointing down over a table, its
+//                  fingers closed on a 5 cm, 0.1 kg cube by the PG70 drive (velocity mode, 1 A current limit, as in
+//                  tests/bench/physics.py); then 2000 timed steps at dt = 1 ms: ms per step, the rays the pads cast
+//                  per step (TactileRayCaster::last_ray_count of a caster on the same model and poses), rays per
+//                  second of whole steps, and rays per second of the cast alone (the same Cast timed separately:
+//                  the Simulation's own caster is private).
+//   "cells":       the cells (texels) of the 6 × 14 pad that report a load (DSACON32 intensity > 0) with a box
+//                  pressed on it by its weight, against the texels whose centres lie under the box: the 3 × 6 cm
+//                  box covering the pad, and a 2 cm cube on its centre.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "collision/tactile_rays.h"
+#include "core/error.h"
+#include "physics/actuators.h"
+#include "physics/simulation.h"
+#include "sensors/readings.h"
+#include "stress/sweep.h"
+#include "world/loaders.h"
+#include "world/scene.h"
+
+namespace graspsim {
+namespace {
+
+constexpr double kG = 9.81;
+
+double Since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A welded stand carrying a pad facing up at the origin and a free box lying on its foam (the set-up of
+// tactile_contact_test.cpp).
+struct PadWorld {
+  std::shared_ptr<SceneModel> model = std::make_shared<SceneModel>();
+  SceneState state;
+
+  PadWorld(unsigned subdivision, double box_mass, const Vec3& box_size, double time_step) {
+    BodySpec stand;
+    stand.id = "stand/base";
+    stand.robot_id = "stand";
+    stand.motion = BodyMotion::kArticulated;
+    stand.inertial.mass = 1;
+    stand.inertial.inertia = Mat3::Identity() * 1e-3;
+    model->bodies.push_back(stand);
+    BodySpec box;
+    box.id = "box";
+    box.motion = BodyMotion::kFree;
+    Geometry geometry;
+    geometry.box_size = box_size;
+    box.collision.push_back(geometry);
+    box.inertial.mass = box_mass;
+    const Vec3 s2 = box_size.cwiseProduct(box_size);
+    box.inertial.inertia = Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() * (box_mass / 12);
+    model->bodies.push_back(box);
+    TactileArraySpec pad;
+    pad.id = "stand/pad";
+    pad.body_id = "stand/base";
+    pad.rows = 14;
+    pad.cols = 6;
+    pad.pitch = 0.0034;
+    pad.thickness = 0.004;
+    pad.subdivision = subdivision;
+    model->tactile_arrays.push_back(pad);
+    model->robots.push_back(RobotSpec{"stand", "bench", "stand/base", {"stand/base"}, {}, {"stand/pad"}});
+    model->simulation.sleep_time = 0;
+    model->simulation.time_step = time_step;
+    model->Reindex();
+    // The box's bottom face 1 µm into the foam: it settles from there.
+    state.body_poses = {Pose(), {Vec3(0, 0, pad.thickness + box_size.z() / 2 - 1e-6), Quat::Identity()}};
+  }
+  double NormalForce() const {
+    double sum = 0;
+    for (const Vec3& f : state.pad_forces.at(0)) sum -= f.z();
+    return sum;
+  }
+};
+
+std::string Escape(const std::string& text) {
+  std::string out;
+  for (char ch : text) out += (ch == '"' || ch == '\\') ? '\'' : (ch == '\n' ? ' ' : ch);
+  return out;
+}
+
+// One static-load point: 1 s of simulated time, error of the final normal-force sum against m g.
+std::string StaticLoad(double dt, unsigned subdivision) {
+  const double mass = 0.2;
+  PadWorld world(subdivision, mass, Vec3(0.03, 0.06, 0.02), dt);
+  Simulation simulation(world.model);
+  simulation.PrepareState(&world.state);
+  const long steps = std::lround(1.0 / dt);
+  std::string error;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    simulation.Step(&world.state, static_cast<int>(steps));
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  const double seconds = Since(start);
+  const double rel_error = std::abs(world.NormalForce() / (mass * kG) - 1);
+  std::cerr << "static load dt=" << dt << " s=" << subdivision << ": error " << rel_error << " in " << seconds
+            << " s " << error << "\n";
+  std::ostringstream out;
+  out.precision(6);
+  out << "{\"dt\":" << dt << ",\"subdivision\":" << subdivision << ",\"elements\":" << 84 * subdivision * subdivision
+      << ",\"steps\":" << steps << ",\"rel_error\":" << rel_error << ",\"seconds\":" << seconds
+      << ",\"realtime_factor\":" << 1.0 / seconds << ",\"error\":\"" << Escape(error) << "\"}";
+  return out.str();
+}
+
+// The built-in PG70 closed on a 5 cm cube: ms per step and rays per second.
+std::string Grasp() {
+  const double table_top = 0.0, cube = 0.05, timed_steps = 2000;
+  Scene scene("bench", "tactile bench", Limits{});
+  const RobotDescription pg70 =
+      LoadUrdf(BuiltinModelUrdf("schunk_pg70"), [](const std::string&) { return nullptr; }, Limits{});
+  // Half a turn about x: the approach axis (+z) points down; fingertips 1 cm above the table (physics.py).
+  scene.AddRobot("pg70", "builtin:schunk_pg70", pg70, Pose{Vec3(0, 0, table_top + 0.01 + 0.157), Quat(0, 1, 0, 0)});
+  scene.AddObject(stress::TableBody(), Pose{Vec3(0, 0, table_top), Quat::Identity()});
+  scene.AddObject(stress::CubeBody("cube", cube, 0.1), Pose{Vec3(0, 0, table_top + cube / 2), Quat::Identity()});
+  scene.SetJointPositions({{"pg70/finger_left_joint", 0.03}});
+  const SceneView view = scene.View();
+  auto model = std::make_shared<SceneModel>(*view.model);
+  model->simulation.time_step = 1e-3;
+  model->simulation.integrator = Integrator::kLinearlyImplicitEuler;
+  SceneState state = view.state;
+  Simulation simulation(model);
+  simulation.PrepareState(&state);
+  simulation.Step(&state, 300);  // the cube settles on the table
+  const size_t finger = model->joint_index.at("pg70/finger_left_joint");
+  JointActuator& drive = state.actuators[finger];
+  drive.motor = Pg70DriveParams();
+  drive.command = {ActuatorMode::kVelocity, -0.02, 1.0};  // closing at 20 mm/s, 1 A ≈ 57 N per finger
+  simulation.Step(&state, 1000);
+
+  TactileRayCaster caster(*model);
+  std::vector<PadHit> hits;
+  uint64_t rays = 0, hit_count = 0;
+  double step_seconds = 0, cast_seconds = 0;
+  StepStats stats;
+  for (int i = 0; i < timed_steps; ++i) {
+    auto start = std::chrono::steady_clock::now();
+    stats = simulation.Step(&state, 1);
+    step_seconds += Since(start);
+    hits.clear();
+    start = std::chrono::steady_clock::now();
+    caster.Cast(state.body_poses, &hits);
+    cast_seconds += Since(start);
+    rays += caster.last_ray_count();
+    hit_count += hits.size();
+  }
+  double left = 0, right = 0;
+  for (size_t pad = 0; pad < model->tactile_arrays.size(); ++pad) {
+    const TactileFrame frame = ReadTactileArray(*model, state, pad);
+    (pad == 0 ? left : right) = static_cast<double>(frame.intensity_sum);
+  }
+  const double ms_per_step = step_seconds / timed_steps * 1e3;
+  std::cerr << "grasp: " << ms_per_step << " ms/step, " << rays / timed_steps << " rays/step, "
+            << hit_count / timed_steps << " hits/step, cast " << cast_seconds / timed_steps * 1e6 << " us/step, "
+            << stats.contacts << " contacts; pad sums " << left << " / " << right << "\n";
+  std::ostringstream out;
+  out.precision(6);
+  out << "{\"steps\":" << timed_steps << ",\"dt\":" << model->simulation.time_step
+      << ",\"ms_per_step\":" << ms_per_step << ",\"realtime_factor\":" << 1e-3 / (ms_per_step * 1e-3)
+      << ",\"rays_per_step\":" << rays / timed_steps << ",\"hits_per_step\":" << hit_count / timed_steps
+      << ",\"rays_per_s_of_step\":" << rays / step_seconds << ",\"cast_us_per_step\":"
+      << cast_seconds / timed_steps * 1e6 << ",\"rays_per_s_of_cast\":" << rays / cast_seconds
+      << ",\"contacts\":" << stats.contacts << ",\"awake_bodies\":" << stats.awake_bodies
+      << ",\"pad_sums\":[" << left << "," << right << "],\"finger_mm\":"
+      << state.joint_positions[finger] * 1e3 << "}";
+  return out.str();
+}
+
+// Texels reporting a load under a box pressed on the pad by its weight, and texels whose centres it covers.
+std::string Cells(const char* name, const Vec3& box, double mass) {
+  PadWorld world(1, mass, box, 1e-3);
+  Simulation simulation(world.model);
+  simulation.PrepareState(&world.state);
+  simulation.Step(&world.state, 1000);
+  const TactileFrame frame = ReadTactileArray(*world.model, world.state, 0);
+  const TactileArraySpec& pad = world.model->tactile_arrays[0];
+  int reporting = 0, covered = 0;
+  for (unsigned r = 0; r < frame.rows; ++r) {
+    for (unsigned c = 0; c < frame.cols; ++c) {
+      reporting += frame.intensities[r * frame.cols + c] > 0;
+      const double x = (c + 0.5 - pad.cols / 2.0) * pad.pitch, y = (r + 0.5 - pad.rows / 2.0) * pad.pitch;
+      covered += std::abs(x) < box.x() / 2 && std::abs(y) < box.y() / 2;
+    }
+  }
+  std::cerr << "cells (" << name << "): " << reporting << " of " << frame.rows * frame.cols << " report, "
+            << covered << " covered; sum " << frame.intensity_sum << "\n";
+  std::ostringstream out;
+  out.precision(6);
+  out << "{\"box\":\"" << name << "\",\"size\":[" << box.x() << "," << box.y() << "," << box.z() << "],\"mass\":"
+      << mass << ",\"cells\":" << frame.rows * frame.cols << ",\"cells_reporting\":" << reporting
+      << ",\"cells_covered\":" << covered << ",\"intensity_sum\":" << frame.intensity_sum
+      << ",\"normal_force\":" << -frame.force_sum.z() << "}";
+  return out.str();
+}
+
+}  // namespace
+}  // namespace graspsim
+
+int main() {
+  using namespace graspsim;
+  std::ostringstream out;
+  out << "{\"static_load\":[";
+  bool first = true;
+  for (double dt : {1e-4, 3e-4, 1e-3, 3e-3}) {
+    for (unsigned subdivision : {1u, 2u, 4u}) {
+      out << (first ? "" : ",") << StaticLoad(dt, subdivision);
+      first = false;
+    }
+  }
+  out << "],\"grasp\":" << Grasp();
+  out << ",\"cells\":[" << Cells("covering", Vec3(0.03, 0.06, 0.02), 0.2) << ","
+      << Cells("cube_2cm", Vec3(0.02, 0.02, 0.02), 0.2) << "]}";
+  std::cout << out.str() << std::endl;
+  return 0;
+}
