@@ -25,6 +25,8 @@ tests = {@test_list_methods, @test_scene_lifecycle, @test_builtin_models, @test_
          @test_error_joint_outside_limits, @test_body_and_joint_velocity_fields, @test_simulation_cube_settles, ...
          @test_simulation_step_forms, @test_simulation_params_round_trip, @test_error_simulation_params, ...
          @test_actuator_moves_fingers, @test_error_actuator, ...
+         @test_tactile_sample_untouched, @test_tactile_image_png, @test_gripper_reading, ...
+         @test_tactile_grasp_reading, @test_stream_sensors, @test_work_cycle_lifts_cube, @test_error_tactile, ...
          @test_error_other_services_unimplemented, @test_error_client_side_arguments, @test_error_unreachable_server, ...
          @test_demo_runs};
 c = graspsim.Client(url, 'Timeout', 30);
@@ -605,6 +607,145 @@ c.stepSimulation(sid, 'Steps', 50);
 check(values == 0, 'a refused command installed a drive: the finger moved to %g m', values);
 end
 
+function test_tactile_sample_untouched(c, sid)
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', [0 0 1 1 0 0 0]);
+for pad = {'pg70/pad_left', 'pg70/pad_right'}
+  r = c.sampleSensor(sid, pad{1});
+  check(strcmp(r.sensorId, pad{1}) && strcmp(r.kind, 'tactile'), 'reading of %s: %s %s', pad{1}, r.sensorId, r.kind);
+  check(r.time == 0 && r.rows == 14 && r.cols == 6, '%s: t %g, %d x %d', pad{1}, r.time, r.rows, r.cols);
+  check(isa(r.intensities, 'double') && isequal(r.intensities, zeros(14, 6)), 'intensities of %s', pad{1});
+  check(isa(r.forces, 'double') && isequal(r.forces, zeros(14, 6, 3)), 'forces of %s', pad{1});
+  check(r.intensitySum == 0 && isequal(r.forceSum, [0 0 0]), 'sums of %s', pad{1});
+  check(isempty(r.fingerDistance) && isempty(r.motorCurrent), 'gripper fields of a tactile reading');
+end
+end
+
+function test_tactile_image_png(c, sid)
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', [0 0 1 1 0 0 0]);
+[png, width, height] = c.tactileImage(sid, 'pg70/pad_left', 10);
+check(isa(png, 'uint8') && size(png, 1) == 1 && numel(png) > 33, 'png: %s %s', class(png), mat2str(size(png)));
+check(isequal(png(1:8), uint8([137 80 78 71 13 10 26 10])), 'PNG signature: %s', mat2str(png(1:8)));
+check(isequal(char(png(13:16)), 'IHDR'), 'the first chunk is %s', char(png(13:16)));
+bigEndian = @(b) sum(double(b) .* 256 .^ (3:-1:0));
+check(bigEndian(png(17:20)) == 60 && bigEndian(png(21:24)) == 140, 'IHDR size %d x %d, expected 60 x 140', ...
+      bigEndian(png(17:20)), bigEndian(png(21:24)));
+check(width == 60 && height == 140, 'reported size %d x %d', width, height);
+[png, width, height] = c.tactileImage(sid, 'pg70/pad_right');  % the default scale, 20
+check(width == 120 && height == 280 && bigEndian(png(17:20)) == 120, 'default scale: %d x %d', width, height);
+end
+
+function test_gripper_reading(c, sid)
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', [0 0 1 1 0 0 0]);
+g = c.sampleSensor(sid, 'pg70/gripper');
+check(strcmp(g.kind, 'gripper') && strcmp(g.sensorId, 'pg70/gripper') && isempty(g.intensities), 'gripper reading');
+check(g.fingerDistance == 0 && g.motorCurrent == 0 && g.fingerVelocity == 0, 'closed and undriven');
+c.setJointPositions(sid, 'pg70/finger_left_joint', 0.01);
+g = c.sampleSensor(sid, 'pg70/gripper');
+near(g.fingerDistance, 0.02, 1e-12, 'finger distance (both fingers at 0.01 m)');
+check(g.motorCurrent == 0 && g.fingerVelocity == 0 && g.time == 0, 'set, not driven');
+end
+
+function test_tactile_grasp_reading(c, sid)
+% The cell of clients/python/examples/tactile_cycle.py, its fingertips lowered only 12 mm past the cube's top:
+% the cube touches a band of rows at one end of each pad, across all its columns.
+[gripper, cube] = buildCell(c, sid);
+c.setJointPositions(sid, {[gripper '/z_axis'], [gripper '/finger_left_joint']}, [-0.105, 0.03]);
+c.setActuator(sid, [gripper '/z_axis'], 'position', -0.105);  % undriven, the axis would slide down
+c.setActuator(sid, [gripper '/finger_left_joint'], 'velocity', -0.02, 1.0);
+c.stepSimulation(sid, 'Duration', 1.5);
+[~, pose] = c.getBodyPoses(sid, cube);
+near(pose(1:3), [0 0 0.775], 1e-3, 'the squeezed cube stays put');
+sums = zeros(1, 2);
+pads = {[gripper '/pad_left'], [gripper '/pad_right']};
+for k = 1:2
+  r = c.sampleSensor(sid, pads{k});
+  near(r.time, 1.5, 1e-9, 'reading time');
+  touched = r.intensities > 0;
+  rows = find(any(touched, 2));
+  check(~isempty(rows) && numel(rows) < r.rows && all(all(touched(rows, :))), ...
+        '%s: touched texels\n%s', pads{k}, mat2str(r.intensities));
+  check(all(diff(rows) == 1) && (rows(1) == 1 || rows(end) == r.rows), '%s: rows %s are not a band at an end', ...
+        pads{k}, mat2str(rows));
+  near(sum(r.intensities(:)), r.intensitySum, 0, 'intensity sum');
+  total = reshape(sum(sum(r.forces, 1), 2), 1, 3);
+  near(total, r.forceSum, 1e-3 * max(1, norm(r.forceSum)), 'force sum');
+  check(abs(r.forceSum(3)) > 1 && all(all(r.forces(:, :, 3) .* touched ~= 0 | ~touched)), ...
+        '%s: normal force %g N', pads{k}, r.forceSum(3));
+  sums(k) = r.intensitySum;
+end
+check(abs(sums(1) - sums(2)) <= 0.02 * mean(sums), 'pad sums %d and %d differ', sums(1), sums(2));
+g = c.sampleSensor(sid, [gripper '/gripper']);
+check(g.fingerDistance > 0.04 && g.fingerDistance < 0.05, 'fingers %g m apart on a 5 cm cube', g.fingerDistance);
+end
+
+function test_stream_sensors(c, sid)
+c.addRobot(sid, 'pg70', 'Builtin', 'schunk_pg70', 'BasePose', [0 0 1 1 0 0 0]);
+ids = {'pg70/pad_left', 'pg70/gripper'};
+first = c.streamSensors(sid, ids, 50);  % one round: one reading per id, at once
+check(numel(first) == 2 && isequal({first.sensorId}, ids), 'first round: %s', strjoin({first.sensorId}, ', '));
+check(isequal({first.kind}, {'tactile', 'gripper'}) && all([first.time] == 0), 'first round kinds and times');
+check(isequal(first(1).intensities, zeros(14, 6)) && first(2).fingerDistance == 0, 'first round values');
+c.setJointPositions(sid, 'pg70/finger_left_joint', 0.015);
+c.stepSimulation(sid, 'Duration', 0.05);
+later = c.streamSensors(sid, ids, 50, 'MaxMessages', 2);
+check(numel(later) == 2 && isequal({later.sensorId}, ids), 'second stream: %d readings', numel(later));
+near([later.time], [0.05 0.05], 1e-9, 'times after stepping');
+check(all([later.time] > [first.time]), 'the stream''s times did not increase');
+near(later(2).fingerDistance, 0.03, 1e-6, 'streamed finger distance');
+% Nothing changes: of 4 readings only the first round arrives within MaxSeconds.
+few = c.streamSensors(sid, 'pg70/gripper', 20, 'MaxMessages', 4, 'MaxSeconds', 1);
+check(numel(few) == 1 && strcmp(few.sensorId, 'pg70/gripper'), 'after MaxSeconds: %d readings', numel(few));
+end
+
+function test_work_cycle_lifts_cube(c, sid)
+[gripper, cube] = buildCell(c, sid);
+lift = 0.04;
+r = c.runWorkCycle(sid, gripper, cube, 'TactileSetpoint', 30000, 'LiftHeight', lift, 'HoldTime', 0.2, ...
+                   'FrameRateHz', 100);
+n = numel(r.time);
+check(n > 10 && all(diff(r.time) > 0), '%d frames, times increasing', n);
+check(isequal(unique(r.stage, 'stable'), {'approach'; 'grasp'; 'lift'; 'hold'; 'move_down'; 'release'; 'done'}), ...
+      'stages %s', strjoin(unique(r.stage, 'stable').', ' > '));
+check(isequal(size(r.leftImages), [14 6 n]) && isequal(size(r.rightImages), [14 6 n]), 'image stack %s', ...
+      mat2str(size(r.leftImages)));
+check(isequal(size(r.objectPosition), [n 3]) && isequal(size(r.leftSum), [n 1]) && iscellstr(r.stage), 'shapes');
+near(reshape(sum(sum(r.leftImages, 1), 2), [], 1), r.leftSum, 0, 'left images vs sums');
+check(strcmp(r.leftId, [gripper '/pad_left']) && strcmp(r.rightId, [gripper '/pad_right']) && ...
+      strcmp(r.gripperSensorId, [gripper '/gripper']), 'sensor ids');
+check(r.tactileSetpoint == 30000 && r.liftHeight == lift && r.coverage == 1, 'settings with defaults');
+check(r.leftSum(1) == 0 && r.rightSum(1) == 0 && r.leftSum(end) == 0, 'no contact before the grasp and after release');
+holding = strcmp(r.stage, 'hold');
+carried = find(strcmp(r.stage, 'lift') | holding);
+lifted = r.objectPosition(carried(end), 3) - r.objectPosition(carried(1), 3);
+near(lifted, lift, 0.002, 'the cube rose by the lift height');
+average = (r.leftSum(holding) + r.rightSum(holding)) / 2;
+check(all(average > 0) && max(abs(r.leftSum(holding) - r.rightSum(holding)) ./ average) <= 0.02, ...
+      'pad sums while holding differ by more than 2 %%');
+near(average, 30000 * ones(size(average)), 0.1 * 30000, 'held at the set-point');
+near(r.objectPosition(end, 3), r.objectPosition(1, 3), 0.002, 'the cube put back');
+check(all(r.fingerDistance(holding) > 0.04 & r.fingerDistance(holding) < 0.05), 'fingers on the cube while holding');
+check(all(r.currentLimit > 0) && all(r.axisPosition <= 1e-9), 'current limits and axis positions');
+end
+
+function test_error_tactile(c, sid)
+[gripper, cube] = buildCell(c, sid);
+expectError(@() c.sampleSensor(sid, 'cell/nope'), 'graspsim:NOT_FOUND', {'cell/nope', 'sensor_id', 'cell/pad_left'});
+expectError(@() c.sampleSensor('no-such-scene', 'cell/gripper'), 'graspsim:NOT_FOUND', {'no-such-scene'});
+expectError(@() c.tactileImage(sid, 'cell/nope', 10), 'graspsim:NOT_FOUND', {'cell/nope'});
+expectError(@() c.tactileImage(sid, 'cell/gripper'), 'graspsim:INVALID_ARGUMENT', {'cell/gripper', 'tactile'});
+expectError(@() c.tactileImage(sid, 'cell/pad_left', 2.5), 'graspsim:badArgument', {'scale'});
+expectError(@() c.streamSensors(sid, {'cell/gripper', 'cell/nope'}, 10), 'graspsim:NOT_FOUND', ...
+            {'cell/nope', 'sensor_ids[1]'});
+expectError(@() c.streamSensors(sid, 'cell/gripper', 0), 'graspsim:INVALID_ARGUMENT', {'rate_hz'});
+expectError(@() c.streamSensors(sid, 'cell/gripper'), 'graspsim:badArgument', {'rateHz'});
+expectError(@() c.streamSensors(sid, 'cell/gripper', 10, 'MaxMessages', 0), 'graspsim:badArgument', {'MaxMessages'});
+expectError(@() c.runWorkCycle(sid, gripper, cube, 'Coverage', 1.5), 'graspsim:INVALID_ARGUMENT', {'coverage', '1.5'});
+expectError(@() c.runWorkCycle(sid, gripper, 'no_cube'), 'graspsim:NOT_FOUND', {'no_cube'});
+expectError(@() c.runWorkCycle(sid, gripper, cube, 'Speed', 2), 'graspsim:badArgument', {'speed'});
+[~, pose] = c.getBodyPoses(sid, cube);
+near(pose, [0 0 0.775 1 0 0 0], 1e-9, 'a refused work cycle moved the cube');
+end
+
 function test_error_other_services_unimplemented(c, sid)
 expectError(@() c.call('GraspService', 'SimulateGrasp', struct('scene_id', sid)), 'graspsim:UNIMPLEMENTED', {});
 expectError(@() c.call('PerceptionService', 'SegmentScene', struct()), 'graspsim:UNIMPLEMENTED', {});
@@ -638,7 +779,10 @@ before = c.listScenes();
 output = evalc('graspsim_demo(c.Url)');
 for fragment = {'built-in models:', 'schunk_pg70', 'bodies (5):', 'pg70/finger_right_joint  prismatic 0.0300 m', ...
                 'mimics pg70/finger_left_joint', '14 rows x 6 cols', 'snapshot', 'cube_5cm           z = 0.7750 m', ...
-                'after 1.500 s (1500 steps)', 'dropped_cube rests at z = 0.7750 m (table top + 25.0 mm)', 'asleep'}
+                'after 1.500 s (1500 steps)', 'dropped_cube rests at z = 0.7750 m (table top + 25.0 mm)', 'asleep', ...
+                'cell/pad_left  14 x 6 texels, ', 'cell/pad_right 14 x 6 texels, ', ...
+                'heat map of cell/pad_left', 'stages approach > grasp > lift > hold > move_down > release > done', ...
+                'peak sums', 'cube lifted 50.0 mm'}
   check(~isempty(strfind(output, fragment{1})), 'demo output lacks "%s":\n%s', fragment{1}, output);
 end
 after = c.listScenes();
@@ -646,6 +790,16 @@ check(numel(after) == numel(before), 'the demo left its scene behind');
 end
 
 % --- helpers ----------------------------------------------------------------------------------------------
+
+function [gripper, cube] = buildCell(c, sid)
+% The work cycle's cell (clients/python/examples/tactile_cycle.py): the table at the origin (top at 0.75 m), a
+% 5 cm cube on it, the PG70 on its z axis ('schunk_pg70_on_z_axis') with its base at 1.05 m above the cube.
+gripper = 'cell';
+cube = 'cube';
+c.addObject(sid, 'table', 'Builtin', 'table');
+c.addObject(sid, cube, 'Builtin', 'cube_5cm', 'Pose', [0 0 0.775 1 0 0 0]);
+c.addRobot(sid, gripper, 'Builtin', 'schunk_pg70_on_z_axis', 'BasePose', [0 0 1.05 1 0 0 0]);
+end
 
 function b = sceneBody(c, sid, id)
 % One body of getScene by id.

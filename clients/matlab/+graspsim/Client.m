@@ -19,6 +19,7 @@ classdef Client < handle
   %   Bodies:      addObject, addRobot, removeBody
   %   State:       setBodyPoses, getBodyPoses, setJointPositions, getJointPositions, watchScene
   %   Simulation:  stepSimulation, setSimulationParams, getSimulationParams, setActuator
+  %   Sensors:     sampleSensor, tactileImage, streamSensors, runWorkCycle
   %   Anything:    call(service, method, request), listMethods
   %
   %   See also graspsim.Client/addObject, graspsim.Client/stepSimulation, graspsim.Client/call.
@@ -516,6 +517,123 @@ classdef Client < handle
                        'current_limit', double(currentLimit));
       obj.sceneCall('SetActuators', struct('scene_id', sceneId, 'commands', {{command}}));
     end
+
+    % --- sensors (TactileService) -------------------------------------------------------------------------
+    function reading = sampleSensor(obj, sceneId, sensorId)
+      %SAMPLESENSOR reading = c.sampleSensor(sceneId, sensorId): one reading of a sensor in the scene's
+      %   current state. sensorId is a tactile array ('pg70/pad_left', 'pg70/pad_right') or a robot's gripper
+      %   sensor ('pg70/gripper'). A struct: sensorId, kind ('tactile' | 'gripper'), time (s, simulation
+      %   time of the state read), and the fields of its kind (the other kinds' fields are []):
+      %     tactile: rows, cols (texels; rows along the pad's y, cols along its x), intensities rows-by-cols
+      %       double (0..4095, 12 bit, proportional to the texel's normal force, saturated), forces
+      %       rows-by-cols-by-3 double (N, the force the object exerts on each texel in the pad frame, whose
+      %       z is the pad's normal: forces(r, c, :) = [x y z]), intensitySum, forceSum 1-by-3 (N, pad frame).
+      %     gripper: fingerDistance (m, the sum of the finger joints' positions; 0 = closed), motorCurrent
+      %       (A, of the driven finger's motor; 0 when undriven), fingerVelocity (m/s; negative = closing).
+      %   An unknown id raises graspsim:NOT_FOUND listing the scene's sensors.
+      response = graspsim.internal.unary(obj, 'TactileService', 'Sample', ...
+                                         struct('scene_id', sceneId, 'sensor_id', sensorId));
+      reading = graspsim.internal.decode('SensorReading', response);
+    end
+
+    function [png, width, height] = tactileImage(obj, sceneId, sensorId, scale)
+      %TACTILEIMAGE [png, width, height] = c.tactileImage(sceneId, sensorId, scale): a tactile array's
+      %   current reading as a PNG heat map (inferno colour map, black = no pressure), scale pixels per texel
+      %   (omitted or 0 = 20; at most 4096 px a side). png is a 1-by-N uint8 row of the PNG file's bytes;
+      %   width and height in pixels (a PG70 pad, 14 rows x 6 cols, at scale 20 is 120 x 280 px).
+      %   Write it to a file and read it back as an image:
+      %     fid = fopen('pad.png', 'w'); fwrite(fid, png, 'uint8'); fclose(fid);
+      %     img = imread('pad.png');   % height-by-width-by-3 uint8
+      if nargin < 4 || isempty(scale)
+        scale = 0;
+      end
+      if ~isnumeric(scale) || ~isscalar(scale) || ~(scale >= 0 && scale <= 4294967295) || scale ~= round(scale)
+        error('graspsim:badArgument', 'tactileImage: scale must be a whole number of pixels per texel >= 0');
+      end
+      response = graspsim.internal.unary(obj, 'TactileService', 'GetTactileImage', ...
+                                         struct('scene_id', sceneId, 'sensor_id', sensorId, 'scale', double(scale)));
+      png = graspsim.internal.decodeBytes(field(response, 'png', ''));
+      width = number(field(response, 'width', 0));
+      height = number(field(response, 'height', 0));
+    end
+
+    function readings = streamSensors(obj, sceneId, sensorIds, rateHz, varargin)
+      %STREAMSENSORS readings = c.streamSensors(sceneId, sensorIds, rateHz, 'MaxMessages', n,
+      %   'MaxSeconds', t): readings from TactileService.Stream, one per sensor id in each round: the first
+      %   round at once, then one whenever the scene changes, at most rateHz rounds per second (> 0; the
+      %   server caps it), always of the newest state. sensorIds a char or a cellstr. The stream ends after
+      %   n readings (default one round, numel(sensorIds)) or after t s (default the client's Timeout) with
+      %   those that arrived by then. readings is an n-by-1 struct array as sampleSensor gives (sensorId,
+      %   kind, time, ... ; the fields of the other kinds are []).
+      ids = idList(sensorIds, 'sensorIds');
+      if nargin < 4 || ~isnumeric(rateHz) || ~isscalar(rateHz) || ~isreal(rateHz)
+        error('graspsim:badArgument', 'streamSensors: give rateHz, one number of rounds per second (> 0)');
+      end
+      o = graspsim.internal.parseOptions(struct('MaxMessages', max(numel(ids), 1), 'MaxSeconds', obj.Timeout), ...
+                                         varargin, 'streamSensors');
+      n = o.MaxMessages;
+      if ~isnumeric(n) || ~isscalar(n) || ~(n >= 1) || n ~= round(n)
+        error('graspsim:badArgument', 'streamSensors: MaxMessages must be a whole number of readings >= 1');
+      end
+      if ~isnumeric(o.MaxSeconds) || ~isscalar(o.MaxSeconds) || ~(o.MaxSeconds > 0) || ~isfinite(o.MaxSeconds)
+        error('graspsim:badArgument', 'streamSensors: MaxSeconds must be a positive finite number of seconds');
+      end
+      request = struct('scene_id', sceneId, 'sensor_ids', {ids}, 'rate_hz', double(rateHz));
+      % max_seconds ends the stream normally (OK) when fewer than n readings came in time.
+      query = sprintf('&max_messages=%d&max_seconds=%.17g', n, o.MaxSeconds);
+      envelope = graspsim.internal.post(obj, 'TactileService', 'Stream', request, query, ...
+                                        max(obj.Timeout, o.MaxSeconds));
+      graspsim.internal.raiseIfError(envelope);
+      readings = graspsim.internal.decode('SensorReading', field(envelope, 'responses', []));
+    end
+
+    function result = runWorkCycle(obj, sceneId, gripperId, objectId, varargin)
+      %RUNWORKCYCLE result = c.runWorkCycle(sceneId, gripperId, objectId, name, value, ...): runs the grasp
+      %   work cycle on a gripper carried by a vertical axis (the built-in robot 'schunk_pg70_on_z_axis':
+      %   joint '<gripper>/z_axis' lowers and lifts the PG70) picking objectId (resting below it):
+      %   approach, grasp (velocity control until the first tactile contact, then force control of the
+      %   tactile sum), lift, hold, move_down, release, done. The simulation runs on the server; the call
+      %   returns when the cycle is done. Options (0 = the server's default):
+      %     'TactileSetpoint', s   intensity sum per pad the force controller holds (default 60000; at low
+      %                            coverage the pads cannot reach it: 30000 works at every coverage)
+      %     'LiftHeight', m        default 0.05
+      %     'Coverage', f          fraction (0, 1] of the pads' length the object covers (default 1)
+      %     'FrameRateHz', r       progress frames per simulated second, plus one as each stage begins
+      %                            (default 50)
+      %     'HoldTime', s          held at the top (default 1)
+      %     'Timeout', s           the deadline of the whole call (default the client's Timeout)
+      %   result is a struct of time series, one entry per frame (N frames):
+      %     time N-by-1 (s), stage N-by-1 cellstr, leftSum, rightSum N-by-1 (the pads' intensity sums),
+      %     leftImages, rightImages rows-by-cols-by-N (intensities 0..4095), leftForceSum, rightForceSum
+      %     N-by-3 (N, pad frames), fingerDistance (m), motorCurrent (A), fingerVelocity (m/s) N-by-1,
+      %     objectPosition N-by-3 (m, world), objectOrientation N-by-4 (w x y z), axisPosition N-by-1 (m,
+      %     the z axis joint), currentLimit N-by-1 (A, the force controller's output); tactileSetpoint,
+      %     liftHeight, coverage (the request's, zeros replaced by the defaults); leftId, rightId,
+      %     gripperSensorId (the sensors read).
+      %   Bad settings raise graspsim:INVALID_ARGUMENT naming the field (e.g. coverage), unknown ids
+      %   graspsim:NOT_FOUND.
+      defaults = struct('TactileSetpoint', 0, 'LiftHeight', 0, 'Coverage', 0, 'FrameRateHz', 0, 'HoldTime', 0, ...
+                        'Timeout', obj.Timeout);
+      o = graspsim.internal.parseOptions(defaults, varargin, 'runWorkCycle');
+      names = {'TactileSetpoint', 'LiftHeight', 'Coverage', 'FrameRateHz', 'HoldTime', 'Timeout'};
+      for k = 1:numel(names)
+        value = o.(names{k});
+        if ~isnumeric(value) || ~isscalar(value) || ~isreal(value)
+          error('graspsim:badArgument', 'runWorkCycle: %s must be one real number', names{k});
+        end
+      end
+      if ~(o.Timeout > 0) || ~isfinite(o.Timeout)
+        error('graspsim:badArgument', 'runWorkCycle: Timeout must be a positive finite number of seconds');
+      end
+      request = struct('scene_id', sceneId, 'gripper_id', gripperId, 'object_id', objectId, ...
+                       'tactile_setpoint', double(o.TactileSetpoint), 'lift_height', double(o.LiftHeight), ...
+                       'coverage', double(o.Coverage), 'frame_rate_hz', double(o.FrameRateHz), ...
+                       'hold_time', double(o.HoldTime));
+      envelope = graspsim.internal.post(obj, 'TactileService', 'RunWorkCycle', request, '', double(o.Timeout));
+      graspsim.internal.raiseIfError(envelope);
+      frames = graspsim.internal.decode('WorkCycleProgress', field(envelope, 'responses', []));
+      result = workCycleResult(frames, o);
+    end
   end
 
   methods (Access = private)
@@ -575,6 +693,57 @@ inertial = struct('mass', double(mass), 'ixx', inertia(1, 1), 'iyy', inertia(2, 
                   'ixy', inertia(1, 2), 'ixz', inertia(1, 3), 'iyz', inertia(2, 3));
 if ~isempty(centerOfMass)
   inertial.center_of_mass = graspsim.internal.toVec3(centerOfMass, 'CenterOfMass');
+end
+end
+
+function result = workCycleResult(frames, o)
+% The time series of decoded WorkCycleProgress frames (see runWorkCycle); o holds the request's settings.
+n = numel(frames);
+defaultOf = @(value, default) value + (value == 0) * default;
+result = struct('time', zeros(n, 1), 'stage', {cell(n, 1)}, 'leftSum', zeros(n, 1), 'rightSum', zeros(n, 1), ...
+                'leftImages', zeros(0, 0, n), 'rightImages', zeros(0, 0, n), ...
+                'leftForceSum', zeros(n, 3), 'rightForceSum', zeros(n, 3), ...
+                'fingerDistance', zeros(n, 1), 'motorCurrent', zeros(n, 1), 'fingerVelocity', zeros(n, 1), ...
+                'objectPosition', zeros(n, 3), 'objectOrientation', zeros(n, 4), ...
+                'axisPosition', zeros(n, 1), 'currentLimit', zeros(n, 1), ...
+                'tactileSetpoint', defaultOf(double(o.TactileSetpoint), 60000), ...
+                'liftHeight', defaultOf(double(o.LiftHeight), 0.05), 'coverage', defaultOf(double(o.Coverage), 1), ...
+                'leftId', '', 'rightId', '', 'gripperSensorId', '');
+for k = 1:n
+  f = frames(k);
+  kinds = {f.readings.kind};
+  pads = f.readings(strcmp(kinds, 'tactile'));
+  grippers = f.readings(strcmp(kinds, 'gripper'));
+  if numel(pads) ~= 2 || numel(grippers) ~= 1
+    error('graspsim:INTERNAL', ['work-cycle frame at t = %g s (%s): %d tactile and %d gripper readings, ' ...
+                                'expected 2 and 1'], f.time, f.stage, numel(pads), numel(grippers));
+  end
+  if k == 1
+    result.leftImages = zeros(pads(1).rows, pads(1).cols, n);
+    result.rightImages = zeros(pads(2).rows, pads(2).cols, n);
+    result.leftId = pads(1).sensorId;
+    result.rightId = pads(2).sensorId;
+    result.gripperSensorId = grippers.sensorId;
+  end
+  if ~isequal(size(pads(1).intensities), size(result.leftImages(:, :, 1))) || ...
+     ~isequal(size(pads(2).intensities), size(result.rightImages(:, :, 1)))
+    error('graspsim:INTERNAL', 'work cycle: tactile readings of different shapes at t = %g s', f.time);
+  end
+  result.time(k) = f.time;
+  result.stage{k} = f.stage;
+  result.leftSum(k) = pads(1).intensitySum;
+  result.rightSum(k) = pads(2).intensitySum;
+  result.leftImages(:, :, k) = pads(1).intensities;
+  result.rightImages(:, :, k) = pads(2).intensities;
+  result.leftForceSum(k, :) = pads(1).forceSum;
+  result.rightForceSum(k, :) = pads(2).forceSum;
+  result.fingerDistance(k) = grippers.fingerDistance;
+  result.motorCurrent(k) = grippers.motorCurrent;
+  result.fingerVelocity(k) = grippers.fingerVelocity;
+  result.objectPosition(k, :) = f.objectPose(1:3);
+  result.objectOrientation(k, :) = f.objectPose(4:7);
+  result.axisPosition(k) = f.axisPosition;
+  result.currentLimit(k) = f.currentLimit;
 end
 end
 

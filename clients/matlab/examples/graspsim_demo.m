@@ -7,7 +7,8 @@ function graspsim_demo(url, keep)
 %
 %   Stages: list the built-in models, build the scene, open the gripper, print what the server holds
 %   (bodies, joints, tactile arrays, one live snapshot), then simulate: drop a second cube onto the table,
-%   step 1.5 s and print where it came to rest. Needs clients/matlab on the path:
+%   step 1.5 s and print where it came to rest. Last the tactile sensors, in a second scene: a PG70 on a
+%   vertical axis closes on a cube and reads its pads, then runs one grasp work cycle. Needs clients/matlab on the path:
 %   addpath('<repo>/clients/matlab'). A refused request raises graspsim:<STATUS> with the server's message.
 if nargin < 1 || isempty(url)
   url = 'http://127.0.0.1:8080';
@@ -59,6 +60,58 @@ fprintf('  dropped_cube rests at z = %.4f m (table top + %.1f mm), speed %.1e m/
 if ~keep
   c.deleteScene(scene.id);
 end
+tactileDemo(c, tableTopZ, cubeEdge, keep);
+end
+
+function tactileDemo(c, tableTopZ, cubeEdge, keep)
+% A PG70 carried by a vertical axis (built-in 'schunk_pg70_on_z_axis', its base 0.3 m above the table, the
+% fingertips 9 cm above the cube at z_axis = 0) is lowered around the cube and closed on it; then its pads and
+% its gripper sensor are read. Last the same cell runs the grasp work cycle in a fresh scene.
+cellBaseZ = tableTopZ + 0.30;   % m
+cubePose = [0 0 tableTopZ + cubeEdge / 2, 1 0 0 0];
+scene = buildCell(c, 'tactile demo', cubePose, cellBaseZ);
+c.setJointPositions(scene.id, {'cell/z_axis', 'cell/finger_left_joint'}, [-0.14, 0.03]);  % lowered, open
+c.setActuator(scene.id, 'cell/z_axis', 'position', -0.14);                 % held there (it would slide down)
+c.setActuator(scene.id, 'cell/finger_left_joint', 'velocity', -0.02, 1.0);  % close at 2 cm/s, at most 1 A
+c.stepSimulation(scene.id, 'Duration', 1.5);
+fprintf('\ntactile: the PG70 closed on the cube for 1.5 s\n');
+for pad = {'cell/pad_left', 'cell/pad_right'}
+  r = c.sampleSensor(scene.id, pad{1});
+  fprintf('  %-14s %d x %d texels, %d touched, intensity sum %d, force [%.2f %.2f %.2f] N\n', r.sensorId, ...
+          r.rows, r.cols, nnz(r.intensities), r.intensitySum, r.forceSum);
+end
+g = c.sampleSensor(scene.id, 'cell/gripper');
+fprintf('  %-14s fingers %.1f mm apart, motor current %.2f A\n', g.sensorId, g.fingerDistance * 1000, ...
+        g.motorCurrent);
+png = c.tactileImage(scene.id, 'cell/pad_left', 20);  % fwrite(fopen('pad.png', 'w'), png) saves it
+fprintf('  heat map of cell/pad_left: a %d-byte PNG\n', numel(png));
+if ~keep
+  c.deleteScene(scene.id);
+end
+
+% The work cycle: approach, grasp (force control of the tactile sum at the set-point), lift 5 cm, hold 0.5 s,
+% move down, release.
+scene = buildCell(c, 'tactile work cycle', cubePose, cellBaseZ);
+cycle = c.runWorkCycle(scene.id, 'cell', 'cube', 'TactileSetpoint', 30000, 'HoldTime', 0.5);
+carried = find(strcmp(cycle.stage, 'lift') | strcmp(cycle.stage, 'hold'));
+fprintf('\nwork cycle: %d frames over %.2f s, stages %s\n', numel(cycle.time), cycle.time(end), ...
+        strjoin(unique(cycle.stage, 'stable').', ' > '));
+fprintf('  peak sums %d (left) / %d (right), set-point %d\n', max(cycle.leftSum), max(cycle.rightSum), ...
+        cycle.tactileSetpoint);
+fprintf('  cube lifted %.1f mm, put back within %.1f mm of where it was\n', ...
+        1000 * (cycle.objectPosition(carried(end), 3) - cycle.objectPosition(carried(1), 3)), ...
+        1000 * abs(cycle.objectPosition(end, 3) - cycle.objectPosition(1, 3)));
+if ~keep
+  c.deleteScene(scene.id);
+end
+end
+
+function scene = buildCell(c, name, cubePose, cellBaseZ)
+% A scene with the table, the cube resting on it and the gripper cell 'cell' above the cube.
+scene = c.createScene(name);
+c.addObject(scene.id, 'table', 'Builtin', 'table');
+c.addObject(scene.id, 'cube', 'Builtin', 'cube_5cm', 'Pose', cubePose);
+c.addRobot(scene.id, 'cell', 'Builtin', 'schunk_pg70_on_z_axis', 'BasePose', [0 0 cellBaseZ, 1 0 0 0]);
 end
 
 function b = sceneBody(scene, id)

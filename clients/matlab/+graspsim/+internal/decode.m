@@ -3,7 +3,7 @@ function out = decode(type, value)
 %   numbers as double, poses 1-by-7, packed arrays as numeric arrays.
 %   type is the message name: 'SceneSummary', 'Body', 'Geometry', 'Joint', 'Robot', 'TactileArray',
 %   'FileInfo', 'BuiltinModel', 'BodyPose', 'JointPosition', 'SceneSnapshot', 'StepSimulationResponse',
-%   'SimulationParams' or 'ContactDefaults'. value is one decoded message
+%   'SimulationParams', 'ContactDefaults', 'SensorReading' or 'WorkCycleProgress'. value is one decoded message
 %   (struct) or a decoded JSON array of them (struct array, cell array, or [] when empty: 0-by-1 result).
 %   Absent fields take their protobuf defaults, so struct() gives the default message.
 convert = converter(type);
@@ -30,6 +30,8 @@ switch type
   case 'StepSimulationResponse', convert = @stepResult;
   case 'SimulationParams', convert = @simulationParams;
   case 'ContactDefaults', convert = @contactDefaults;
+  case 'SensorReading', convert = @sensorReading;
+  case 'WorkCycleProgress', convert = @workCycleProgress;
   otherwise, error('graspsim:badArgument', 'decode: unknown message type %s', type);
 end
 end
@@ -207,6 +209,58 @@ out = struct('stiffness', number(field(msg, 'stiffness', 0)), 'damping', number(
              'stribeckVelocity', number(field(msg, 'stribeck_velocity', 0)));
 end
 
+function out = sensorReading(msg)
+% sensorId, kind ('tactile', 'gripper', 'forceTorque'; '' when unset), time (s), and the fields of its kind
+% (those of the other kinds are []):
+%   tactile: rows, cols, intensities rows-by-cols double (0..4095, row r along the pad's y, column c along
+%     its x), forces rows-by-cols-by-3 double (N, the float32 values, pad frame: forces(r, c, :) = [x y z]),
+%     intensitySum, forceSum 1-by-3 (N, pad frame).
+%   gripper: fingerDistance (m), motorCurrent (A), fingerVelocity (m/s).
+%   forceTorque: force 1-by-3 (N), torque 1-by-3 (N m), sensor frame.
+out = struct('sensorId', field(msg, 'sensor_id', ''), 'kind', '', 'time', number(field(msg, 'time', 0)), ...
+             'rows', [], 'cols', [], 'intensities', [], 'forces', [], 'intensitySum', [], 'forceSum', [], ...
+             'fingerDistance', [], 'motorCurrent', [], 'fingerVelocity', [], 'force', [], 'torque', []);
+if isfield(msg, 'tactile')
+  t = msg.tactile;
+  rows = number(field(t, 'rows', 0));
+  cols = number(field(t, 'cols', 0));
+  intensities = double(packed(field(t, 'intensities', ''), 'uint16'));
+  forces = double(packed(field(t, 'forces', ''), 'single'));
+  if numel(intensities) ~= rows * cols || numel(forces) ~= 3 * rows * cols
+    error('graspsim:INTERNAL', 'tactile reading of %s: %d intensities and %d force values for %d x %d texels', ...
+          out.sensorId, numel(intensities), numel(forces), rows, cols);
+  end
+  out.kind = 'tactile';
+  out.rows = rows;
+  out.cols = cols;
+  out.intensities = reshape(intensities, cols, rows).';                   % row-major on the wire
+  out.forces = permute(reshape(forces, 3, cols, rows), [3 2 1]);          % x y z per texel, row-major
+  out.intensitySum = number(field(t, 'intensity_sum', 0));
+  out.forceSum = vec3(field(t, 'force_sum', []), [0 0 0]);
+elseif isfield(msg, 'gripper')
+  g = msg.gripper;
+  out.kind = 'gripper';
+  out.fingerDistance = number(field(g, 'finger_distance', 0));
+  out.motorCurrent = number(field(g, 'motor_current', 0));
+  out.fingerVelocity = number(field(g, 'finger_velocity', 0));
+elseif isfield(msg, 'force_torque')
+  f = msg.force_torque;
+  out.kind = 'forceTorque';
+  out.force = vec3(field(f, 'force', []), [0 0 0]);
+  out.torque = vec3(field(f, 'torque', []), [0 0 0]);
+end
+end
+
+function out = workCycleProgress(msg)
+% stage, time (s), readings (SensorReading array: both pads, then the gripper), objectPose 1-by-7 (world),
+% axisPosition (m), currentLimit (A).
+out = struct('stage', field(msg, 'stage', ''), 'time', number(field(msg, 'time', 0)), ...
+             'readings', graspsim.internal.decode('SensorReading', field(msg, 'readings', [])), ...
+             'objectPose', pose(field(msg, 'object_pose', struct())), ...
+             'axisPosition', number(field(msg, 'axis_position', 0)), ...
+             'currentLimit', number(field(msg, 'current_limit', 0)));
+end
+
 % --- pieces -----------------------------------------------------------------------------------------------
 
 function value = field(msg, name, default)
@@ -291,7 +345,7 @@ values = [number(field(msg, 'x', 0)), number(field(msg, 'y', 0)), number(field(m
 end
 
 function values = packed(text, type)
-% A column of class type ('double', 'single', 'uint32') from base64 of packed little-endian numbers.
+% A column of class type ('double', 'single', 'uint32', 'uint16') from base64 of packed little-endian numbers.
 if isempty(text)
   values = zeros(0, 1, type);
   return;

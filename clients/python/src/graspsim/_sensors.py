@@ -20,7 +20,8 @@ class TactileFrame:
         time: simulation time of the state read, s.
         rows, cols: texels; rows run along the pad's y, cols along its x.
         intensities: (rows, cols) uint16, 0..4095 (12 bit): proportional to the texel's normal force, saturated.
-        forces: (rows, cols, 3) float32, N: the force the object exerts on each texel, pad frame (+z presses).
+        forces: (rows, cols, 3) float32, N: the force the object exerts on each texel, pad frame
+            (+z is the pad normal toward the object, so pressing reads negative z).
         intensity_sum: sum of intensities.
         force_sum: (3,) float64, N, pad frame.
     """
