@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/math.h"
@@ -41,6 +42,13 @@ struct PadHit {
 // The elements of one pad, row-major over the element grid: index = r · (cols · s) + c (r along pad y from
 // −rows·pitch/2, c along pad x from −cols·pitch/2).
 std::vector<PadElement> MakePadElements(const TactileArraySpec& pad);
+
+// The texel (row, col) of element `element` of `pad`, as MakePadElements assigns it, without building the grid.
+inline std::pair<uint32_t, uint32_t> ElementTexel(const TactileArraySpec& pad, uint32_t element) {
+  const uint32_t s = pad.subdivision > 0 ? pad.subdivision : 1;
+  const uint32_t per_row = pad.cols * s;
+  return {element / per_row / s, element % per_row / s};
+}
 
 class TactileRayCaster {
  public:

@@ -325,5 +325,22 @@ TEST(TactileRaysTest, MovedCasterStillCasts) {
   test_util::ExpectError([&] { Cast(second, {kLink}); }, ErrorCode::kInternal, {"1 poses for 3 bodies"});
 }
 
+TEST(TactileRaysTest, ElementTexelAgreesWithTheGrid) {
+  TactileArraySpec pad;
+  pad.rows = 14;
+  pad.cols = 6;
+  pad.pitch = 0.0034;
+  pad.thickness = 0.004;
+  for (unsigned s : {0u, 1u, 2u, 3u}) {
+    pad.subdivision = s;
+    const std::vector<PadElement> elements = MakePadElements(pad);
+    for (uint32_t e = 0; e < elements.size(); ++e) {
+      const auto [row, col] = ElementTexel(pad, e);
+      ASSERT_EQ(row, elements[e].row) << "subdivision " << s << ", element " << e;
+      ASSERT_EQ(col, elements[e].col) << "subdivision " << s << ", element " << e;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace graspsim
