@@ -2,6 +2,8 @@
 // carried by the pad's elements, whose normal forces add up to m g; an object dragged over the pad meets the
 // LuGre steady-state friction of the pad's law.
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -111,6 +113,23 @@ TEST(TactileContactTest, DraggedObjectTracesTheStribeckCurveOfThePadLaw) {
   for (double speed : {1e-4, 5e-4, 1e-3, 2e-3, 1e-2, 1e-1}) {
     const double expected = normal * (mu_d + (mu_s - mu_d) * std::exp(-speed * speed / (v_s * v_s)));
     EXPECT_NEAR(DragForce(speed) / expected, 1.0, 0.01) << "v = " << speed << " m/s";
+  }
+}
+
+// Writes the pad's Stribeck curve (speed, measured force, LuGre steady state) as CSV for docs/tactile.md's plot:
+//   GRASPSIM_STRIBECK_CSV=build/pad-stribeck.csv build/bin/graspsim_tests \
+//     --gtest_filter='TactileContact*WriteStribeckCurve' --gtest_also_run_disabled_tests
+//   build/venv/bin/python tests/stress/plot_pad_stribeck.py build/pad-stribeck.csv docs/tactile-stribeck.png
+TEST(TactileContactTest, DISABLED_WriteStribeckCurve) {
+  const char* path = std::getenv("GRASPSIM_STRIBECK_CSV");
+  ASSERT_NE(path, nullptr) << "set GRASPSIM_STRIBECK_CSV";
+  std::ofstream out(path);
+  out << "speed_m_s,force_n,lugre_n\n";
+  const double normal = kG, mu_s = 0.9, mu_d = 0.6, v_s = 1e-3;
+  for (int i = 0; i <= 16; ++i) {
+    const double speed = std::pow(10.0, -4 + 4.0 * i / 16);
+    const double expected = normal * (mu_d + (mu_s - mu_d) * std::exp(-speed * speed / (v_s * v_s)));
+    out << speed << "," << DragForce(speed) << "," << expected << "\n";
   }
 }
 
