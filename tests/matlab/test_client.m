@@ -676,6 +676,13 @@ end
 check(abs(sums(1) - sums(2)) <= 0.02 * mean(sums), 'pad sums %d and %d differ', sums(1), sums(2));
 g = c.sampleSensor(sid, [gripper '/gripper']);
 check(g.fingerDistance > 0.04 && g.fingerDistance < 0.05, 'fingers %g m apart on a 5 cm cube', g.fingerDistance);
+% The left finger's joint is a force/torque sensor: along the finger axis (its frame's y, closing = -y) it
+% transmits the grip force that the left pad feels as its normal force.
+left = c.sampleSensor(sid, pads{1});
+ft = c.sampleSensor(sid, [gripper '/finger_left_joint']);
+check(strcmp(ft.kind, 'forceTorque') && isempty(ft.intensities) && numel(ft.torque) == 3, 'force/torque reading');
+near(ft.time, 1.5, 1e-9, 'force/torque reading time');
+near(-ft.force(2), abs(left.forceSum(3)), 0.05 * abs(left.forceSum(3)), 'finger joint force vs the pad''s');
 end
 
 function test_stream_sensors(c, sid)

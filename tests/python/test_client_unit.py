@@ -174,8 +174,15 @@ def test_gripper_reading_and_unknown_kind():
     msg = tactile_pb2.SensorReading(sensor_id="g/gripper", time=0.25, gripper=tactile_pb2.GripperReading(
         finger_distance=0.06, motor_current=-1.5, finger_velocity=-0.02))
     assert reading_from_proto(msg) == graspsim.GripperState("g/gripper", 0.25, 0.06, -1.5, -0.02)
-    with pytest.raises(ValueError, match="force_torque"):
-        reading_from_proto(tactile_pb2.SensorReading(sensor_id="j", force_torque=tactile_pb2.ForceTorqueReading()))
+    msg = tactile_pb2.SensorReading(sensor_id="r/j", time=0.5, force_torque=tactile_pb2.ForceTorqueReading(
+        force=common_pb2.Vec3(x=1, y=-2, z=3.5), torque=common_pb2.Vec3(x=-0.25, y=0, z=0.125)))
+    reading = reading_from_proto(msg)
+    assert isinstance(reading, graspsim.ForceTorqueState) and (reading.sensor_id, reading.time) == ("r/j", 0.5)
+    np.testing.assert_array_equal(reading.force, [1, -2, 3.5])
+    np.testing.assert_array_equal(reading.torque, [-0.25, 0, 0.125])
+    assert reading.force.dtype == np.float64 and reading.torque.shape == (3,)
+    with pytest.raises(ValueError, match="kind None"):
+        reading_from_proto(tactile_pb2.SensorReading(sensor_id="j"))
 
 
 def test_error_str_names_code():

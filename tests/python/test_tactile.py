@@ -175,16 +175,29 @@ def test_unknown_sensors_are_not_found_and_list_the_available_ones(client, pg70)
 
 def test_a_robot_without_prismatic_joints_has_no_gripper(client, scene_id):
     client.add_robot(scene_id, "arm", urdf=two_link_urdf())
-    with expect_error(grpc.StatusCode.NOT_FOUND, "arm/gripper", "no prismatic joints", "no sensors"):
+    with expect_error(grpc.StatusCode.NOT_FOUND, "arm/gripper", "no prismatic joints", "available: arm/shoulder"):
         client.sample(scene_id, "arm/gripper")
+    assert isinstance(client.sample(scene_id, "arm/shoulder"), graspsim.ForceTorqueState), "its joint's F/T sensor"
 
 
-def test_a_joint_names_a_force_torque_sensor_not_built_yet(client, pg70):
-    with expect_error(grpc.StatusCode.UNIMPLEMENTED, "sensor_id", LEFT, "force/torque", "not built yet"):
-        client.sample(pg70, LEFT)
-    with client.stream_sensors(pg70, ["pg70/gripper", LEFT], rate_hz=10) as stream:
-        with expect_error(grpc.StatusCode.UNIMPLEMENTED, "sensor_ids[1]", LEFT, "force/torque"):
-            next(stream)
+def test_a_joint_is_a_force_torque_sensor_reading_its_childs_weight(client, scene_id):
+    # The PG70 pointing down, untouched: the left finger (0.05 kg, CoM (0, 10, 30) mm in its frame) hangs on its
+    # joint, which carries -(m g) with the moment -(c x m g), both in the finger's frame (z along world -z).
+    client.add_robot(scene_id, "pg70", builtin="schunk_pg70", base_pose=graspsim.Pose([0, 0, 0.91], DOWN))
+    before = client.sample(scene_id, LEFT)
+    assert isinstance(before, graspsim.ForceTorqueState)
+    assert (before.sensor_id, before.time) == (LEFT, 0.0)
+    assert not before.force.any() and not before.torque.any(), "zero before the first step"
+    client.step_simulation(scene_id, duration=0.05)
+    reading = client.sample(scene_id, LEFT)
+    weight = np.array([0, 0, 0.05 * 9.81])  # m g in the finger's frame: world -z is its +z
+    np.testing.assert_allclose(reading.force, -weight, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(reading.torque, -np.cross([0, 0.010, 0.030], weight), rtol=0, atol=1e-9)
+    assert reading.time == pytest.approx(0.05, abs=1e-9)
+    with client.stream_sensors(scene_id, ["pg70/gripper", LEFT], rate_hz=10) as stream:
+        gripper, streamed = next(stream), next(stream)
+        assert isinstance(gripper, graspsim.GripperState) and isinstance(streamed, graspsim.ForceTorqueState)
+        np.testing.assert_array_equal(streamed.force, reading.force)
 
 
 def test_stream_request_errors_name_the_field(client, pg70):
@@ -267,3 +280,10 @@ def test_pg70_closing_on_the_cube_presses_both_pads(client, scene_id):
                                                                               right.intensity_sum)
     png = client.tactile_image(scene_id, PADS[0], scale=10)
     assert png_size(png) == (60, 140)
+    # The left finger's joint presses it on the cube: along the finger axis (its frame's y, closing = -y) it
+    # transmits the grip force, which the left pad feels as its normal force.
+    wrench = client.sample(scene_id, LEFT)
+    grip = abs(left.force_sum[2])
+    assert grip > 1.0, grip
+    assert wrench.force[1] < 0, wrench.force
+    assert -wrench.force[1] == pytest.approx(grip, rel=0.05), (wrench.force, left.force_sum)

@@ -521,15 +521,18 @@ classdef Client < handle
     % --- sensors (TactileService) -------------------------------------------------------------------------
     function reading = sampleSensor(obj, sceneId, sensorId)
       %SAMPLESENSOR reading = c.sampleSensor(sceneId, sensorId): one reading of a sensor in the scene's
-      %   current state. sensorId is a tactile array ('pg70/pad_left', 'pg70/pad_right') or a robot's gripper
-      %   sensor ('pg70/gripper'). A struct: sensorId, kind ('tactile' | 'gripper'), time (s, simulation
-      %   time of the state read), and the fields of its kind (the other kinds' fields are []):
+      %   current state. sensorId is a tactile array ('pg70/pad_left', 'pg70/pad_right'), a robot's gripper
+      %   sensor ('pg70/gripper') or a joint, whose 6-axis force/torque sensor it reads
+      %   ('pg70/finger_left_joint'). A struct: sensorId, kind ('tactile' | 'gripper' | 'forceTorque'), time
+      %   (s, simulation time of the state read), and the fields of its kind (the other kinds' fields are []):
       %     tactile: rows, cols (texels; rows along the pad's y, cols along its x), intensities rows-by-cols
       %       double (0..4095, 12 bit, proportional to the texel's normal force, saturated), forces
       %       rows-by-cols-by-3 double (N, the force the object exerts on each texel in the pad frame, whose
       %       z is the pad's normal: forces(r, c, :) = [x y z]), intensitySum, forceSum 1-by-3 (N, pad frame).
       %     gripper: fingerDistance (m, the sum of the finger joints' positions; 0 = closed), motorCurrent
       %       (A, of the driven finger's motor; 0 when undriven), fingerVelocity (m/s; negative = closing).
+      %     forceTorque: force 1-by-3 (N) and torque 1-by-3 (N m, about the frame's origin) that the joint
+      %       transmits to its child body (and all it carries), in the child body's frame.
       %   An unknown id raises graspsim:NOT_FOUND listing the scene's sensors.
       response = graspsim.internal.unary(obj, 'TactileService', 'Sample', ...
                                          struct('scene_id', sceneId, 'sensor_id', sensorId));

@@ -3,7 +3,7 @@
 namespace graspsim {
 namespace {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Vec6 = Multibody::Vec6;
 
 // Spatial cross products for vectors [angular; linear] (Featherstone 2008, §2.9): motion × motion, motion × force.
 Vec6 CrossMotion(const Vec6& a, const Vec6& m) {
@@ -188,6 +188,38 @@ Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravi
     if (nodes_[n].parent >= 0) F[nodes_[n].parent] += F[n];
   }
   return G_.transpose() * bu;
+}
+
+std::vector<Multibody::Vec6> Multibody::JointWrenches(const SceneState& state, const Eigen::VectorXd& v,
+                                                      const Eigen::VectorXd& a, const Vec3& gravity,
+                                                      const std::vector<Vec6>& external) const {
+  // Recursive Newton–Euler with the actual joint accelerations (mimic offsets are constant, so ü = G a).
+  const Eigen::VectorXd u = FullVelocities(v), ud = FullVelocities(a);
+  Vec6 base_acceleration;
+  base_acceleration << Vec3::Zero(), -gravity;
+  std::vector<Vec6> V(nodes_.size()), A(nodes_.size()), F(nodes_.size());
+  for (size_t n = 0; n < nodes_.size(); ++n) {
+    const Node& node = nodes_[n];
+    const Vec6 parent_velocity = node.parent >= 0 ? V[node.parent] : Vec6::Zero();
+    const Vec6 parent_acceleration = node.parent >= 0 ? A[node.parent] : base_acceleration;
+    Vec6 joint_velocity = Vec6::Zero(), joint_acceleration = Vec6::Zero();
+    if (node.full >= 0) {
+      const Vec6 S = MotionSubspace(state, node);
+      joint_velocity = S * u[node.full];
+      joint_acceleration = S * ud[node.full];
+    }
+    V[n] = parent_velocity + joint_velocity;
+    A[n] = parent_acceleration + joint_acceleration + CrossMotion(V[n], joint_velocity);
+    const Mat6 I = SpatialInertia(state, node.child_body);
+    F[n] = I * A[n] + CrossForce(V[n], I * V[n]);
+    if (node.child_body < external.size()) F[n] -= external[node.child_body];
+  }
+  std::vector<Vec6> wrenches(model_.joints.size(), Vec6::Zero());
+  for (size_t n = nodes_.size(); n-- > 0;) {
+    wrenches[nodes_[n].joint] = F[n];
+    if (nodes_[n].parent >= 0) F[nodes_[n].parent] += F[n];
+  }
+  return wrenches;
 }
 
 Multibody::SpatialJacobian Multibody::BodyJacobian(const SceneState& state, size_t body) const {

@@ -53,6 +53,16 @@ class Multibody {
   // normalised), followers from their leaders, then every robot link placed by forward kinematics.
   void Integrate(const Eigen::VectorXd& v, double dt, SceneState* state) const;
 
+  // The spatial force each joint transmits from its parent side to its child side (Featherstone's joint force
+  // f_i: what the child's subtree receives through the joint), [torque about the world origin; force], world
+  // coordinates, per joint (zero for joints of no robot). By the backward pass of recursive Newton–Euler:
+  // f_n = I_n A_n + V_n ×* I_n V_n − f_ext,n summed over the subtree, with the velocities v, the generalised
+  // accelerations a = v̇, the base accelerating at −g, and `external` the wrenches [torque about the world origin;
+  // force] (world) on each body from outside the tree (contacts), per body.
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  std::vector<Vec6> JointWrenches(const SceneState& state, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                                  const Vec3& gravity, const std::vector<Vec6>& external) const;
+
   // Total mechanical energy (kinetic + gravitational potential), J; for tests and drift checks.
   double Energy(const SceneState& state, const Vec3& gravity) const;
 
@@ -64,7 +74,6 @@ class Multibody {
     size_t child_body = 0;
     int full = -1;        // index into the full velocity vector u (every moving joint, mimic ones included)
   };
-  using Vec6 = Eigen::Matrix<double, 6, 1>;
   using Mat6 = Eigen::Matrix<double, 6, 6>;
 
   // Joint motion subspace [ω; v at the world origin] in world coordinates.

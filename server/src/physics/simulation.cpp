@@ -82,6 +82,7 @@ void Simulation::PrepareState(SceneState* state) const {
   state->joint_velocities.resize(model_->joints.size(), 0);
   state->sleeping.resize(model_->bodies.size(), false);
   state->rest_time.resize(model_->bodies.size(), 0);
+  state->joint_wrenches.resize(model_->joints.size(), {Vec3::Zero(), Vec3::Zero()});
   state->pad_forces.resize(model_->tactile_arrays.size());
   for (uint32_t pad = 0; pad < model_->tactile_arrays.size(); ++pad) {
     state->pad_forces[pad].resize(pads_.Elements(pad).size(), Vec3::Zero());
@@ -133,12 +134,14 @@ void Simulation::SubStep(SceneState* state, double h) {
     second.tau += forces.actuators;
     forces = std::move(second);
     const Eigen::VectorXd v_next = v_half + SolveVelocityChange(*state, v_half, forces, h / 2);
+    RecordJointWrenches(v_half, v_next, h / 2, state);  // the second half kick, at the new configuration
     AdvanceBristles(forces, v_half, h, state);
     multibody_.SetVelocities(v_next, state);
   } else {
     // The bristles move with the step's new velocity, the one the implicit solve assumed for the displacement
     // h v (with the old one the bristle spring would lag the motion and pump energy into it).
     const Eigen::VectorXd v_next = v + SolveVelocityChange(*state, v, forces, h);
+    RecordJointWrenches(v, v_next, h, state);  // at the configuration the forces were evaluated at
     AdvanceBristles(forces, v_next, h, state);
     multibody_.SetVelocities(v_next, state);
     multibody_.Integrate(v_next, h, state);
@@ -189,6 +192,30 @@ void Simulation::RecordPadForces(SceneState* state) const {
     if ((feature >> 63) == 0) continue;
     const auto pad = static_cast<uint32_t>((feature >> 32) & 0x7fffffff), element = static_cast<uint32_t>(feature);
     state->pad_forces[pad][element] = -forces_[i];
+  }
+}
+
+void Simulation::RecordJointWrenches(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h,
+                                     SceneState* state) const {
+  // The joint forces of recursive Newton–Euler with the step's accelerations (v_next − v)/h and its contact
+  // forces (on body_a; body_b gets the opposite), so the wrenches agree with the step's motion; then from world
+  // coordinates about the origin to each joint's child frame.
+  if (model_->joints.empty()) return;
+  std::vector<Multibody::Vec6> external(model_->bodies.size(), Multibody::Vec6::Zero());
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    Multibody::Vec6 wrench;
+    wrench << contacts_[i].point.cross(forces_[i]), forces_[i];
+    external[contacts_[i].body_a] += wrench;
+    external[contacts_[i].body_b] -= wrench;
+  }
+  const std::vector<Multibody::Vec6> wrenches =
+      multibody_.JointWrenches(*state, v, (v_next - v) / h, params_.gravity, external);
+  for (size_t j = 0; j < model_->joints.size(); ++j) {
+    const Pose& frame = state->body_poses[model_->body_index.at(model_->joints[j].child_body)];
+    const Vec3 force = wrenches[j].tail<3>();
+    const Vec3 torque = wrenches[j].head<3>() - frame.position.cross(force);  // about the frame's origin
+    const Quat world_to_child = frame.orientation.conjugate();
+    state->joint_wrenches[j] = {world_to_child * force, world_to_child * torque};
   }
 }
 

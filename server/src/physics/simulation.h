@@ -1,6 +1,6 @@
 // The dynamic simulation of one scene, as a readable list of stages per step (MuJoCo's mj_step):
 //   FindContacts → ContactForces → ActuatorForces → SolveVelocityChange → AdvanceBristles → Integrate
-//   → ClampJointLimits → UpdateSleep, then CheckFinite.
+//   → RecordJointWrenches → ClampJointLimits → UpdateSleep, then CheckFinite.
 // Contacts are soft (penalty normal force, LuGre friction; physics/contact_law.h) at the surface samples the
 // collision library finds; the articulated dynamics are physics/multibody.h. The linearly implicit integrator
 // solves (M − h D − h² K) Δv = h (τ − b + f + h K v) with K, D the contact stiffness and damping mapped to
@@ -76,6 +76,8 @@ class Simulation {
   void FindContacts(SceneState* state);
   void AddPadContacts(const SceneState& state);
   void RecordPadForces(SceneState* state) const;
+  void RecordJointWrenches(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h,
+                           SceneState* state) const;
   void ContactForces(const SceneState& state, const Eigen::VectorXd& v, double h, Forces* forces);
   void ActuatorForces(SceneState* state, double h, Forces* forces);
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,

@@ -31,8 +31,10 @@ std::string AvailableSensors(const SceneModel& model) {
   for (const RobotSpec& robot : model.robots) {
     if (HasPrismaticJoint(model, robot)) ids.push_back(robot.id + kGripperSuffix);
   }
-  if (ids.empty()) return "the scene has no sensors (tactile arrays and grippers come with robots)";
   std::sort(ids.begin(), ids.end());
+  // Then the force/torque sensors: every joint of a robot (ids are in robot order).
+  for (const JointSpec& joint : model.joints) ids.push_back(joint.id);
+  if (ids.empty()) return "the scene has no sensors (tactile arrays, grippers and joints come with robots)";
   std::string list;
   for (size_t i = 0; i < std::min(ids.size(), kListedSensors); ++i) list += (i ? ", " : "") + ids[i];
   if (ids.size() > kListedSensors) list += " and " + std::to_string(ids.size() - kListedSensors) + " more";
@@ -66,6 +68,11 @@ void ToProto(const GripperReading& reading, v1::GripperReading* out) {
   out->set_finger_velocity(reading.finger_velocity);
 }
 
+void ToProto(const ForceTorqueReading& reading, v1::ForceTorqueReading* out) {
+  ToProto(reading.force, out->mutable_force());
+  ToProto(reading.torque, out->mutable_torque());
+}
+
 SensorRef FindSensor(const SceneView& view, const std::string& field, const std::string& id) {
   const SceneModel& model = *view.model;
   if (id.empty()) ThrowInvalidArgument(field + ": empty; name a sensor (" + AvailableSensors(model) + ")");
@@ -88,15 +95,6 @@ SensorRef FindSensor(const SceneView& view, const std::string& field, const std:
   ThrowNotFound(field + ": no sensor '" + Shortened(id) + "' in scene '" + view.id + "'; " + AvailableSensors(model));
 }
 
-SensorRef FindReadableSensor(const SceneView& view, const std::string& field, const std::string& id) {
-  const SensorRef sensor = FindSensor(view, field, id);
-  if (sensor.kind == SensorRef::Kind::kForceTorque) {
-    throw Error(ErrorCode::kUnimplemented, field + ": '" + id + "' is a joint; its force/torque sensor is not built "
-                                           "yet (a later issue); tactile arrays and grippers can be read");
-  }
-  return sensor;
-}
-
 void ReadSensor(const SceneView& view, const SensorRef& sensor, const std::string& id, v1::SensorReading* out) {
   const SceneModel& model = *view.model;
   out->set_sensor_id(id);
@@ -109,9 +107,10 @@ void ReadSensor(const SceneView& view, const SensorRef& sensor, const std::strin
       ToProto(ReadGripper(model, view.state, model.robots[sensor.index]), out->mutable_gripper());
       return;
     case SensorRef::Kind::kForceTorque:
-      break;
+      ToProto(ReadForceTorque(model, view.state, sensor.index), out->mutable_force_torque());
+      return;
   }
-  throw Error(ErrorCode::kUnimplemented, "sensor '" + id + "': force/torque sensors are not built yet");
+  throw Error(ErrorCode::kInternal, "sensor '" + id + "': unknown sensor kind");
 }
 
 }  // namespace graspsim::rpc

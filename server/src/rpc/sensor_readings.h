@@ -1,6 +1,6 @@
 // Sensor ids of TactileService and their readings as messages. A scene's sensors: each tactile array (its id,
-// "<robot>/<pad>") and, for each robot with prismatic joints, its gripper state ("<robot>/gripper"). Joint ids
-// name the force/torque sensors that a later issue builds.
+// "<robot>/<pad>"), for each robot with prismatic joints, its gripper state ("<robot>/gripper"), and each joint
+// of a robot, its 6-axis force/torque sensor (the joint's id, "<robot>/<joint>").
 #pragma once
 
 #include <string>
@@ -21,12 +21,10 @@ struct SensorRef {
 // listing the scene's sensors when unknown.
 SensorRef FindSensor(const SceneView& view, const std::string& field, const std::string& id);
 
-// FindSensor for Sample and Stream: a joint id is UNIMPLEMENTED (its force/torque sensor is not built yet).
-SensorRef FindReadableSensor(const SceneView& view, const std::string& field, const std::string& id);
-
 // The readings as messages: intensities and forces packed little-endian (uint16, float32 x y z per texel).
 void ToProto(const TactileFrame& frame, v1::TactileReading* out);
 void ToProto(const GripperReading& reading, v1::GripperReading* out);
+void ToProto(const ForceTorqueReading& reading, v1::ForceTorqueReading* out);
 
 // One reading of `sensor` in `view`'s state, time stamped with the state's time.
 void ReadSensor(const SceneView& view, const SensorRef& sensor, const std::string& id, v1::SensorReading* out);

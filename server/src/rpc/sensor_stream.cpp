@@ -130,7 +130,7 @@ void SensorStream::Read(uint64_t last_revision, bool first) {
       batch.resize(ids_.size());
       for (size_t i = 0; i < ids_.size(); ++i) {
         const std::string field = "sensor_ids[" + std::to_string(i) + "]";
-        ReadSensor(view, FindReadableSensor(view, field, ids_[i]), ids_[i], &batch[i]);
+        ReadSensor(view, FindSensor(view, field, ids_[i]), ids_[i], &batch[i]);
       }
     }
   } catch (const Error& error) {

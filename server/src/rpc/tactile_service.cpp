@@ -25,7 +25,7 @@ grpc::ServerUnaryReactor* TactileServiceImpl::Sample(Context* context, const v1:
                                                      v1::SensorReading* response) {
   return RunUnary(context, "TactileService/Sample", pool_, [=, this] {
     const SceneView view = registry_->Get(request->scene_id())->View();
-    const SensorRef sensor = FindReadableSensor(view, "sensor_id", request->sensor_id());
+    const SensorRef sensor = FindSensor(view, "sensor_id", request->sensor_id());
     ReadSensor(view, sensor, request->sensor_id(), response);
   });
 }

@@ -90,6 +90,17 @@ GripperReading ReadGripper(const SceneModel& model, const SceneState& state, con
   return reading;
 }
 
+ForceTorqueReading ReadForceTorque(const SceneModel& model, const SceneState& state, size_t joint) {
+  static_cast<void>(model.joints.at(joint));  // a valid joint index
+  ForceTorqueReading reading;
+  // The simulation sizes joint_wrenches only once it has stepped: a scene that never ran reads zero.
+  if (joint < state.joint_wrenches.size()) {
+    reading.force = state.joint_wrenches[joint][0];
+    reading.torque = state.joint_wrenches[joint][1];
+  }
+  return reading;
+}
+
 std::string TactileImagePng(const TactileFrame& frame, unsigned max_intensity, unsigned scale) {
   if (frame.rows == 0 || frame.cols == 0 || frame.intensities.size() != size_t{frame.rows} * frame.cols) {
     throw Error(ErrorCode::kInternal, "tactile image: frame of " + std::to_string(frame.intensities.size()) +

@@ -1,6 +1,7 @@
 // Sensor readings as the real devices deliver them (PAPERS.md part B): a tactile pad's frame in the structure of
 // the Weiss DSACON32 controller, and the PG70's gripper state. Computed from a scene's model and state after a
-// simulation step; the physics fills SceneState::pad_forces (per sensing element, world frame).
+// simulation step; the physics fills SceneState::pad_forces (per sensing element, world frame) and
+// SceneState::joint_wrenches (per joint, child frame).
 #pragma once
 
 #include <cstdint>
@@ -36,6 +37,16 @@ struct GripperReading {
   double finger_velocity = 0;  // m/s: the driving (independent) finger joint's velocity
 };
 GripperReading ReadGripper(const SceneModel& model, const SceneState& state, const RobotSpec& robot);
+
+// A 6-axis force/torque sensor on a joint (a wrist flange): the wrench the joint transmits from its parent side to
+// its child side, i.e. what the child body and everything it carries receive through the joint, in the joint's
+// child frame (the child body's frame), torque about that frame's origin. A gripper hanging still from its wrist
+// reads −(m g) of the gripper and what it holds, expressed in the child frame. Zero before the first step.
+struct ForceTorqueReading {
+  Vec3 force = Vec3::Zero();   // N, child frame
+  Vec3 torque = Vec3::Zero();  // N m, child frame, about its origin
+};
+ForceTorqueReading ReadForceTorque(const SceneModel& model, const SceneState& state, size_t joint);
 
 // A tactile frame as a PNG heat map (OpenCV colormap), `scale` pixels per texel.
 std::string TactileImagePng(const TactileFrame& frame, unsigned max_intensity, unsigned scale);

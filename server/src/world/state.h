@@ -1,6 +1,7 @@
 // The mutable part of a scene (MuJoCo's mjData), indexed like the SceneModel it belongs to.
 #pragma once
 
+#include <array>
 #include <compare>
 #include <cstdint>
 #include <map>
@@ -41,6 +42,12 @@ struct SceneState {
   // Per tactile array, per sensing element (collision/tactile_rays.h order): the force the touching object
   // exerts on the pad, N, world frame; all zero when nothing touches. Sized by the simulation.
   std::vector<std::vector<Vec3>> pad_forces;
+  // Per joint: the wrench the joint transmits from its parent side to its child side in the last sub-step (what
+  // the child body and everything it carries receive through the joint: constraint and motor forces; an end
+  // stop's velocity clamp is not among them), in the joint's child frame (the child body's frame):
+  // {force N, torque N m about the frame's origin}.
+  // The force/torque sensor reading (sensors/readings.h). Sized by the simulation; zero before the first step.
+  std::vector<std::array<Vec3, 2>> joint_wrenches;
 };
 
 // The bristle deflection of a contact, or zero for a new one.

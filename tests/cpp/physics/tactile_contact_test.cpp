@@ -117,8 +117,8 @@ TEST(TactileContactTest, DraggedObjectTracesTheStribeckCurveOfThePadLaw) {
 }
 
 // Writes the pad's Stribeck curve (speed, measured force, LuGre steady state) as CSV for docs/tactile.md's plot:
-//   GRASPSIM_STRIBECK_CSV=build/pad-stribeck.csv build/bin/graspsim_tests \
-//     --gtest_filter='TactileContact*WriteStribeckCurve' --gtest_also_run_disabled_tests
+//   GRASPSIM_STRIBECK_CSV=build/pad-stribeck.csv build/bin/graspsim_tests
+//     --gtest_filter='TactileContact*WriteStribeckCurve' --gtest_also_run_disabled_tests  (one command)
 //   build/venv/bin/python tests/stress/plot_pad_stribeck.py build/pad-stribeck.csv docs/tactile-stribeck.png
 TEST(TactileContactTest, DISABLED_WriteStribeckCurve) {
   const char* path = std::getenv("GRASPSIM_STRIBECK_CSV");

@@ -216,7 +216,7 @@ function out = sensorReading(msg)
 %     its x), forces rows-by-cols-by-3 double (N, the float32 values, pad frame: forces(r, c, :) = [x y z]),
 %     intensitySum, forceSum 1-by-3 (N, pad frame).
 %   gripper: fingerDistance (m), motorCurrent (A), fingerVelocity (m/s).
-%   forceTorque: force 1-by-3 (N), torque 1-by-3 (N m), sensor frame.
+%   forceTorque: force 1-by-3 (N), torque 1-by-3 (N m), the joint's child frame.
 out = struct('sensorId', field(msg, 'sensor_id', ''), 'kind', '', 'time', number(field(msg, 'time', 0)), ...
              'rows', [], 'cols', [], 'intensities', [], 'forces', [], 'intensitySum', [], 'forceSum', [], ...
              'fingerDistance', [], 'motorCurrent', [], 'fingerVelocity', [], 'force', [], 'torque', []);

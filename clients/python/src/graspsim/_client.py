@@ -247,13 +247,14 @@ class Client:
     # --- sensors ------------------------------------------------------------------------------------------
     def sample(self, scene_id: str, sensor_id: str) -> Reading:
         """One reading of a sensor in the scene's current state: a TactileFrame for a tactile array
-        ("pg70/pad_left"), a GripperState for a robot's gripper ("pg70/gripper")."""
+        ("pg70/pad_left"), a GripperState for a robot's gripper ("pg70/gripper"), a ForceTorqueState for a
+        joint's 6-axis force/torque sensor ("pg70/finger_left_joint")."""
         request = tactile_pb2.SampleRequest(scene_id=scene_id, sensor_id=sensor_id)
         return reading_from_proto(self._unary("Sample", request, self.tactile_stub))
 
     def stream_sensors(self, scene_id: str, sensor_ids: Iterable[str], rate_hz: float) -> SensorStream:
-        """A live iterator of readings (TactileFrame / GripperState, one per sensor id in each round): at once,
-        then whenever the scene changes, at most rate_hz rounds per second (the server caps it at its
+        """A live iterator of readings (TactileFrame / GripperState / ForceTorqueState, one per sensor id in each
+        round): at once, then whenever the scene changes, at most rate_hz rounds per second (the server caps it at its
         --watch-max-rate-hz), always of the newest state. cancel() it (or use a with-block) to end it."""
         request = tactile_pb2.StreamRequest(scene_id=scene_id, sensor_ids=list(sensor_ids), rate_hz=rate_hz)
         return SensorStream(self.tactile_stub.Stream(request))

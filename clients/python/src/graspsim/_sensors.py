@@ -68,7 +68,26 @@ class GripperState:
     finger_velocity: float
 
 
-Reading = Union[TactileFrame, GripperState]
+@dataclass(frozen=True)
+class ForceTorqueState:
+    """A 6-axis force/torque sensor on a joint (e.g. a wrist flange): the wrench the joint transmits from its parent
+    side to its child side, i.e. what the child body and everything it carries receive through the joint.
+
+    Attributes:
+        sensor_id: the joint ("<robot>/<joint>").
+        time: simulation time of the state read, s.
+        force: (3,) float64, N, in the joint's child frame (the child body's frame). A gripper hanging still
+            from its wrist reads -(m g) of the gripper and what it holds.
+        torque: (3,) float64, N m, child frame, about the frame's origin.
+    """
+
+    sensor_id: str
+    time: float
+    force: np.ndarray
+    torque: np.ndarray
+
+
+Reading = Union[TactileFrame, GripperState, ForceTorqueState]
 
 
 def reading_from_proto(msg: tactile_pb2.SensorReading) -> Reading:
@@ -79,6 +98,10 @@ def reading_from_proto(msg: tactile_pb2.SensorReading) -> Reading:
     if kind == "gripper":
         g = msg.gripper
         return GripperState(msg.sensor_id, msg.time, g.finger_distance, g.motor_current, g.finger_velocity)
+    if kind == "force_torque":
+        f, t = msg.force_torque.force, msg.force_torque.torque
+        return ForceTorqueState(msg.sensor_id, msg.time, np.array([f.x, f.y, f.z], dtype=np.float64),
+                                np.array([t.x, t.y, t.z], dtype=np.float64))
     raise ValueError(f"reading of {msg.sensor_id!r}: kind {kind!r} is not supported by this client")
 
 
