@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "collision/tactile_rays.h"
+#include "cpp/physics/pad_stand.h"
 #include "core/error.h"
 #include "physics/actuators.h"
 #include "physics/simulation.h"
@@ -49,33 +50,9 @@ struct PadWorld {
   SceneState state;
 
   PadWorld(unsigned subdivision, double box_mass, const Vec3& box_size, double time_step) {
-    BodySpec stand;
-    stand.id = "stand/base";
-    stand.robot_id = "stand";
-    stand.motion = BodyMotion::kArticulated;
-    stand.inertial.mass = 1;
-    stand.inertial.inertia = Mat3::Identity() * 1e-3;
-    model->bodies.push_back(stand);
-    BodySpec box;
-    box.id = "box";
-    box.motion = BodyMotion::kFree;
-    Geometry geometry;
-    geometry.box_size = box_size;
-    box.collision.push_back(geometry);
-    box.inertial.mass = box_mass;
-    const Vec3 s2 = box_size.cwiseProduct(box_size);
-    box.inertial.inertia = Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() * (box_mass / 12);
-    model->bodies.push_back(box);
-    TactileArraySpec pad;
-    pad.id = "stand/pad";
-    pad.body_id = "stand/base";
-    pad.rows = 14;
-    pad.cols = 6;
-    pad.pitch = 0.0034;
-    pad.thickness = 0.004;
-    pad.subdivision = subdivision;
-    model->tactile_arrays.push_back(pad);
-    model->robots.push_back(RobotSpec{"stand", "bench", "stand/base", {"stand/base"}, {}, {"stand/pad"}});
+    const TactileArraySpec pad = test_objects::StandPad(subdivision);
+    test_objects::AddPadStand(model.get(), pad);
+    model->bodies.push_back(test_objects::UniformBox("box", box_size, box_mass));
     model->simulation.sleep_time = 0;
     model->simulation.time_step = time_step;
     model->Reindex();

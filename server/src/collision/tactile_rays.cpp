@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
 
 #include "collision/mesh_query.h"
 #include "collision/samples.h"
@@ -83,8 +84,7 @@ std::vector<PadElement> MakePadElements(const TactileArraySpec& pad) {
     for (uint32_t c = 0; c < cols; ++c) {
       PadElement& e = elements[size_t(r) * cols + c];
       e.position = Vec3((c + 0.5) * cell - 0.5 * pad.cols * pad.pitch, (r + 0.5) * cell - 0.5 * pad.rows * pad.pitch, 0);
-      e.row = r / s;
-      e.col = c / s;
+      std::tie(e.row, e.col) = ElementTexel(pad, r * cols + c);
       e.normal = Vec3::Zero();
     }
   }

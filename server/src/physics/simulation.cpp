@@ -74,6 +74,7 @@ Simulation::Simulation(std::shared_ptr<const SceneModel> model)
       *x *= share;
     }
     pad_params_.push_back(law);
+    pad_links_.push_back(static_cast<uint32_t>(model_->body_index.at(pad.body_id)));
   }
 }
 
@@ -160,8 +161,14 @@ void Simulation::FindContacts(SceneState* state) {
     return model_->bodies[body].motion == BodyMotion::kStatic || state->sleeping[body];
   };
   std::erase_if(contacts_, [&](const ContactPoint& c) { return resting(c.body_a) && resting(c.body_b); });
+  // Contacts come grouped by body pair: the pair's law is combined once per group.
   contact_params_.clear();
-  for (const ContactPoint& c : contacts_) contact_params_.push_back(PairParams(c.body_a, c.body_b));
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    const ContactPoint& c = contacts_[i];
+    const bool same_pair = i > 0 && contacts_[i - 1].body_a == c.body_a && contacts_[i - 1].body_b == c.body_b;
+    const ContactParams params = same_pair ? contact_params_.back() : PairParams(c.body_a, c.body_b);
+    contact_params_.push_back(params);
+  }
   AddPadContacts(*state);
   for (const ContactPoint& c : contacts_) {
     if (state->sleeping[c.body_a] || state->sleeping[c.body_b]) {
@@ -178,8 +185,8 @@ void Simulation::AddPadContacts(const SceneState& state) {
   pad_hits_.clear();
   pads_.Cast(state.body_poses, &pad_hits_);
   for (const PadHit& hit : pad_hits_) {
-    const auto link = static_cast<uint32_t>(model_->body_index.at(model_->tactile_arrays[hit.pad].body_id));
-    contacts_.push_back({hit.body, link, PadFeature(hit.pad, hit.element), hit.point, hit.normal, hit.depth});
+    contacts_.push_back(
+        {hit.body, pad_links_[hit.pad], PadFeature(hit.pad, hit.element), hit.point, hit.normal, hit.depth});
     contact_params_.push_back(pad_params_[hit.pad]);
   }
 }

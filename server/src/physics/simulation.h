@@ -94,6 +94,7 @@ class Simulation {
   ContactFinder finder_;
   TactileRayCaster pads_;
   std::vector<ContactParams> pad_params_;  // per tactile array: its foam's law per sensing element
+  std::vector<uint32_t> pad_links_;        // per tactile array: the body it is mounted on
   std::vector<ContactParams> body_params_;  // per body, materials merged with the defaults
   std::vector<ContactPoint> contacts_;
   std::vector<ContactParams> contact_params_;  // per contact: the pair's combined law, or the pad's

@@ -23,6 +23,7 @@
 #include <gtest/gtest.h>
 
 #include "physics/holed_cube.h"
+#include "physics/pad_stand.h"
 #include "physics/simulation.h"
 #include "sensors/readings.h"
 
@@ -72,13 +73,12 @@ struct ShapeWorld {
   Pose cube_pose;  // the initial one
 
   ShapeWorld(Face face, const PadLayout& layout, const Placement& placement = {}) : face(face) {
-    BodySpec stand;
-    stand.id = "stand/base";
-    stand.robot_id = "stand";
-    stand.motion = BodyMotion::kArticulated;
-    stand.inertial.mass = 1;
-    stand.inertial.inertia = Mat3::Identity() * 1e-3;
-    model->bodies.push_back(stand);
+    TactileArraySpec pad = test_objects::StandPad(layout.subdivision);
+    pad.rows = layout.rows;
+    pad.cols = layout.cols;
+    pad.pitch = layout.pitch;
+    pad.thickness = kFoam;
+    test_objects::AddPadStand(model.get(), pad);
     BodySpec object;
     object.id = "holed_cube";
     object.motion = BodyMotion::kFree;
@@ -88,16 +88,6 @@ struct ShapeWorld {
     object.collision.push_back(geometry);
     object.inertial = test_objects::HoledCubeInertial(cube, kAluminium);
     model->bodies.push_back(object);
-    TactileArraySpec pad;
-    pad.id = "stand/pad";
-    pad.body_id = "stand/base";
-    pad.rows = layout.rows;
-    pad.cols = layout.cols;
-    pad.pitch = layout.pitch;
-    pad.thickness = kFoam;
-    pad.subdivision = layout.subdivision;
-    model->tactile_arrays.push_back(pad);
-    model->robots.push_back(RobotSpec{"stand", "test", "stand/base", {"stand/base"}, {}, {"stand/pad"}});
     model->simulation.sleep_time = 0;
     model->Reindex();
     // Body +z (the cross) down: half a turn about x; −z (the square) down: as built; +x (plain) down: a quarter

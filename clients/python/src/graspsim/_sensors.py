@@ -2,12 +2,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Iterator, Union
+from typing import Union
 
 import grpc
 import numpy as np
 
-from graspsim._errors import from_rpc_error
+from graspsim._stream import CancellableStream
 from graspsim.v1 import tactile_pb2
 
 
@@ -105,7 +105,7 @@ def reading_from_proto(msg: tactile_pb2.SensorReading) -> Reading:
     raise ValueError(f"reading of {msg.sensor_id!r}: kind {kind!r} is not supported by this client")
 
 
-class SensorStream:
+class SensorStream(CancellableStream[Reading]):
     """Iterator over a TactileService.Stream: one reading per sensor each time the scene changes, at most at the
     requested rate, always of the newest state. cancel() (or close(), or leaving a with-block) ends it.
 
@@ -114,30 +114,5 @@ class SensorStream:
     """
 
     def __init__(self, call: grpc.Call):
-        self._call = call
-        self._cancelled = False
-
-    def __iter__(self) -> Iterator[Reading]:
-        return self
-
-    def __next__(self) -> Reading:
-        try:
-            return reading_from_proto(next(self._call))
-        except grpc.RpcError as err:
-            if self._cancelled and err.code() == grpc.StatusCode.CANCELLED:
-                raise StopIteration from None
-            raise from_rpc_error(err) from None
-
-    def cancel(self) -> None:
-        """Ends the stream; safe to call from another thread and more than once."""
-        self._cancelled = True
-        self._call.cancel()
-
-    close = cancel
-
-    def __enter__(self) -> SensorStream:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.cancel()
+        super().__init__(call, reading_from_proto)
 

@@ -2,12 +2,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Iterator, List
+from typing import List
 
 import grpc
 import numpy as np
 
-from graspsim._errors import from_rpc_error
+from graspsim._stream import CancellableStream
 from graspsim._pose import Pose
 from graspsim.v1 import scene_pb2
 
@@ -54,7 +54,7 @@ class Snapshot:
         return float(self.joint_positions[self.joint_ids.index(joint_id)])
 
 
-class SceneWatch:
+class SceneWatch(CancellableStream[Snapshot]):
     """Iterator over a WatchScene stream; cancel() (or close(), or leaving a with-block) ends it.
 
     Iteration blocks until the next snapshot; after cancel() it stops cleanly (StopIteration).
@@ -62,29 +62,4 @@ class SceneWatch:
     """
 
     def __init__(self, call: grpc.Call):
-        self._call = call
-        self._cancelled = False
-
-    def __iter__(self) -> Iterator[Snapshot]:
-        return self
-
-    def __next__(self) -> Snapshot:
-        try:
-            return Snapshot.from_proto(next(self._call))
-        except grpc.RpcError as err:
-            if self._cancelled and err.code() == grpc.StatusCode.CANCELLED:
-                raise StopIteration from None
-            raise from_rpc_error(err) from None
-
-    def cancel(self) -> None:
-        """Ends the stream; safe to call from another thread and more than once."""
-        self._cancelled = True
-        self._call.cancel()
-
-    close = cancel
-
-    def __enter__(self) -> SceneWatch:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.cancel()
+        super().__init__(call, Snapshot.from_proto)
