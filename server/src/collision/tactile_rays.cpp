@@ -195,7 +195,10 @@ void TactileRayCaster::Impl::Build(const BodySpec& body, Target* target) {
 TactileRayCaster::TactileRayCaster(const SceneModel& model) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.bodies.resize(model.bodies.size());
-  for (size_t b = 0; b < model.bodies.size(); ++b) m.Build(model.bodies[b], &m.bodies[b]);
+  // Without pads nothing is ever cast: a scene of meshes must not pay for a second set of BVHs.
+  if (!model.tactile_arrays.empty()) {
+    for (size_t b = 0; b < model.bodies.size(); ++b) m.Build(model.bodies[b], &m.bodies[b]);
+  }
   size_t max_elements = 0;
   for (const TactileArraySpec& spec : model.tactile_arrays) {
     Pad& pad = m.pads.emplace_back();
