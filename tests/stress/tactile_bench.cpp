@@ -12,6 +12,10 @@
 //                  per step (TactileRayCaster::last_ray_count of a caster on the same model and poses), rays per
 //                  second of whole steps, and rays per second of the cast alone (the same Cast timed separately:
 //                  the Simulation's own caster is private).
+//   "cycle":       the work cycle (workcycle/work_cycle.h) in process, no gRPC: the built-in
+//                  schunk_pg70_on_z_axis over the table and the 5 cm, 0.1 kg cube, full coverage, 50 frames/s, a
+//                  hold that makes the cycle the paper's 45 s; per time step dt ∈ {1, 2} ms: wall time, realtime
+//                  factor, lift and slip of the cube (hold), and the pads' sum mismatch over the hold.
 //   "cells":       the cells (texels) of the 6 × 14 pad that report a load (DSACON32 intensity > 0) with a box
 //                  pressed on it by its weight, against the texels whose centres lie under the box: the 3 × 6 cm
 //                  box covering the pad, and a 2 cm cube on its centre.
@@ -31,6 +35,7 @@
 #include "physics/simulation.h"
 #include "sensors/readings.h"
 #include "stress/sweep.h"
+#include "workcycle/work_cycle.h"
 #include "world/loaders.h"
 #include "world/scene.h"
 
@@ -188,11 +193,77 @@ std::string Cells(const char* name, const Vec3& box, double mass) {
   return out.str();
 }
 
+// The 45 s work cycle at time step dt, in process.
+std::string Cycle(double dt) {
+  const double table_top = 0.75, cube = 0.05, base_z = 1.05, cycle_seconds = 45, rest_seconds = 3.4;
+  Scene scene("bench", "tactile cycle bench", Limits{});
+  // The built-in table and cube as the server's AddObject builds them (rpc/scene_service.cpp).
+  for (const char* name : {"table", "cube_5cm"}) {
+    RobotDescription urdf = LoadUrdf(BuiltinModelUrdf(name), nullptr, Limits{});
+    BodySpec body;
+    body.id = name == std::string("table") ? "table" : "cube";
+    body.collision = std::move(urdf.links.front().collision);
+    body.inertial = urdf.links.front().inertial;
+    body.motion = body.id == "table" ? BodyMotion::kStatic : BodyMotion::kFree;
+    scene.AddObject(body, Pose{Vec3(0, 0, body.id == "table" ? 0 : table_top + cube / 2), Quat::Identity()});
+  }
+  scene.AddRobot("cell", "builtin:schunk_pg70_on_z_axis",
+                 LoadUrdf(BuiltinModelUrdf("schunk_pg70_on_z_axis"), nullptr, Limits{}),
+                 Pose{Vec3(0, 0, base_z), Quat::Identity()});
+  const SceneView view = scene.View();
+  auto model = std::make_shared<SceneModel>(*view.model);
+  model->simulation.time_step = dt;
+  SceneState state = view.state;
+  Simulation simulation(model);
+  WorkCycleRequest request;
+  request.gripper_id = "cell";
+  request.object_id = "cube";
+  request.hold_time = cycle_seconds - rest_seconds;
+  WorkCycle cycle(model, state, request);
+  std::vector<WorkCycleFrame> frames;
+  const double start_time = state.time;
+  const auto start = std::chrono::steady_clock::now();
+  std::string error;
+  try {
+    while (!cycle.done()) cycle.Advance(&simulation, &state, 1000, &frames);
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  const double seconds = Since(start), simulated = state.time - start_time;
+  // Over the hold: the cube's height against the axis (slip), the pads' mismatch; lift from the grasp's end.
+  double grasp_z = NAN, hold_first = NAN, hold_last = NAN, axis_first = NAN, axis_last = NAN, mismatch = 0;
+  for (const WorkCycleFrame& frame : frames) {
+    if (frame.stage == WorkCycleStage::kGrasp) grasp_z = frame.object_pose.position.z();
+    if (frame.stage != WorkCycleStage::kHold) continue;
+    const double z = frame.object_pose.position.z();
+    if (std::isnan(hold_first)) hold_first = z, axis_first = frame.axis_position;
+    hold_last = z, axis_last = frame.axis_position;
+    const double left = double(frame.pads[0].intensity_sum), right = double(frame.pads[1].intensity_sum);
+    mismatch = std::max(mismatch, std::abs(left - right) / std::max((left + right) / 2, 1e-12));
+  }
+  const double lift = hold_last - grasp_z, slip = (axis_last - axis_first) - (hold_last - hold_first);
+  std::cerr << "cycle dt=" << dt << ": " << simulated << " s simulated in " << seconds << " s (" << simulated / seconds
+            << " x), lift " << lift * 1e3 << " mm, slip " << slip * 1e3 << " mm, mismatch " << mismatch << " "
+            << error << "\n";
+  std::ostringstream out;
+  out.precision(6);
+  out << "{\"dt\":" << dt << ",\"simulated_s\":" << simulated << ",\"seconds\":" << seconds
+      << ",\"realtime_factor\":" << simulated / seconds << ",\"lift_mm\":" << lift * 1e3 << ",\"slip_mm\":"
+      << slip * 1e3 << ",\"hold_mismatch_max\":" << mismatch << ",\"frames\":" << frames.size()
+      << ",\"error\":\"" << Escape(error) << "\"}";
+  return out.str();
+}
+
 }  // namespace
 }  // namespace graspsim
 
-int main() {
+int main(int argc, char** argv) {
   using namespace graspsim;
+  // "graspsim_tactile_bench cycle [dt]": only the in-process work cycle (for profiling).
+  if (argc > 1 && std::string(argv[1]) == "cycle") {
+    std::cout << Cycle(argc > 2 ? std::stod(argv[2]) : 1e-3) << std::endl;
+    return 0;
+  }
   std::ostringstream out;
   out << "{\"static_load\":[";
   bool first = true;
@@ -203,6 +274,7 @@ int main() {
     }
   }
   out << "],\"grasp\":" << Grasp();
+  out << ",\"cycle\":[" << Cycle(1e-3) << "," << Cycle(2e-3) << "]";
   out << ",\"cells\":[" << Cells("covering", Vec3(0.03, 0.06, 0.02), 0.2) << ","
       << Cells("cube_2cm", Vec3(0.02, 0.02, 0.02), 0.2) << "]}";
   std::cout << out.str() << std::endl;

@@ -18,105 +18,110 @@
 namespace graspsim {
 namespace {
 
-Mat3 TangentProjector(const Vec3& normal) { return Mat3::Identity() - normal * normal.transpose(); }
-
 // The largest friction force the bristles can hold at this normal force: g's maximum over the slip speed.
 double StaticLimit(const ContactParams& params, double normal_force) {
   const double n = std::abs(normal_force);
   return n * std::max(params.dynamic_friction, params.static_friction);
 }
 
-// z in the tangent plane, no longer than `limit` (a bristle cannot store more than the static friction).
-Vec3 ProjectBristle(const Mat3& projector, const Vec3& bristle, double limit) {
-  Vec3 z = projector * bristle;
+// z in the tangent plane of `normal`, no longer than `limit` (a bristle cannot store more than the static
+// friction).
+Vec3 ProjectBristle(const Vec3& normal, const Vec3& bristle, double limit) {
+  Vec3 z = bristle - bristle.dot(normal) * normal;
   const double length = z.norm();
   if (length > limit) z *= limit / length;  // limit ≥ 0; length > 0 here
   return z;
 }
 
+// exp(−v²/v_s²), the Stribeck hump; v_s ≤ 0 would be a drop of zero width: 1 at rest only.
+double Hump(const ContactParams& params, double slip_speed) {
+  const double vs = params.stribeck_velocity;
+  return vs > 0 ? std::exp(-(slip_speed * slip_speed) / (vs * vs)) : (slip_speed == 0 ? 1.0 : 0.0);
+}
+
+double Stribeck(const ContactParams& params, double normal_force, double hump) {
+  const double n = std::abs(normal_force);
+  return n * params.dynamic_friction + n * (params.static_friction - params.dynamic_friction) * hump;
+}
+
 }  // namespace
 
 double StribeckLimit(const ContactParams& params, double normal_force, double slip_speed) {
-  const double n = std::abs(normal_force);
-  const double v = std::abs(slip_speed);
-  // v_s ≤ 0 would be a Stribeck drop of zero width: the static level at rest only.
-  const double hump = params.stribeck_velocity > 0
-                          ? std::exp(-(v * v) / (params.stribeck_velocity * params.stribeck_velocity))
-                          : (v == 0 ? 1.0 : 0.0);
-  return n * params.dynamic_friction + n * (params.static_friction - params.dynamic_friction) * hump;
+  return Stribeck(params, normal_force, Hump(params, std::abs(slip_speed)));
 }
 
 ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
                              const Vec3& bristle, double dt) {
   ContactForce out;
+  out.normal = normal;
   if (!(depth > 0)) return out;  // not touching (or a NaN depth): no force at all
 
   // Normal: ḋ = −(v_rel·n). A relative displacement δ of a w.r.t. b changes the depth by −n·δ, so
   // ∂F_n/∂δ = −k n nᵀ and ∂F_n/∂v_rel = −c n nᵀ — both only while the spring-damper pushes; once clamped the
   // force is identically 0 nearby and so are its derivatives.
-  const double depth_rate = -relative_velocity.dot(normal);
-  const double push = params.stiffness * depth + params.damping * depth_rate;
-  const Mat3 nn = normal * normal.transpose();
+  const double normal_speed = relative_velocity.dot(normal);
+  const double push = params.stiffness * depth - params.damping * normal_speed;
   if (push > 0) {
     out.normal_force = push;
     out.force = push * normal;
-    out.stiffness = -params.stiffness * nn;
-    out.damping = -params.damping * nn;
+    out.k_normal = -params.stiffness;
+    out.d_normal = -params.damping;
   }
   if (!params.HasFriction()) return out;
 
-  const Mat3 P = TangentProjector(normal);
-  const Vec3 slip = P * relative_velocity;
+  const Vec3 slip = relative_velocity - normal_speed * normal;
   const double speed = slip.norm();
-  const double g = StribeckLimit(params, out.normal_force, speed);
+  const double hump = Hump(params, speed);
+  const double g = Stribeck(params, out.normal_force, hump);
   // g = 0: nothing presses the surfaces together, so nothing can carry friction. ż is reported as 0 rather
   // than the −∞ · z of the formula; AdvanceBristle drops the deflection.
   if (!(g > 0)) return out;
 
   const double sigma0 = params.bristle_stiffness;
-  const Vec3 z = ProjectBristle(P, bristle, StaticLimit(params, out.normal_force) / sigma0);
+  const Vec3 z = ProjectBristle(normal, bristle, StaticLimit(params, out.normal_force) / sigma0);
   const Vec3 z_rate = slip - (sigma0 * speed / g) * z;
   out.bristle_rate = z_rate;
-  const double vs = params.stribeck_velocity;
-  const double sigma1 = params.bristle_damping * (vs > 0 ? std::exp(-(speed * speed) / (vs * vs)) : 0.0);
+  const double sigma1 = params.stribeck_velocity > 0 ? params.bristle_damping * hump : 0.0;
   out.force -= sigma0 * z + sigma1 * z_rate + params.viscous_friction * slip;
 
   // Tangential damping, ∂F_t/∂v_t at fixed z = −(σ1 ∂ż/∂v_t + c_t) P. Exactly, ∂ż/∂v_t = I − σ0 z ∂(|v|/g)/∂v,
   // which along the slip falls to ~0 at steady sliding and below 0 on the Stribeck drop (negative damping).
   // The conservative −(σ1 + c_t) P keeps the implicit solve stable; it only over-damps transients (a steady
-  // slide has Δv = 0, so this term never biases it).
-  out.damping -= (sigma1 + params.viscous_friction) * P;
+  // slide has Δv = 0, so this term never biases it). P = I − n nᵀ.
+  const double tangential_damping = sigma1 + params.viscous_friction;
+  out.d_iso = -tangential_damping;
+  out.d_normal += tangential_damping;
 
   // Tangential stiffness, −σ0 ∂z/∂δ: the bristle spring. A displacement δ deflects the bristles by
   // ∂ż/∂v_t · δ; along the slip direction ŝ that is (1 − σ0 z·ŝ / g) — LuGre's tangent stiffness, 1 while
   // sticking, 0 at steady sliding — and across it 1. So −σ0 (P − (1 − s) ŝŝᵀ) with s clamped to [0, 1] (the
   // non-symmetric part z ŝᵀ is dropped). Unlike the plain −σ0 P this matters: the implicit solve applies K to
   // the step's displacement h v, so −σ0 P would add a drag σ0 h per contact to every steady slide.
-  Mat3 tangent = P;
-  if (speed > 0) {
-    const Vec3 direction = slip / speed;
-    const double stick = std::clamp(1 - sigma0 * z.dot(direction) / g, 0.0, 1.0);
-    tangent -= (1 - stick) * direction * direction.transpose();
-  }
   // Over a step the exact update moves z by (1 − e^{a dt})/(−a) · v, a = −σ0|v|/g, not dt · v: the bristles of a
   // contact slipping many bristle lengths per step saturate, and their stiffness falls by that ratio.
   const double a_dt = speed > 0 && dt > 0 ? -sigma0 * speed / g * dt : 0;
   const double follow = a_dt < -1e-12 ? -std::expm1(a_dt) / -a_dt : 1.0;
-  out.stiffness -= sigma0 * follow * tangent;
+  const double tangential_stiffness = sigma0 * follow;
+  out.k_iso = -tangential_stiffness;
+  out.k_normal += tangential_stiffness;
+  if (speed > 0) {
+    out.slip_direction = slip / speed;
+    const double stick = std::clamp(1 - sigma0 * z.dot(out.slip_direction) / g, 0.0, 1.0);
+    out.k_slip = tangential_stiffness * (1 - stick);
+  }
   return out;
 }
 
 Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
                     const Vec3& bristle, double dt) {
   if (!params.HasFriction()) return Vec3::Zero();
-  const Mat3 P = TangentProjector(normal);
-  const Vec3 slip = P * slip_velocity;
+  const Vec3 slip = slip_velocity - slip_velocity.dot(normal) * normal;
   const double speed = slip.norm();
   const double g = StribeckLimit(params, normal_force, speed);
   if (!(g > 0)) return Vec3::Zero();  // no normal force: the bristles let go (a → −∞ in the update below)
   const double sigma0 = params.bristle_stiffness;
   const double cap = StaticLimit(params, normal_force) / sigma0;
-  const Vec3 z = ProjectBristle(P, bristle, cap);
+  const Vec3 z = ProjectBristle(normal, bristle, cap);
   if (speed == 0 || !(dt > 0)) return z;
 
   // ż = v + a z with v and a = −σ0|v|/g constant over the step: z⁺ = e^{a dt} z + (e^{a dt} − 1)/a · v
@@ -126,9 +131,9 @@ Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3
   // (g underflowing) gives z⁺ = 0, the relaxed bristle.
   const double a = -sigma0 * speed / g;
   const double x = a * dt;
-  const double decay = std::exp(x);
-  const double gain = x == 0 ? dt : std::expm1(x) / a;  // x == 0 only by underflow
-  return ProjectBristle(P, decay * z + gain * slip, cap);  // projection again only removes rounding
+  const double grown = std::expm1(x);  // e^{a dt} − 1
+  const double gain = x == 0 ? dt : grown / a;  // x == 0 only by underflow
+  return ProjectBristle(normal, (1 + grown) * z + gain * slip, cap);  // projection again only removes rounding
 }
 
 ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b) {

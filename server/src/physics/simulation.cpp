@@ -31,6 +31,27 @@ ContactParams BodyContactParams(const Material& material, const ContactParams& d
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
+// The bristle of `key` in the sorted vector (zero when the contact has none). Step after step the contacts come
+// in the vector's order, so the search starts where the last one ended: O(1) per contact, a binary search only
+// where contacts began or ended.
+Vec3 BristleAt(const std::vector<std::pair<ContactKey, Vec3>>& bristles, const ContactKey& key, size_t* cursor) {
+  if (*cursor < bristles.size() && bristles[*cursor].first == key) return bristles[(*cursor)++].second;
+  const auto found = std::lower_bound(bristles.begin(), bristles.end(), key,
+                                      [](const auto& entry, const ContactKey& k) { return entry.first < k; });
+  *cursor = static_cast<size_t>(found - bristles.begin());
+  if (found == bristles.end() || found->first != key) return Vec3::Zero();
+  ++*cursor;
+  return found->second;
+}
+
+// A += β w wᵀ with w = [p × u; u]: the 6 × 6 image Eᵀ (β u uᵀ) E of a rank-one 3 × 3 term at point p.
+void AddRankOne(const Vec3& point, const Vec3& direction, double beta, Mat6* A) {
+  if (beta == 0) return;
+  Vec6 w;
+  w << point.cross(direction), direction;
+  A->noalias() += (beta * w) * w.transpose();
+}
+
 std::string Vec(const Vec3& v) {
   return "(" + FormatNumber(v.x()) + ", " + FormatNumber(v.y()) + ", " + FormatNumber(v.z()) + ")";
 }
@@ -95,30 +116,35 @@ ContactParams Simulation::PairParams(uint32_t a, uint32_t b) const {
 }
 
 StepStats Simulation::Step(SceneState* state, int steps) {
-  // Work on a copy: a diverged run leaves the caller's state as it was.
-  SceneState next = *state;
-  PrepareState(&next);
+  // Step in place, keeping a copy to restore: a diverged run leaves the caller's state as it was. The copy
+  // assignment reuses the buffers of the last call.
+  backup_ = *state;
+  PrepareState(state);
   const double h = params_.time_step / params_.substeps;
   StepStats stats;
-  for (int s = 0; s < steps; ++s) {
-    for (int sub = 0; sub < params_.substeps; ++sub) {
-      SubStep(&next, h);
-      CheckFinite(next);
+  try {
+    for (int s = 0; s < steps; ++s) {
+      for (int sub = 0; sub < params_.substeps; ++sub) {
+        SubStep(state, h);
+        CheckFinite(*state);
+      }
+      ++state->step;
+      state->time += params_.time_step;
     }
-    ++next.step;
-    next.time += params_.time_step;
+  } catch (...) {
+    *state = backup_;
+    throw;
   }
   stats.contacts = contacts_.size();
   for (size_t i = 0; i < model_->bodies.size(); ++i) {
-    stats.awake_bodies += model_->bodies[i].motion == BodyMotion::kFree && !next.sleeping[i];
+    stats.awake_bodies += model_->bodies[i].motion == BodyMotion::kFree && !state->sleeping[i];
   }
-  *state = std::move(next);
   return stats;
 }
 
 void Simulation::SubStep(SceneState* state, double h) {
   const Eigen::VectorXd v = multibody_.Velocities(*state);
-  Forces forces;
+  Forces& forces = forces_at_start_;
   FindContacts(state);
   ContactForces(*state, v, h, &forces);
   ActuatorForces(state, h, &forces);
@@ -127,16 +153,15 @@ void Simulation::SubStep(SceneState* state, double h) {
     const Eigen::VectorXd v_half = v + SolveVelocityChange(*state, v, forces, h / 2);
     multibody_.Integrate(v_half, h, state);
     FindContacts(state);
-    Forces second;
+    Forces& second = forces_at_end_;
     ContactForces(*state, v_half, h, &second);
     second.actuators = forces.actuators;
     second.actuator_damping = forces.actuator_damping;
     second.actuator_stiffness = forces.actuator_stiffness;
     second.tau += forces.actuators;
-    forces = std::move(second);
-    const Eigen::VectorXd v_next = v_half + SolveVelocityChange(*state, v_half, forces, h / 2);
+    const Eigen::VectorXd v_next = v_half + SolveVelocityChange(*state, v_half, second, h / 2);
     RecordJointWrenches(v_half, v_next, h / 2, state);  // the second half kick, at the new configuration
-    AdvanceBristles(forces, v_half, h, state);
+    AdvanceBristles(second, v_half, h, state);
     multibody_.SetVelocities(v_next, state);
   } else {
     // The bristles move with the step's new velocity, the one the implicit solve assumed for the displacement
@@ -230,53 +255,79 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   // Penalty normal force and LuGre friction at each point, mapped to generalised forces, with their stiffness
   // and damping for the linearly implicit solve.
   const int nv = multibody_.velocity_count();
-  forces->tau = Eigen::VectorXd::Zero(nv);
-  forces->actuators = Eigen::VectorXd::Zero(nv);
-  forces->actuator_damping = Eigen::VectorXd::Zero(nv);
-  forces->actuator_stiffness = Eigen::VectorXd::Zero(nv);
+  forces->tau.setZero(nv);
+  forces->actuators.setZero(nv);
+  forces->actuator_damping.setZero(nv);
+  forces->actuator_stiffness.setZero(nv);
   const bool linearize = params_.integrator == Integrator::kLinearlyImplicitEuler;
   if (linearize) {
-    forces->K = Eigen::MatrixXd::Zero(nv, nv);
-    forces->D = Eigen::MatrixXd::Zero(nv, nv);
+    forces->contact_matrix.setZero(nv, nv);
+    forces->contact_rhs.setZero(nv);
+  } else {
+    forces->contact_matrix.resize(0, 0);
+    forces->contact_rhs.resize(0);
   }
-  forces->contact.resize(contacts_.size());
-  forces->contact_pair.resize(contacts_.size());
-  forces->bristle.resize(contacts_.size());
-  forces_.assign(contacts_.size(), Vec3::Zero());
-  // Pair by pair: each contact's force becomes a wrench about the world origin, [p × f; f], and its 3 × 3
-  // stiffness and damping 6 × 6 blocks E(p)ᵀ K E(p) with E(p) = [−[p]×, 1]; only the pair's sums meet the
-  // nv-sized Jacobian (nv² work per pair instead of per contact).
-  for (size_t begin = 0; begin < contacts_.size();) {
+  const size_t n = contacts_.size();
+  forces->normal_force.resize(n);
+  forces->contact_pair.resize(n);
+  forces->bristle.resize(n);
+  forces->pair_jacobians.clear();
+  forces_.resize(n);
+  // Pair by pair: each contact's force becomes a wrench about the world origin, [p × f; f]; its linearisation
+  // (h D + h² K, in the scalar form of ContactForce) becomes the 6 × 6 block Eᵀ (h D + h² K) E with
+  // E(p) = [−[p]×, 1], summed as moments for the isotropic part and rank-one updates for the normal and slip
+  // parts; only the pair's sums meet the nv-sized Jacobian (nv² work per pair instead of per contact).
+  size_t cursor = 0;  // into state.bristles, which is in the contacts' order
+  for (size_t begin = 0; begin < n;) {
     const uint32_t a = contacts_[begin].body_a, b = contacts_[begin].body_b;
     size_t end = begin;
-    while (end < contacts_.size() && contacts_[end].body_a == a && contacts_[end].body_b == b) ++end;
-    const Multibody::SpatialJacobian W = multibody_.BodyJacobian(state, a) - multibody_.BodyJacobian(state, b);
+    while (end < n && contacts_[end].body_a == a && contacts_[end].body_b == b) ++end;
+    const size_t pair = forces->pair_jacobians.size();
+    const Multibody::SpatialJacobian& W = forces->pair_jacobians.emplace_back(
+        multibody_.BodyJacobian(state, a) - multibody_.BodyJacobian(state, b));
     const Vec6 twist = W * v;
-    Vec6 wrench = Vec6::Zero();
-    Mat6 K = Mat6::Zero(), D = Mat6::Zero();
+    Vec3 force_sum = Vec3::Zero(), moment_sum = Vec3::Zero();
+    Mat6 block = Mat6::Zero();
+    Vec6 stiffness_twist = Vec6::Zero();          // Σ Eᵀ K (E twist), for h² K v
+    double iso = 0;                               // Σ c, Σ c p, Σ c p pᵀ of the isotropic terms c I
+    Vec3 iso_p = Vec3::Zero();
+    Mat3 iso_pp = Mat3::Zero();
     for (size_t i = begin; i < end; ++i) {
       const ContactPoint& c = contacts_[i];
-      const Vec3 z = forces->bristle[i] = FindBristle(state, ContactKey{a, b, c.feature});
+      const Vec3 z = forces->bristle[i] = BristleAt(state.bristles, ContactKey{a, b, c.feature}, &cursor);
       const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
-      const ContactForce& force = forces->contact[i] =
-          EvaluateContact(contact_params_[i], c.depth, c.normal, relative, z, h);
-      forces->contact_pair[i] = forces->pair_jacobians.size();
-      forces_[i] = force.force;
-      wrench.head<3>() += c.point.cross(force.force);
-      wrench.tail<3>() += force.force;
-      if (linearize) {
-        Eigen::Matrix<double, 3, 6> E;
-        E << -Skew(c.point), Mat3::Identity();
-        K += E.transpose() * force.stiffness * E;
-        D += E.transpose() * force.damping * E;
-      }
+      const ContactForce f = EvaluateContact(contact_params_[i], c.depth, c.normal, relative, z, h);
+      forces->normal_force[i] = f.normal_force;
+      forces->contact_pair[i] = pair;
+      forces_[i] = f.force;
+      force_sum += f.force;
+      moment_sum += c.point.cross(f.force);
+      if (!linearize) continue;
+      const double c_iso = h * f.d_iso + h * h * f.k_iso;
+      iso += c_iso;
+      iso_p += c_iso * c.point;
+      iso_pp.noalias() += (c_iso * c.point) * c.point.transpose();
+      AddRankOne(c.point, c.normal, h * f.d_normal + h * h * f.k_normal, &block);
+      AddRankOne(c.point, f.slip_direction, h * h * f.k_slip, &block);
+      const Vec3 k_relative = f.k_iso * relative + f.k_normal * c.normal.dot(relative) * c.normal +
+                              f.k_slip * f.slip_direction.dot(relative) * f.slip_direction;
+      stiffness_twist.head<3>() += c.point.cross(k_relative);
+      stiffness_twist.tail<3>() += k_relative;
     }
+    Vec6 wrench;
+    wrench << moment_sum, force_sum;
     forces->tau.noalias() += W.transpose() * wrench;
-    if (linearize) {
-      forces->K.noalias() += W.transpose() * K * W;
-      forces->D.noalias() += W.transpose() * D * W;
+    if (!linearize) {
+      begin = end;
+      continue;
     }
-    forces->pair_jacobians.push_back(W);
+    // Eᵀ (c I) E = [[c (|p|² I − p pᵀ), c [p]×], [−c [p]×, c I]], summed over the pair's points.
+    block.topLeftCorner<3, 3>() += iso_pp.trace() * Mat3::Identity() - iso_pp;
+    block.topRightCorner<3, 3>() += Skew(iso_p);
+    block.bottomLeftCorner<3, 3>() -= Skew(iso_p);
+    block.bottomRightCorner<3, 3>().diagonal().array() += iso;
+    forces->contact_matrix.noalias() += W.transpose() * (block * W);
+    forces->contact_rhs.noalias() += (h * h) * (W.transpose() * stiffness_twist);
     begin = end;
   }
 }
@@ -299,14 +350,15 @@ void Simulation::ActuatorForces(SceneState* state, double h, Forces* forces) {
 
 Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v,
                                                 const Forces& forces, double h) const {
-  // M Δv = h (τ − b), or with linearised contacts (M − h D − h² K) Δv = h (τ − b) + h² K v. Motors are
+  // M Δv = h (τ − b), or with linearised contacts (M − h D − h² K) Δv = h (τ − b) + h² K v (ContactForces
+  // gives h D + h² K and h² K v at the sub-step's h). Motors are
   // linearised with every integrator: a geared drive's back-EMF damping is far too stiff for an explicit step.
   // Sleeping free bodies keep zero velocity: their rows are pinned.
   Eigen::MatrixXd A = multibody_.MassMatrix(state);
   Eigen::VectorXd rhs = h * (forces.tau - multibody_.BiasForces(state, params_.gravity));
-  if (forces.K.size()) {
-    A -= h * forces.D + h * h * forces.K;
-    rhs += h * h * (forces.K * v);
+  if (forces.contact_matrix.size()) {
+    A -= forces.contact_matrix;
+    rhs += forces.contact_rhs;
   }
   A.diagonal() -= h * forces.actuator_damping + h * h * forces.actuator_stiffness;
   rhs += h * h * forces.actuator_stiffness.cwiseProduct(v);
@@ -323,26 +375,26 @@ Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const E
   return A.ldlt().solve(rhs);
 }
 
-void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) const {
+void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) {
   // The exact LuGre update, with the slip velocity the friction force was evaluated with. Contacts that ended
-  // drop their bristle state; frictionless contacts never get one.
-  std::vector<std::pair<ContactKey, Vec3>> bristles;  // built in the contacts' (sorted) order
-  bristles.reserve(contacts_.size());
-  std::vector<Vec6> twists;  // per pair
-  for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists.push_back(W * v);
+  // drop their bristle state; frictionless contacts never get one. Built in the contacts' (sorted) order into
+  // the previous step's buffer.
+  std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
+  bristles.clear();
+  twists_.clear();
+  for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists_.push_back(W * v);
   for (size_t i = 0; i < contacts_.size(); ++i) {
     const ContactPoint& c = contacts_[i];
     const ContactParams& params = contact_params_[i];
     if (!params.HasFriction()) continue;
-    const Vec6& twist = twists[forces.contact_pair[i]];
+    const Vec6& twist = twists_[forces.contact_pair[i]];
     const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
-    const Vec3 slip = relative - relative.dot(c.normal) * c.normal;
     bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature},
-                          AdvanceBristle(params, forces.contact[i].normal_force, c.normal, slip, forces.bristle[i], h));
+                          AdvanceBristle(params, forces.normal_force[i], c.normal, relative, forces.bristle[i], h));
   }
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   if (!std::is_sorted(bristles.begin(), bristles.end(), by_key)) std::sort(bristles.begin(), bristles.end(), by_key);
-  state->bristles = std::move(bristles);
+  std::swap(state->bristles, bristles);
 }
 
 void Simulation::UpdateSleep(SceneState* state, double h) const {

@@ -58,17 +58,18 @@ class Simulation {
   const std::vector<Vec3>& contact_forces() const { return forces_; }
 
  private:
-  // Generalised forces at one configuration; K and D (contact stiffness and damping) only when linearised.
+  // Generalised forces at one configuration; the linearised contacts only for the linearly implicit integrator.
   struct Forces {
     Eigen::VectorXd tau, actuators;
     Eigen::VectorXd actuator_damping, actuator_stiffness;  // per generalised velocity (diagonal), ≤ 0
-    Eigen::MatrixXd K, D;
+    Eigen::MatrixXd contact_matrix;  // h D + h² K: the contacts' damping and stiffness at the sub-step h
+    Eigen::VectorXd contact_rhs;     // h² K v
     // Per touching body pair (contacts come sorted by pair): W = W_a − W_b, the relative spatial Jacobian, so
     // the relative velocity of a contact point p is (W v).tail + (W v).head × p.
     std::vector<Multibody::SpatialJacobian> pair_jacobians;
     std::vector<size_t> contact_pair;  // per contact: its pair
-    std::vector<ContactForce> contact;
-    std::vector<Vec3> bristle;  // per contact: z at the start of the step
+    std::vector<double> normal_force;  // per contact, N
+    std::vector<Vec3> bristle;         // per contact: z at the start of the step
   };
 
   // The stages of one sub-step, in order.
@@ -82,7 +83,7 @@ class Simulation {
   void ActuatorForces(SceneState* state, double h, Forces* forces);
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
                                       double h) const;
-  void AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) const;
+  void AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state);
   void UpdateSleep(SceneState* state, double h) const;
   ContactParams PairParams(uint32_t a, uint32_t b) const;
   void ClampJointLimits(SceneState* state) const;
@@ -100,6 +101,11 @@ class Simulation {
   std::vector<ContactParams> contact_params_;  // per contact: the pair's combined law, or the pad's
   std::vector<PadHit> pad_hits_;
   std::vector<Vec3> forces_;
+  // Buffers reused from step to step (a work cycle steps one step per call: allocations would dominate).
+  SceneState backup_;                    // the state before Step, restored on divergence
+  Forces forces_at_start_, forces_at_end_;  // of a sub-step (the end's only for velocity Verlet)
+  std::vector<std::pair<ContactKey, Vec3>> spare_bristles_;  // swapped with the state's each sub-step
+  std::vector<Multibody::Vec6> twists_;  // per pair
 };
 
 }  // namespace graspsim

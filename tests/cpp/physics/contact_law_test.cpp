@@ -44,10 +44,10 @@ TEST(ContactLawTest, NormalForceIsSpringDamperAlongTheNormal) {
   // matches the stiffness; likewise the damping w.r.t. the relative velocity (the law is linear: exact).
   const Vec3 delta = 1e-7 * Vec3(0.3, -0.5, 0.8);
   const ContactForce moved = EvaluateContact(p, d - kNormal.dot(delta), kNormal, -rate * kNormal, Vec3::Zero());
-  EXPECT_NEAR((moved.force - f.force - f.stiffness * delta).norm(), 0, 1e-9);
+  EXPECT_NEAR((moved.force - f.force - f.Stiffness() * delta).norm(), 0, 1e-9);
   const ContactForce faster = EvaluateContact(p, d, kNormal, -rate * kNormal + delta, Vec3::Zero());
-  EXPECT_NEAR((faster.force - f.force - f.damping * delta).norm(), 0, 1e-12);
-  EXPECT_NEAR((f.stiffness + p.stiffness * kNormal * kNormal.transpose()).norm(), 0, 1e-9);
+  EXPECT_NEAR((faster.force - f.force - f.Damping() * delta).norm(), 0, 1e-12);
+  EXPECT_NEAR((f.Stiffness() + p.stiffness * kNormal * kNormal.transpose()).norm(), 0, 1e-9);
 }
 
 TEST(ContactLawTest, NeverPullsWhenSeparatingFast) {
@@ -59,8 +59,8 @@ TEST(ContactLawTest, NeverPullsWhenSeparatingFast) {
     const ContactForce f = EvaluateContact(p, d, kNormal, speed * kNormal + 0.1 * kTangent, z);
     EXPECT_EQ(f.normal_force, 0);
     EXPECT_EQ(f.force, Vec3::Zero()) << "no normal force, no friction either";
-    EXPECT_EQ(f.stiffness, Mat3::Zero());
-    EXPECT_EQ(f.damping, Mat3::Zero());
+    EXPECT_EQ(f.Stiffness(), Mat3::Zero());
+    EXPECT_EQ(f.Damping(), Mat3::Zero());
   }
   const ContactForce slow = EvaluateContact(p, d, kNormal, 0.5 * limit * kNormal, Vec3::Zero());
   EXPECT_NEAR(slow.normal_force, 0.5 * p.stiffness * d, 1e-12);
@@ -187,7 +187,7 @@ TEST(ContactLawTest, PreslidingIsTheBristleSpring) {
   EXPECT_NEAR(Tangential(f.force).dot(kTangent) / (-sigma0 * x), 1, 1e-6);
   EXPECT_NEAR(Tangential(f.force).cross(kTangent).norm(), 0, 1e-15);
   const ContactForce rest = EvaluateContact(p, depth, kNormal, Vec3::Zero(), Vec3::Zero());
-  EXPECT_NEAR((rest.stiffness * kTangent).dot(kTangent), -sigma0, 1e-9);
+  EXPECT_NEAR((rest.Stiffness() * kTangent).dot(kTangent), -sigma0, 1e-9);
 }
 
 TEST(ContactLawTest, BristleStaysInTheTangentPlane) {
@@ -237,9 +237,9 @@ void Push(const ContactParams& p, const Vec3& external, double h, int steps, Blo
   for (int i = 0; i < steps; ++i) {
     const double ramp = ramp_steps > 0 ? std::min(1.0, (i + 1.0) / ramp_steps) : 1.0;
     const ContactForce f = EvaluateContact(p, depth, kNormal, b->v, b->z);
-    const Mat3 A = m * Mat3::Identity() - h * f.damping - h * h * f.stiffness;
+    const Mat3 A = m * Mat3::Identity() - h * f.Damping() - h * h * f.Stiffness();
     const Vec3 dv =
-        A.ldlt().solve(h * (f.force - kNormalForce * kNormal + ramp * external) + h * h * f.stiffness * b->v);
+        A.ldlt().solve(h * (f.force - kNormalForce * kNormal + ramp * external) + h * h * f.Stiffness() * b->v);
     b->v = P * (b->v + dv);  // the normal load is held fixed
     b->z = AdvanceBristle(p, f.normal_force, kNormal, b->v, b->z, h);
     b->x += h * b->v;
