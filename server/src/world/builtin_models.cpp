@@ -26,6 +26,12 @@ const std::vector<BuiltinModelInfo>& BuiltinModels() {
        "The Schunk PG 70 with its two DSA 9205 pads, pointing down from the carriage (1 kg) of a vertical linear "
        "axis (joint z_axis: 0.30 m travel, 0.2 m/s, 500 N): the set-up of the grasp work cycle "
        "(TactileService.RunWorkCycle); Schunk PG 70 and Weiss DSA 9205 datasheets, generic axis"},
+      {"barrett_bh8_282", "robot", false,
+       "Barrett Technology BarrettHand BH8-282: three fingers, coupled spread of fingers 1 and 2 (0-180 deg), "
+       "flex joints 0-140 deg with the outer links coupled at 48/140; BH8-series user manual and data sheet"},
+      {"schunk_sdh2", "robot", false,
+       "SCHUNK SDH 2.0 dexterous hand: three fingers, seven joints (coupled rotation of fingers 1 and 3, "
+       "proximal and distal flex joints -90..90 deg, phalanges 86.5 and 68.5 mm); SCHUNK SDH 2.0 data sheet"},
   };
   return models;
 }

@@ -34,9 +34,9 @@ Mat3 BoxInertia(double mass, const Vec3& size) {
   return (mass / 12 * Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
 }
 
-TEST(BuiltinModelsTest, ListsTheFourModels) {
+TEST(BuiltinModelsTest, ListsTheSixModels) {
   const std::vector<BuiltinModelInfo>& models = BuiltinModels();
-  ASSERT_EQ(models.size(), 4u);
+  ASSERT_EQ(models.size(), 6u);
   EXPECT_EQ(models[0].name, "schunk_pg70");
   EXPECT_EQ(models[0].kind, "robot");
   EXPECT_EQ(models[1].name, "table");
@@ -47,6 +47,8 @@ TEST(BuiltinModelsTest, ListsTheFourModels) {
   EXPECT_FALSE(models[2].is_static);
   EXPECT_EQ(models[3].name, "schunk_pg70_on_z_axis");  // tests/cpp/workcycle checks its kinematics
   EXPECT_EQ(models[3].kind, "robot");
+  EXPECT_EQ(models[4].name, "barrett_bh8_282");  // the grasp hands: tests/cpp/grasp checks their kinematics
+  EXPECT_EQ(models[5].name, "schunk_sdh2");
   for (const BuiltinModelInfo& model : models) {
     EXPECT_FALSE(model.description.empty());
     const RobotDescription robot = LoadBuiltin(model.name);
@@ -60,7 +62,7 @@ TEST(BuiltinModelsTest, UnknownNameIsNotFound) {
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kNotFound);
-    EXPECT_STREQ(e.what(), "builtin model 'ur5' is not known; known: cube_5cm, schunk_pg70, schunk_pg70_on_z_axis, table");
+    EXPECT_STREQ(e.what(), "builtin model 'ur5' is not known; known: barrett_bh8_282, cube_5cm, schunk_pg70, schunk_pg70_on_z_axis, schunk_sdh2, table");
   }
 }
 

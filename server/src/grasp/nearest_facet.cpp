@@ -1,0 +1,149 @@
+#include "grasp/nearest_facet.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+
+namespace graspsim::grasp {
+namespace {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+struct Facet {
+  std::array<int, 6> v;  // sorted vertex (wrench) indices
+  Vec6 normal;           // unit, outward
+  double offset;         // normal · x = offset on the facet; the polytope is below
+  bool alive;
+};
+
+// The plane through six wrenches, oriented so that `inside` is below it. False when they do not span a 5-flat.
+bool Plane(const std::vector<Vec6>& w, const std::array<int, 6>& v, const Vec6& inside, Vec6* normal, double* offset) {
+  Eigen::Matrix<double, 5, 6> m;
+  for (int k = 1; k < 6; ++k) m.row(k - 1) = (w[v[k]] - w[v[0]]).transpose();
+  const Eigen::FullPivLU<Eigen::Matrix<double, 5, 6>> lu(m);
+  if (lu.rank() < 5) return false;
+  *normal = lu.kernel().col(0).normalized();
+  *offset = normal->dot(w[v[0]]);
+  if (normal->dot(inside) > *offset) {
+    *normal = -*normal;
+    *offset = -*offset;
+  }
+  return true;
+}
+
+}  // namespace
+
+NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
+  NearestFacetResult result;
+  const int n = static_cast<int>(wrenches.size());
+  if (n < 7) return result;
+  std::vector<Vec6> w(n);
+  double scale = 0;
+  for (int i = 0; i < n; ++i) {
+    w[i] = Eigen::Map<const Vec6>(wrenches[i].data());
+    scale = std::max(scale, w[i].norm());
+  }
+  const double tolerance = 1e-12 * std::max(scale, 1e-300);
+
+  // A full-dimensional start: greedily the wrench farthest from the affine hull of those already taken.
+  std::array<int, 7> simplex;
+  std::vector<Vec6> basis;
+  simplex[0] = 0;
+  for (int i = 1; i < n; ++i) {
+    if ((w[i] - w[0]).norm() > (w[simplex[0]] - w[0]).norm()) simplex[0] = i;
+  }
+  for (int k = 1; k < 7; ++k) {
+    double best = -1;
+    Vec6 best_residual = Vec6::Zero();
+    for (int i = 0; i < n; ++i) {
+      Vec6 r = w[i] - w[simplex[0]];
+      for (const Vec6& b : basis) r -= r.dot(b) * b;
+      if (r.norm() > best) {
+        best = r.norm();
+        best_residual = r;
+        simplex[k] = i;
+      }
+    }
+    if (best <= 1e-9 * scale) return result;  // the wrenches do not span R^6
+    basis.push_back(best_residual / best);
+  }
+  Vec6 inside = Vec6::Zero();
+  for (int i : simplex) inside += w[i];
+  inside /= 7;
+
+  std::vector<Facet> facets;
+  facets.reserve(256);
+  for (int skip = 0; skip < 7; ++skip) {
+    Facet f;
+    int k = 0;
+    for (int j = 0; j < 7; ++j) {
+      if (j != skip) f.v[k++] = simplex[j];
+    }
+    std::sort(f.v.begin(), f.v.end());
+    if (!Plane(w, f.v, inside, &f.normal, &f.offset)) return result;
+    f.alive = true;
+    facets.push_back(f);
+  }
+
+  std::vector<std::pair<std::array<int, 5>, int>> ridges;
+  for (int iteration = 0; iteration <= n + 8; ++iteration) {
+    int nearest = -1;
+    for (int f = 0; f < static_cast<int>(facets.size()); ++f) {
+      if (facets[f].alive && (nearest < 0 || facets[f].offset < facets[nearest].offset)) nearest = f;
+    }
+    if (nearest < 0) return result;
+    const Vec6 u = facets[nearest].normal;
+    int support = 0;
+    double reach = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n; ++i) {
+      const double h = u.dot(w[i]);
+      if (h > reach) reach = h, support = i;
+    }
+    if (reach <= facets[nearest].offset + tolerance) {  // nothing beyond: a facet of the hull
+      result.converged = true;
+      result.distance = facets[nearest].offset;
+      return result;
+    }
+    // Beneath-beyond: the facets that see the new wrench go; their ridges seen once form the horizon.
+    ridges.clear();
+    for (int f = 0; f < static_cast<int>(facets.size()); ++f) {
+      Facet& facet = facets[f];
+      if (!facet.alive || facet.normal.dot(w[support]) <= facet.offset + tolerance) continue;
+      facet.alive = false;
+      for (int skip = 0; skip < 6; ++skip) {
+        std::array<int, 5> ridge;
+        int k = 0;
+        for (int j = 0; j < 6; ++j) {
+          if (j != skip) ridge[k++] = facet.v[j];
+        }
+        ridges.push_back({ridge, f});
+      }
+    }
+    std::sort(ridges.begin(), ridges.end());
+    for (size_t r = 0; r < ridges.size();) {
+      size_t same = r + 1;
+      while (same < ridges.size() && ridges[same].first == ridges[r].first) ++same;
+      if (same - r == 1) {  // on the horizon
+        Facet f;
+        for (int j = 0; j < 5; ++j) f.v[j] = ridges[r].first[j];
+        f.v[5] = support;
+        std::sort(f.v.begin(), f.v.end());
+        if (Plane(w, f.v, inside, &f.normal, &f.offset)) {
+          f.alive = true;
+          facets.push_back(f);
+        }
+      }
+      r = same;
+    }
+    // Compact now and then so that the scans stay short.
+    if (facets.size() > 4096) {
+      facets.erase(std::remove_if(facets.begin(), facets.end(), [](const Facet& f) { return !f.alive; }), facets.end());
+    }
+  }
+  return result;
+}
+
+}  // namespace graspsim::grasp

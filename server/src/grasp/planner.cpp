@@ -1,0 +1,189 @@
+#include "grasp/planner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include "core/error.h"
+#include "core/format.h"
+
+namespace graspsim::grasp {
+namespace {
+
+// Candidates a thread takes at a time: large enough that the shared counter is not contended, small enough
+// that a cancel lands within a few milliseconds.
+constexpr size_t kChunk = 64;
+// qhull's whole hull costs ~10-30 ms for a grasp of 5-9 contacts: volumes for the best grasps only.
+constexpr size_t kMaxVolumes = 64;
+// Hand samples closer than this would make millions of rays per candidate for no gain in accuracy.
+constexpr double kMinSampleSpacing = 5e-4;
+
+void CheckRange(const std::string& field, double value, double lo, double hi, const char* unit) {
+  if (!std::isfinite(value) || value < lo || value > hi) {
+    ThrowInvalidArgument(field + ": " + FormatNumber(value) + unit + " is outside [" + FormatNumber(lo) + ", " +
+                         FormatNumber(hi) + "]" + unit);
+  }
+}
+
+void CheckCount(const std::string& field, int64_t value, int64_t lo, int64_t hi) {
+  if (value < lo || value > hi) {
+    ThrowInvalidArgument(field + ": " + std::to_string(value) + " is outside [" + std::to_string(lo) + ", " +
+                         std::to_string(hi) + "]");
+  }
+}
+
+}  // namespace
+
+void ValidateSimulationParams(const SimulationParams& p) {
+  if (!std::isfinite(p.friction) || p.friction <= 0) {
+    ThrowInvalidArgument("friction: " + FormatNumber(p.friction) + "; give a finite friction coefficient > 0");
+  }
+  CheckRange("friction", p.friction, 0, 10, "");
+  CheckCount("cone_edges", p.cone_edges, 3, 64);
+  if (!(p.contact_tolerance > 0)) {
+    ThrowInvalidArgument("contact_tolerance: " + FormatNumber(p.contact_tolerance) + " m; give a tolerance > 0");
+  }
+  CheckRange("contact_tolerance", p.contact_tolerance, 0, 0.05, " m");
+  CheckRange("sample_spacing", p.sample_spacing, kMinSampleSpacing, 0.05, " m");
+  CheckCount("contacts_per_link", p.contacts_per_link, 1, 4);
+}
+
+void ValidateCandidateParams(const CandidateParams& p) {
+  CheckRange("spacing", p.spacing, 1e-3, 1, " m");
+  CheckRange("padding", p.padding, 0, 1, " m");
+  CheckCount("circle_samples", p.circle_samples, 1, 3600);
+  CheckCount("rolls", p.rolls, 1, 360);
+  if (p.standoffs.empty()) ThrowInvalidArgument("standoffs: empty; give at least one standoff (m)");
+  for (size_t i = 0; i < p.standoffs.size(); ++i) {
+    CheckRange("standoffs[" + std::to_string(i) + "]", p.standoffs[i], 0, 0.2, " m");
+  }
+  if (p.preshapes.empty()) ThrowInvalidArgument("preshapes: empty; name at least one pre-shape");
+  if (p.grasp_points) {
+    const auto& [a, b] = *p.grasp_points;
+    if (!a.allFinite() || !b.allFinite()) ThrowInvalidArgument("grasp_points: not finite");
+    if ((a - b).norm() < 1e-6) {
+      ThrowInvalidArgument("grasp_points: the two points are " + FormatNumber((a - b).norm()) +
+                           " m apart; give two distinct points");
+    }
+  }
+}
+
+GraspPlanner::GraspPlanner(const std::string& hand, std::shared_ptr<const TriangleMesh> mesh,
+                           std::vector<ObstacleBox> obstacles, const SimulationParams& params)
+    : hand_spec_(LoadHand("hand", hand)), device_(std::make_unique<RayDevice>()) {
+  ValidateSimulationParams(params);
+  hand_model_ = std::make_unique<HandModel>(hand_spec_, device_->get(), params.sample_spacing);
+  object_ = std::make_unique<GraspObject>(std::move(mesh), std::move(obstacles), device_->get());
+  simulator_ = std::make_unique<GraspSimulator>(*hand_model_, *object_, params);
+}
+
+// BVHs before their device.
+GraspPlanner::~GraspPlanner() {
+  simulator_.reset();
+  object_.reset();
+  hand_model_.reset();
+}
+
+std::vector<Candidate> GraspPlanner::Candidates(const CandidateParams& params) const {
+  ValidateCandidateParams(params);
+  for (size_t i = 0; i < params.preshapes.size(); ++i) {
+    if (params.preshapes[i] >= hand_model_->preshape_names().size()) {
+      ThrowInvalidArgument("preshapes[" + std::to_string(i) + "]: index " + std::to_string(params.preshapes[i]) +
+                           " is not a pre-shape of " + hand_spec_.name);
+    }
+  }
+  return GenerateCandidates(*object_, hand_model_->roll_period(), params);
+}
+
+void GraspPlanner::AddVolumes(std::vector<PlannedGrasp>* grasps) const {
+  std::vector<Wrench> wrenches;
+  const SimulationParams& p = simulator_->params();
+  for (size_t i = 0; i < grasps->size() && i < kMaxVolumes; ++i) {
+    PlannedGrasp& grasp = (*grasps)[i];
+    ContactWrenches(grasp.contacts.data(), grasp.contacts.size(), object_->centroid(),
+                    object_->characteristic_length(), p.friction, p.cone_edges, &wrenches);
+    grasp.quality.volume = HullQuality(wrenches).volume;
+  }
+}
+
+Outcome GraspPlanner::Evaluate(const Candidate& candidate, PlannedGrasp* grasp) const {
+  SimulationWork work;
+  const Outcome outcome = simulator_->Simulate(candidate, &work);
+  grasp->candidate = candidate;
+  grasp->hand_pose = work.hand_pose;
+  grasp->joints = outcome == Outcome::kGrasp ? work.joints : work.q;
+  grasp->contacts = work.contacts;
+  grasp->quality = work.quality;
+  if (outcome == Outcome::kGrasp) {
+    std::vector<PlannedGrasp> one(1, *grasp);
+    AddVolumes(&one);
+    grasp->quality.volume = one[0].quality.volume;
+  }
+  return outcome;
+}
+
+std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candidates, int threads, size_t max_grasps,
+                                           const std::function<bool(size_t, size_t)>& progress) const {
+  const auto start = std::chrono::steady_clock::now();
+  const size_t total = candidates.size();
+  const int workers = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
+  std::atomic<size_t> next{0}, done{0};
+  std::atomic<bool> cancelled{false};
+  std::vector<Outcome> outcomes(total, Outcome::kMissed);
+  std::vector<std::vector<PlannedGrasp>> found(workers);
+
+  auto work = [&](int worker) {
+    SimulationWork scratch;
+    for (;;) {
+      const size_t begin = next.fetch_add(kChunk);
+      if (begin >= total || cancelled.load(std::memory_order_relaxed)) return;
+      const size_t end = std::min(total, begin + kChunk);
+      for (size_t i = begin; i < end; ++i) {
+        outcomes[i] = simulator_->Simulate(candidates[i], &scratch);
+        if (outcomes[i] == Outcome::kGrasp && scratch.quality.force_closure) {
+          found[worker].push_back({static_cast<uint32_t>(i), candidates[i], scratch.hand_pose, scratch.joints,
+                                   scratch.contacts, scratch.quality});
+        }
+      }
+      done.fetch_add(end - begin);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 0; t < workers; ++t) pool.emplace_back(work, t);
+  while (done.load() < total && !cancelled.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (done.load() < total && !progress(done.load(), total)) cancelled = true;
+  }
+  for (std::thread& t : pool) t.join();
+  if (cancelled.load() || !progress(total, total)) return std::nullopt;
+
+  GraspSet set;
+  set.hand = hand_spec_.name;
+  set.preshape_names = hand_model_->preshape_names();
+  for (const HandLink& link : hand_model_->links()) set.link_names.push_back(link.name);
+  for (const HandJoint& joint : hand_model_->joints()) set.joint_names.push_back(joint.name);
+  set.candidates = total;
+  for (Outcome o : outcomes) {
+    set.missed += o == Outcome::kMissed;
+    set.collisions += o == Outcome::kCollision;
+    set.simulated += o == Outcome::kGrasp;
+  }
+  for (auto& list : found) {
+    for (auto& g : list) set.grasps.push_back(std::move(g));
+  }
+  set.force_closure = set.grasps.size();
+  std::sort(set.grasps.begin(), set.grasps.end(), [](const PlannedGrasp& a, const PlannedGrasp& b) {
+    if (a.quality.epsilon != b.quality.epsilon) return a.quality.epsilon > b.quality.epsilon;
+    return a.candidate_index < b.candidate_index;
+  });
+  if (max_grasps > 0 && set.grasps.size() > max_grasps) set.grasps.resize(max_grasps);
+  const auto scored = std::chrono::steady_clock::now();
+  set.seconds = std::chrono::duration<double>(scored - start).count();
+  AddVolumes(&set.grasps);
+  set.volume_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - scored).count();
+  return set;
+}
+
+}  // namespace graspsim::grasp

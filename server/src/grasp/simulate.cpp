@@ -1,0 +1,274 @@
+#include "grasp/simulate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace graspsim::grasp {
+namespace {
+
+// Does the segment p + t d, t in [0, length], meet the box [lo, hi]? (slab test)
+bool SegmentMeetsBox(const Vec3& p, const Vec3& d, double length, const Vec3& lo, const Vec3& hi) {
+  double t0 = 0, t1 = length;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(d[k]) < 1e-15) {
+      if (p[k] < lo[k] || p[k] > hi[k]) return false;
+      continue;
+    }
+    double a = (lo[k] - p[k]) / d[k], b = (hi[k] - p[k]) / d[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// Does the ball (centre, radius) meet the box [lo, hi]?
+bool BallMeetsBox(const Vec3& centre, double radius, const Vec3& lo, const Vec3& hi) {
+  const Vec3 nearest = centre.cwiseMax(lo).cwiseMin(hi);
+  return (nearest - centre).squaredNorm() <= radius * radius;
+}
+
+}  // namespace
+
+GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object, const SimulationParams& params)
+    : hand_(hand), object_(object), params_(params), link_moves_(hand.links().size(), false) {
+  std::vector<Pose> poses(hand.links().size());
+  for (size_t p = 0; p < hand.preshape_names().size(); ++p) {
+    hand.LinkPoses(Pose(), hand.PreshapeJoints(p), &poses);
+    double reach = 0;
+    for (size_t l = 0; l < poses.size(); ++l) reach = std::max(reach, poses[l].position.norm() + hand.links()[l].reach);
+    preshape_reach_.push_back(reach);
+  }
+  for (const HandFinger& finger : hand.fingers()) {
+    for (int l : finger.links) link_moves_[l] = true;
+  }
+  for (size_t l = 0; l < hand.links().size(); ++l) all_links_.push_back(static_cast<int>(l));
+}
+
+Quat GraspSimulator::HandOrientation(const Candidate& c) {
+  const Vec3 z = c.approach;
+  const Vec3 x0 = (c.reference - c.reference.dot(z) * z).normalized();
+  const Vec3 x = Eigen::AngleAxisd(c.roll, z) * x0;
+  Mat3 r;
+  r.col(0) = x;
+  r.col(1) = z.cross(x);
+  r.col(2) = z;
+  return Quat(r).normalized();
+}
+
+double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) const {
+  const double tol = params_.contact_tolerance;
+  const Vec3 lo = object_.lo() - Vec3::Constant(tol), hi = object_.hi() + Vec3::Constant(tol);
+  double best = 1.0;
+  bool any = false;
+  auto record = [&](double t, double length, const Vec3& point, const Vec3& normal, int link) {
+    w->raw.push_back({point, normal, link});
+    w->raw_t.push_back(t);
+    w->raw_length.push_back(length);
+    best = std::min(best, t / length);
+    any = true;
+  };
+
+  // Hand samples against the object: only samples whose face leads the motion can strike first.
+  w->rays.Clear();
+  w->ray_length.clear();
+  w->ray_link.clear();
+  for (int l : links) {
+    const HandLink& link = hand_.links()[l];
+    if (!link.bvh) continue;
+    const Pose& a = w->poses[l];
+    const Pose& b = w->next_poses[l];
+    const double moved = (b.position - a.position).norm() + link.reach * a.orientation.angularDistance(b.orientation);
+    if (!BallMeetsBox(a.position, link.reach + moved, lo, hi)) continue;  // nowhere near the object
+    const Mat3 ra = a.orientation.toRotationMatrix(), rb = b.orientation.toRotationMatrix();
+    for (size_t i = 0; i < link.samples.size(); ++i) {
+      const Vec3 p0 = a.position + ra * link.samples[i];
+      const Vec3 d = b.position + rb * link.samples[i] - p0;
+      const double length = d.norm();
+      if (length < 1e-12 || (ra * link.normals[i]).dot(d) <= 0) continue;
+      const Vec3 u = d / length;
+      if (!SegmentMeetsBox(p0, u, length, lo, hi)) continue;
+      w->rays.Add(p0, u, length + tol, static_cast<uint32_t>(w->ray_length.size()));
+      w->ray_length.push_back(static_cast<float>(length));
+      w->ray_link.push_back(l);
+    }
+  }
+  object_.bvh().Intersect(&w->rays);
+  for (size_t r = 0; r < w->rays.size(); ++r) {
+    if (!w->rays.Hit(r)) continue;
+    const RTCRay& ray = w->rays.rays[r].ray;
+    const double t = ray.tfar;
+    const Vec3 point = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+    record(t, w->ray_length[r], point, -object_.face_normals()[w->rays.Triangle(r)], w->ray_link[r]);
+  }
+
+  // Sharp object vertices against each link, in the link frame: the relative motion runs backwards.
+  for (int l : links) {
+    const HandLink& link = hand_.links()[l];
+    if (!link.bvh || object_.sharp_vertices().empty()) continue;
+    const Pose& a = w->poses[l];
+    const Pose& b = w->next_poses[l];
+    const double moved = (b.position - a.position).norm() + link.reach * a.orientation.angularDistance(b.orientation);
+    const double radius = link.reach + link.reach * a.orientation.angularDistance(b.orientation) + tol;
+    if (!BallMeetsBox(a.position, radius + moved, lo, hi)) continue;
+    const Pose ia = a.Inverse(), ib = b.Inverse();
+    const Mat3 ra = a.orientation.toRotationMatrix();
+    w->rays.Clear();
+    w->ray_length.clear();
+    w->ray_link.clear();
+    // A vertex can reach the link only if it lies within the link's reach of the path of the link's origin.
+    const Vec3 path = b.position - a.position;
+    const double path2 = path.squaredNorm();
+    for (const Vec3& v : object_.sharp_vertices()) {
+      const double along = path2 > 0 ? std::clamp((v - a.position).dot(path) / path2, 0.0, 1.0) : 0.0;
+      if ((v - a.position - along * path).squaredNorm() > radius * radius) continue;
+      const Vec3 v0 = ia * v;
+      const Vec3 d = ib * v - v0;
+      const double length = d.norm();
+      if (length < 1e-12) continue;
+      w->rays.Add(v0, d / length, length + tol, static_cast<uint32_t>(w->ray_length.size()));
+      w->ray_length.push_back(static_cast<float>(length));
+    }
+    link.bvh->Intersect(&w->rays);
+    for (size_t r = 0; r < w->rays.size(); ++r) {
+      if (!w->rays.Hit(r)) continue;
+      const RTCRay& ray = w->rays.rays[r].ray;
+      // The contact is the object's vertex (the ray's origin in the world); the push is the link face's normal.
+      const Vec3 vertex = a * Vec3(ray.org_x, ray.org_y, ray.org_z);
+      record(ray.tfar, w->ray_length[r], vertex, ra * link.face_normals[w->rays.Triangle(r)], l);
+    }
+  }
+  return any ? std::max(0.0, best) : 1.0;
+}
+
+void GraspSimulator::KeepContacts(double fraction, double extra_gap, bool palm_only, SimulationWork* w) const {
+  for (size_t i = 0; i < w->raw.size(); ++i) {
+    if (palm_only && link_moves_[w->raw[i].link]) continue;
+    const double gap = w->raw_t[i] - fraction * w->raw_length[i] + extra_gap;
+    if (gap <= params_.contact_tolerance) w->contacts.push_back(w->raw[i]);
+  }
+  w->raw.clear();
+  w->raw_t.clear();
+  w->raw_length.clear();
+}
+
+bool GraspSimulator::CollidesWithObstacles(const std::vector<Pose>& poses) const {
+  // Touching is allowed (a fingertip resting on the table); overlapping by more than the tolerance is not.
+  const double margin = -params_.contact_tolerance;
+  for (size_t l = 0; l < poses.size(); ++l) {
+    const Mat3 r = poses[l].orientation.toRotationMatrix();
+    for (const LinkBox& box : hand_.links()[l].boxes) {
+      const LinkBox placed{poses[l] * box.centre, r * box.axes, box.half};
+      for (const ObstacleBox& obstacle : object_.obstacles()) {
+        if (BoxesOverlap(placed, obstacle, margin)) return true;
+      }
+    }
+  }
+  return false;
+}
+
+void GraspSimulator::CloseFinger(size_t f, const Pose& base, SimulationWork* w) const {
+  const HandFinger& finger = hand_.fingers()[f];
+  const double range = hand_.ClosingRange(f, w->q);
+  std::vector<double>& q = w->q;
+  double s = 0;
+  while (s < range) {
+    const double s1 = finger.straight ? range : std::min(range, s + finger.max_step);
+    for (const auto& [j, rate] : finger.joint_rates) q[j] += rate * (s1 - s);
+    hand_.LinkPoses(base, q, &w->next_poses);
+    const double fraction = Sweep(finger.links, w);
+    if (fraction < 1.0) {
+      // Stop where the first link touched: undo the rest of the step.
+      for (const auto& [j, rate] : finger.joint_rates) q[j] -= rate * (1 - fraction) * (s1 - s);
+      KeepContacts(fraction, 0, false, w);
+      hand_.LinkPoses(base, q, &w->poses);
+      return;
+    }
+    // Hits just beyond the step's end touch only if the finger stops there, at its joint limit.
+    KeepContacts(1.0, s1 < range ? std::numeric_limits<double>::infinity() : 0.0, false, w);
+    std::swap(w->poses, w->next_poses);
+    s = s1;
+  }
+}
+
+void GraspSimulator::ReduceContacts(SimulationWork* w) const {
+  // Per link, the patch's extreme points along two directions across its mean normal: the wrench hull of a
+  // flat patch is that of its corners, so the rest add nothing but qhull time.
+  std::vector<GraspContact>& all = w->contacts;
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.link < b.link; });
+  size_t out = 0;
+  for (size_t begin = 0; begin < all.size();) {
+    size_t end = begin;
+    Vec3 mean = Vec3::Zero();
+    while (end < all.size() && all[end].link == all[begin].link) mean += all[end++].normal;
+    if (end - begin <= static_cast<size_t>(params_.contacts_per_link)) {
+      for (size_t i = begin; i < end; ++i) all[out++] = all[i];
+      begin = end;
+      continue;
+    }
+    const Vec3 n = mean.norm() > 0 ? Vec3(mean.normalized()) : Vec3::UnitZ();
+    const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
+    size_t pick[4] = {begin, begin, begin, begin};
+    for (size_t i = begin; i < end; ++i) {
+      const Vec3& p = all[i].point;
+      if (p.dot(u) > all[pick[0]].point.dot(u)) pick[0] = i;
+      if (p.dot(u) < all[pick[1]].point.dot(u)) pick[1] = i;
+      if (p.dot(v) > all[pick[2]].point.dot(v)) pick[2] = i;
+      if (p.dot(v) < all[pick[3]].point.dot(v)) pick[3] = i;
+    }
+    std::sort(pick, pick + 4);
+    GraspContact kept[4];
+    size_t count = 0;
+    for (int k = 0; k < 4 && static_cast<int>(count) < params_.contacts_per_link; ++k) {
+      if (k == 0 || pick[k] != pick[k - 1]) kept[count++] = all[pick[k]];
+    }
+    for (size_t k = 0; k < count; ++k) all[out++] = kept[k];
+    begin = end;
+  }
+  all.resize(out);
+}
+
+Outcome GraspSimulator::Simulate(const Candidate& c, SimulationWork* w) const {
+  const size_t links = hand_.links().size();
+  w->poses.resize(links);
+  w->next_poses.resize(links);
+  w->contacts.clear();
+  w->raw.clear();
+  w->raw_t.clear();
+  w->raw_length.clear();
+  w->quality = Quality();
+  w->q = hand_.PreshapeJoints(c.preshape);
+
+  // 1-2. From far back along the approach line, one straight sweep of the open hand through the object.
+  const Vec3 z = c.approach;
+  const double back = (c.target - object_.centroid()).norm() + object_.characteristic_length() +
+                      preshape_reach_[c.preshape] + 0.01;
+  const double travel = 2 * back;
+  const Pose start{c.target - back * z, HandOrientation(c)};
+  hand_.LinkPoses(start, w->q, &w->poses);
+  for (size_t l = 0; l < links; ++l) w->next_poses[l] = {w->poses[l].position + travel * z, w->poses[l].orientation};
+  const double fraction = Sweep(all_links_, w);
+  if (w->raw.empty()) return Outcome::kMissed;
+
+  // 3. Back off; the palm (links no finger moves) keeps its contacts when the standoff is within the tolerance.
+  const double advance = fraction * travel - c.standoff;
+  w->hand_pose = {start.position + advance * z, start.orientation};
+  KeepContacts(fraction, c.standoff, true, w);
+  hand_.LinkPoses(w->hand_pose, w->q, &w->poses);
+  if (CollidesWithObstacles(w->poses)) return Outcome::kCollision;
+
+  // 4. Close the fingers one after the other; each stops at its own first contact.
+  for (size_t f = 0; f < hand_.fingers().size(); ++f) CloseFinger(f, w->hand_pose, w);
+  if (CollidesWithObstacles(w->poses)) return Outcome::kCollision;
+  w->joints = w->q;
+
+  // 5. Score.
+  ReduceContacts(w);
+  w->quality = GraspQuality(w->contacts.data(), w->contacts.size(), object_.centroid(),
+                            object_.characteristic_length(), params_.friction, params_.cone_edges, &w->wrenches);
+  return Outcome::kGrasp;
+}
+
+}  // namespace graspsim::grasp
