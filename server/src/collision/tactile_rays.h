@@ -1,9 +1,10 @@
 // Tactile pad sensing elements and the segments they cast (PAPERS.md part B, "Sensor construction").
 //
-// A pad (TactileArraySpec) is a flat triangle-mesh grid in its pad frame: (rows · s) × (cols · s) vertices at
-// the centres of equal cells (s = subdivision), at z = 0, the surface the foam is mounted on. Each vertex is a
-// sensing element; its normal is the normalised sum of the adjacent face normals (+z for the flat grid, but the
-// code takes any mesh). Each element casts a segment of length `thickness` from its base point along its normal,
+// A pad (TactileArraySpec) is a triangle-mesh grid over (rows · s) × (cols · s) equal cells (s = subdivision) of
+// the surface the foam is mounted on, flat at z = 0 or wrapped into a curved fingertip (PadSurfacePoint). Its
+// sensing elements are either the mesh's vertices at the cell centres, each with the normalised sum of its
+// adjacent faces' normals, or the centroids of the triangles of a mesh whose vertices are the cell corners, each
+// with its face's normal (TactileArraySpec::placement). Each element casts a segment of length `thickness` from its base point along its normal,
 // into the foam. The first surface of another body it enters, at distance t, is a contact with penetration
 // d = thickness − t (the object has compressed the foam that far). A segment that starts inside a body
 // (first surface hit from inside) reports d = thickness at the base point: fully compressed.
@@ -39,16 +40,22 @@ struct PadHit {
   Vec3 normal = Vec3::UnitZ(); // world, the element's normal (out of the pad, toward the object)
 };
 
-// The elements of one pad, row-major over the element grid: index = r · (cols · s) + c (r along pad y from
-// −rows·pitch/2, c along pad x from −cols·pitch/2).
+// The elements of one pad, row-major over the cell grid (r along pad y from −rows·pitch/2, c along pad x from
+// −cols·pitch/2, s = subdivision): at vertices, element r · (cols · s) + c is cell (r, c)'s centre; at face
+// centres, elements 2 (r · cols · s + c) and that + 1 are the centroids of cell (r, c)'s two triangles.
 std::vector<PadElement> MakePadElements(const TactileArraySpec& pad);
 
 // The texel (row, col) of element `element` of `pad`, as MakePadElements assigns it, without building the grid.
 inline std::pair<uint32_t, uint32_t> ElementTexel(const TactileArraySpec& pad, uint32_t element) {
   const uint32_t s = pad.subdivision > 0 ? pad.subdivision : 1;
   const uint32_t per_row = pad.cols * s;
-  return {element / per_row / s, element % per_row / s};
+  const uint32_t cell = pad.placement == PadElementPlacement::kFaceCentres ? element / 2 : element;
+  return {cell / per_row / s, cell % per_row / s};
 }
+
+// The point of the pad's mounting surface over grid position (x, y) of the flat sensing area (pad frame): the
+// identity for a flat pad, the wrapped point for a curved fingertip (TactileArraySpec::bend_radius_x/_y).
+Vec3 PadSurfacePoint(const TactileArraySpec& pad, double x, double y);
 
 class TactileRayCaster {
  public:

@@ -3,20 +3,15 @@
 namespace graspsim {
 namespace {
 
-using Vec6 = Multibody::Vec6;
 
 // Spatial cross products for vectors [angular; linear] (Featherstone 2008, §2.9): motion × motion, motion × force.
 Vec6 CrossMotion(const Vec6& a, const Vec6& m) {
   const Vec3 w = a.head<3>(), v = a.tail<3>();
-  Vec6 out;
-  out << w.cross(m.head<3>()), w.cross(m.tail<3>()) + v.cross(m.head<3>());
-  return out;
+  return Stack(w.cross(m.head<3>()), w.cross(m.tail<3>()) + v.cross(m.head<3>()));
 }
 Vec6 CrossForce(const Vec6& a, const Vec6& f) {
   const Vec3 w = a.head<3>(), v = a.tail<3>();
-  Vec6 out;
-  out << w.cross(f.head<3>()) + v.cross(f.tail<3>()), w.cross(f.tail<3>());
-  return out;
+  return Stack(w.cross(f.head<3>()) + v.cross(f.tail<3>()), w.cross(f.tail<3>()));
 }
 
 bool Moves(const JointSpec& joint) { return joint.type != JointType::kFixed; }
@@ -40,7 +35,8 @@ Multibody::Multibody(const SceneModel& model)
       const JointSpec& joint = model.joints[j];
       Node node;
       node.joint = j;
-      node.parent = body_node_[model.body_index.at(joint.parent_body)];
+      node.parent_body = model.body_index.at(joint.parent_body);
+      node.parent = body_node_[node.parent_body];
       node.child_body = model.body_index.at(joint.child_body);
       if (Moves(joint)) node.full = nu_++;
       if (Moves(joint) && !joint.mimic) joint_offset_[j] = nv_++;
@@ -98,15 +94,10 @@ void Multibody::SetVelocities(const Eigen::VectorXd& v, SceneState* state) const
 
 Multibody::Vec6 Multibody::MotionSubspace(const SceneState& state, const Node& node) const {
   const JointSpec& joint = model_.joints[node.joint];
-  const Pose frame = state.body_poses[model_.body_index.at(joint.parent_body)] * joint.origin;
+  const Pose frame = state.body_poses[node.parent_body] * joint.origin;
   const Vec3 axis = frame.orientation * joint.axis;
-  Vec6 s;
-  if (joint.type == JointType::kPrismatic) {
-    s << Vec3::Zero(), axis;
-  } else {
-    s << axis, frame.position.cross(axis);  // velocity of the point at the world origin: ω × (0 − p)
-  }
-  return s;
+  if (joint.type == JointType::kPrismatic) return Stack(Vec3::Zero(), axis);
+  return Stack(axis, frame.position.cross(axis));  // velocity of the point at the world origin: ω × (0 − p)
 }
 
 Multibody::Mat6 Multibody::SpatialInertia(const SceneState& state, size_t body) const {
@@ -118,8 +109,10 @@ Multibody::Mat6 Multibody::SpatialInertia(const SceneState& state, size_t body) 
   const Mat3 cx = Skew(c);
   const double m = inertial.mass;
   Mat6 I;
-  I << R * inertial.inertia * R.transpose() + m * cx * cx.transpose(), m * cx, m * cx.transpose(),
-      m * Mat3::Identity();
+  I.topLeftCorner<3, 3>() = R * inertial.inertia * R.transpose() + m * cx * cx.transpose();
+  I.topRightCorner<3, 3>() = m * cx;
+  I.bottomLeftCorner<3, 3>() = m * cx.transpose();
+  I.bottomRightCorner<3, 3>() = m * Mat3::Identity();
   return I;
 }
 
@@ -170,7 +163,7 @@ Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravi
   // Recursive Newton–Euler with q̈ = 0 and the base accelerating at −g (which stands in for gravity).
   const Eigen::VectorXd u = FullVelocities(Velocities(state));
   Vec6 base_acceleration;
-  base_acceleration << Vec3::Zero(), -gravity;
+  base_acceleration = Stack(Vec3::Zero(), -gravity);
   std::vector<Vec6> V(nodes_.size()), A(nodes_.size()), F(nodes_.size()), S(nodes_.size());
   for (size_t n = 0; n < nodes_.size(); ++n) {
     const Node& node = nodes_[n];
@@ -196,7 +189,7 @@ std::vector<Multibody::Vec6> Multibody::JointWrenches(const SceneState& state, c
   // Recursive Newton–Euler with the actual joint accelerations (mimic offsets are constant, so ü = G a).
   const Eigen::VectorXd u = FullVelocities(v), ud = FullVelocities(a);
   Vec6 base_acceleration;
-  base_acceleration << Vec3::Zero(), -gravity;
+  base_acceleration = Stack(Vec3::Zero(), -gravity);
   std::vector<Vec6> V(nodes_.size()), A(nodes_.size()), F(nodes_.size());
   for (size_t n = 0; n < nodes_.size(); ++n) {
     const Node& node = nodes_[n];
@@ -272,7 +265,7 @@ void Multibody::Integrate(const Eigen::VectorXd& v, double dt, SceneState* state
     state->joint_positions[node.joint] =
         joint.mimic->multiplier * state->joint_positions[leader_[node.joint]] + mimic_offset_[node.joint];
   }
-  for (const RobotSpec& robot : model_.robots) UpdateRobotLinkPoses(model_, robot, state);
+  for (size_t robot = 0; robot < model_.robots.size(); ++robot) UpdateRobotLinkPoses(model_, robot, state);
 }
 
 double Multibody::Energy(const SceneState& state, const Vec3& gravity) const {

@@ -59,7 +59,7 @@ class Multibody {
   // f_n = I_n A_n + V_n ×* I_n V_n − f_ext,n summed over the subtree, with the velocities v, the generalised
   // accelerations a = v̇, the base accelerating at −g, and `external` the wrenches [torque about the world origin;
   // force] (world) on each body from outside the tree (contacts), per body.
-  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  using Vec6 = graspsim::Vec6;
   std::vector<Vec6> JointWrenches(const SceneState& state, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
                                   const Vec3& gravity, const std::vector<Vec6>& external) const;
 
@@ -71,7 +71,7 @@ class Multibody {
   struct Node {
     size_t joint = 0;
     int parent = -1;      // the node whose child is this joint's parent body; -1 at the welded base
-    size_t child_body = 0;
+    size_t parent_body = 0, child_body = 0;
     int full = -1;        // index into the full velocity vector u (every moving joint, mimic ones included)
   };
   using Mat6 = Eigen::Matrix<double, 6, 6>;

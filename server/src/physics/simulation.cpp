@@ -28,7 +28,6 @@ ContactParams BodyContactParams(const Material& material, const ContactParams& d
   return params;
 }
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 // The bristle of `key` in the sorted vector (zero when the contact has none). Step after step the contacts come
@@ -44,11 +43,39 @@ Vec3 BristleAt(const std::vector<std::pair<ContactKey, Vec3>>& bristles, const C
   return found->second;
 }
 
+// Σ c, Σ c p, Σ c p pᵀ over contact points: what a pair's 6 × 6 block needs of terms that share their 3 × 3
+// shape (c I, or c n nᵀ with one normal n), at 9 multiply-adds a point instead of a 6 × 6 outer product.
+struct PointMoments {
+  double m0 = 0;
+  Vec3 m1 = Vec3::Zero();
+  Mat3 m2 = Mat3::Zero();
+  void Add(double c, const Vec3& p) {
+    m0 += c;
+    m1 += c * p;
+    m2.noalias() += (c * p) * p.transpose();
+  }
+  // Σ Eᵀ (c I) E = [[c (|p|² I − p pᵀ), c [p]×], [−c [p]×, c I]].
+  void AddIsotropicTo(Mat6* A) const {
+    A->topLeftCorner<3, 3>() += m2.trace() * Mat3::Identity() - m2;
+    A->topRightCorner<3, 3>() += Skew(m1);
+    A->bottomLeftCorner<3, 3>() -= Skew(m1);
+    A->bottomRightCorner<3, 3>().diagonal().array() += m0;
+  }
+  // Σ Eᵀ (c n nᵀ) E = Σ c w wᵀ, w = [p × n; n]: [[N m2 Nᵀ, (m1 × n) nᵀ], [n (m1 × n)ᵀ, m0 n nᵀ]], N = [n]×.
+  void AddAlongTo(const Vec3& n, Mat6* A) const {
+    const Mat3 N = Skew(n);
+    const Vec3 moment = m1.cross(n);
+    A->topLeftCorner<3, 3>() += N * m2 * N.transpose();
+    A->topRightCorner<3, 3>() += moment * n.transpose();
+    A->bottomLeftCorner<3, 3>() += n * moment.transpose();
+    A->bottomRightCorner<3, 3>() += m0 * n * n.transpose();
+  }
+};
+
 // A += β w wᵀ with w = [p × u; u]: the 6 × 6 image Eᵀ (β u uᵀ) E of a rank-one 3 × 3 term at point p.
 void AddRankOne(const Vec3& point, const Vec3& direction, double beta, Mat6* A) {
   if (beta == 0) return;
-  Vec6 w;
-  w << point.cross(direction), direction;
+  const Vec6 w = Stack(point.cross(direction), direction);
   A->noalias() += (beta * w) * w.transpose();
 }
 
@@ -88,9 +115,9 @@ Simulation::Simulation(std::shared_ptr<const SceneModel> model)
       pads_(*model_) {
   for (const BodySpec& body : model_->bodies) body_params_.push_back(BodyContactParams(body.material, params_.contact));
   for (const TactileArraySpec& pad : model_->tactile_arrays) {
-    // Spring, damper and bristle constants are per element of an undivided pad: subdividing shares them.
+    // Spring, damper and bristle constants are per texel: a texel's elements share them.
     ContactParams law = pad.contact;
-    const double share = 1.0 / (std::max(1u, pad.subdivision) * std::max(1u, pad.subdivision));
+    const double share = 1.0 / pad.ElementsPerTexel();
     for (double* x : {&law.stiffness, &law.damping, &law.bristle_stiffness, &law.bristle_damping, &law.viscous_friction}) {
       *x *= share;
     }
@@ -235,15 +262,14 @@ void Simulation::RecordJointWrenches(const Eigen::VectorXd& v, const Eigen::Vect
   if (model_->joints.empty()) return;
   std::vector<Multibody::Vec6> external(model_->bodies.size(), Multibody::Vec6::Zero());
   for (size_t i = 0; i < contacts_.size(); ++i) {
-    Multibody::Vec6 wrench;
-    wrench << contacts_[i].point.cross(forces_[i]), forces_[i];
+    const Vec6 wrench = Stack(contacts_[i].point.cross(forces_[i]), forces_[i]);
     external[contacts_[i].body_a] += wrench;
     external[contacts_[i].body_b] -= wrench;
   }
   const std::vector<Multibody::Vec6> wrenches =
       multibody_.JointWrenches(*state, v, (v_next - v) / h, params_.gravity, external);
   for (size_t j = 0; j < model_->joints.size(); ++j) {
-    const Pose& frame = state->body_poses[model_->body_index.at(model_->joints[j].child_body)];
+    const Pose& frame = state->body_poses[model_->joint_bodies.at(j)[1]];
     const Vec3 force = wrenches[j].tail<3>();
     const Vec3 torque = wrenches[j].head<3>() - frame.position.cross(force);  // about the frame's origin
     const Quat world_to_child = frame.orientation.conjugate();
@@ -275,8 +301,8 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   forces_.resize(n);
   // Pair by pair: each contact's force becomes a wrench about the world origin, [p × f; f]; its linearisation
   // (h D + h² K, in the scalar form of ContactForce) becomes the 6 × 6 block Eᵀ (h D + h² K) E with
-  // E(p) = [−[p]×, 1], summed as moments for the isotropic part and rank-one updates for the normal and slip
-  // parts; only the pair's sums meet the nv-sized Jacobian (nv² work per pair instead of per contact).
+  // E(p) = [−[p]×, 1], summed as moments where terms share their shape and as rank-one updates otherwise; only
+  // the pair's sums meet the nv-sized Jacobian (nv² work per pair instead of per contact).
   size_t cursor = 0;  // into state.bristles, which is in the contacts' order
   for (size_t begin = 0; begin < n;) {
     const uint32_t a = contacts_[begin].body_a, b = contacts_[begin].body_b;
@@ -288,10 +314,11 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     const Vec6 twist = W * v;
     Vec3 force_sum = Vec3::Zero(), moment_sum = Vec3::Zero();
     Mat6 block = Mat6::Zero();
-    Vec6 stiffness_twist = Vec6::Zero();          // Σ Eᵀ K (E twist), for h² K v
-    double iso = 0;                               // Σ c, Σ c p, Σ c p pᵀ of the isotropic terms c I
-    Vec3 iso_p = Vec3::Zero();
-    Mat3 iso_pp = Mat3::Zero();
+    Vec6 stiffness_twist = Vec6::Zero();  // Σ Eᵀ K (E twist), for h² K v
+    // The isotropic terms, and the normal terms of the contacts that share the pair's first normal (all of a
+    // flat pad's elements, a face lying on a face), as moments; the rest as rank-one updates.
+    PointMoments isotropic, along_normal;
+    const Vec3 shared_normal = contacts_[begin].normal;
     for (size_t i = begin; i < end; ++i) {
       const ContactPoint& c = contacts_[i];
       const Vec3 z = forces->bristle[i] = BristleAt(state.bristles, ContactKey{a, b, c.feature}, &cursor);
@@ -303,29 +330,26 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
       force_sum += f.force;
       moment_sum += c.point.cross(f.force);
       if (!linearize) continue;
-      const double c_iso = h * f.d_iso + h * h * f.k_iso;
-      iso += c_iso;
-      iso_p += c_iso * c.point;
-      iso_pp.noalias() += (c_iso * c.point) * c.point.transpose();
-      AddRankOne(c.point, c.normal, h * f.d_normal + h * h * f.k_normal, &block);
+      isotropic.Add(h * f.d_iso + h * h * f.k_iso, c.point);
+      const double along = h * f.d_normal + h * h * f.k_normal;
+      if (c.normal == shared_normal) {
+        along_normal.Add(along, c.point);
+      } else {
+        AddRankOne(c.point, c.normal, along, &block);
+      }
       AddRankOne(c.point, f.slip_direction, h * h * f.k_slip, &block);
       const Vec3 k_relative = f.k_iso * relative + f.k_normal * c.normal.dot(relative) * c.normal +
                               f.k_slip * f.slip_direction.dot(relative) * f.slip_direction;
       stiffness_twist.head<3>() += c.point.cross(k_relative);
       stiffness_twist.tail<3>() += k_relative;
     }
-    Vec6 wrench;
-    wrench << moment_sum, force_sum;
-    forces->tau.noalias() += W.transpose() * wrench;
+    forces->tau.noalias() += W.transpose() * Stack(moment_sum, force_sum);
     if (!linearize) {
       begin = end;
       continue;
     }
-    // Eᵀ (c I) E = [[c (|p|² I − p pᵀ), c [p]×], [−c [p]×, c I]], summed over the pair's points.
-    block.topLeftCorner<3, 3>() += iso_pp.trace() * Mat3::Identity() - iso_pp;
-    block.topRightCorner<3, 3>() += Skew(iso_p);
-    block.bottomLeftCorner<3, 3>() -= Skew(iso_p);
-    block.bottomRightCorner<3, 3>().diagonal().array() += iso;
+    isotropic.AddIsotropicTo(&block);
+    along_normal.AddAlongTo(shared_normal, &block);
     forces->contact_matrix.noalias() += W.transpose() * (block * W);
     forces->contact_rhs.noalias() += (h * h) * (W.transpose() * stiffness_twist);
     begin = end;

@@ -260,6 +260,10 @@ void ToProto(const TactileArraySpec& pad, v1::TactileArray* out) {
   out->set_cols(pad.cols);
   out->set_pitch(pad.pitch);
   out->set_thickness(pad.thickness);
+  out->set_subdivision(pad.subdivision);
+  out->set_elements(pad.placement == PadElementPlacement::kFaceCentres ? "face_centres" : "vertices");
+  out->set_bend_radius_x(pad.bend_radius_x);
+  out->set_bend_radius_y(pad.bend_radius_y);
 }
 
 void ToProto(const RobotSpec& robot, v1::Robot* out) {

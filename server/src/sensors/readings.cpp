@@ -24,8 +24,7 @@ TactileFrame ReadTactileArray(const SceneModel& model, const SceneState& state, 
   // The simulation sizes pad_forces only once it has stepped: a scene that never ran reads as untouched.
   if (pad < state.pad_forces.size() && !state.pad_forces[pad].empty()) {
     const std::vector<Vec3>& element_forces = state.pad_forces[pad];
-    const size_t s = std::max(1u, spec.subdivision);
-    const size_t n = std::min(texels * s * s, element_forces.size());
+    const size_t n = std::min(spec.ElementCount(), element_forces.size());
     for (size_t i = 0; i < n; ++i) {
       const auto [row, col] = ElementTexel(spec, static_cast<uint32_t>(i));
       frame.forces[size_t{row} * spec.cols + col] += element_forces[i];

@@ -177,7 +177,7 @@ void WorkCycle::Plan(const SceneState& state) {
         s.joint_positions[j] = follower.mimic->multiplier * qf + follower.mimic->offset;
       }
     }
-    UpdateRobotLinkPoses(m, m.robots[robot_], &s);
+    UpdateRobotLinkPoses(m, robot_, &s);
     Placement g;
     std::array<Vec3, 2> surface;
     for (size_t i = 0; i < 2; ++i) {

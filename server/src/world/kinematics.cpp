@@ -23,14 +23,13 @@ Pose JointMotion(const JointSpec& joint, double q) {
   return {};
 }
 
-void UpdateRobotLinkPoses(const SceneModel& model, const RobotSpec& robot, SceneState* state) {
-  // joint_ids are in topological order, so every parent is placed before its child.
-  for (const std::string& joint_id : robot.joint_ids) {
-    const size_t j = model.joint_index.at(joint_id);
+void UpdateRobotLinkPoses(const SceneModel& model, size_t robot, SceneState* state) {
+  // Joints in topological order, so every parent is placed before its child; indices from Reindex (per step,
+  // no name lookups).
+  for (size_t j : model.robot_joints.at(robot)) {
     const JointSpec& joint = model.joints[j];
-    const Pose& parent = state->body_poses[model.body_index.at(joint.parent_body)];
-    state->body_poses[model.body_index.at(joint.child_body)] =
-        parent * joint.origin * JointMotion(joint, state->joint_positions[j]);
+    const auto [parent, child] = model.joint_bodies.at(j);
+    state->body_poses[child] = state->body_poses[parent] * joint.origin * JointMotion(joint, state->joint_positions[j]);
   }
 }
 
@@ -43,6 +42,15 @@ void SceneModel::Reindex() {
   index(joints, &joint_index);
   index(robots, &robot_index);
   index(tactile_arrays, &tactile_index);
+  // Bodies and joints are added together (Scene::AddRobot), so a name missing here is a bug: at() throws.
+  joint_bodies.clear();
+  for (const JointSpec& joint : joints) {
+    joint_bodies.push_back({body_index.at(joint.parent_body), body_index.at(joint.child_body)});
+  }
+  robot_joints.assign(robots.size(), {});
+  for (size_t r = 0; r < robots.size(); ++r) {
+    for (const std::string& id : robots[r].joint_ids) robot_joints[r].push_back(joint_index.at(id));
+  }
 }
 
 }  // namespace graspsim

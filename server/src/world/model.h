@@ -3,6 +3,7 @@
 // accepted edit builds a new one, so a rejected edit leaves the old one untouched.
 #pragma once
 
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -79,10 +80,14 @@ struct JointSpec {
 
 // A pad's frame: origin at the centre of the sensing area on the surface it is mounted on; cols along x, rows
 // along y, the foam filling 0 <= z <= thickness and sensing along +z (toward what it touches).
-// The sensing mesh is a flat grid of (rows · subdivision) × (cols · subdivision) elements at the centres of
-// equal cells, at z = 0 (the mounting surface); each element casts a segment of length `thickness` along +z and
-// belongs to the texel containing it. Contact parameters are per element of an undivided pad (one element per
-// texel); subdivided pads scale stiffness and damping by 1/subdivision² so the pad as a whole keeps them.
+// The sensing mesh is a grid of (rows · subdivision) × (cols · subdivision) equal cells over the sensing area,
+// at z = 0 (the mounting surface), flat or bent into a curved fingertip (bend_radius). Sensing elements sit at
+// the mesh's vertices (the cell centres) or at the centres of its triangles (a grid whose vertices are the cell
+// corners, two triangles per cell); each casts a segment of length `thickness` along its normal and belongs to
+// the texel of its cell (collision/tactile_rays.h). Contact parameters are per texel: a pad with several
+// elements per texel shares them out (ElementsPerTexel), so the pad as a whole keeps them.
+enum class PadElementPlacement { kVertices, kFaceCentres };
+
 struct TactileArraySpec {
   std::string id;                 // "<robot>/<sensor>"
   std::string body_id;
@@ -90,13 +95,25 @@ struct TactileArraySpec {
   unsigned rows = 0, cols = 0;
   double pitch = 0;               // m
   double thickness = 0;           // m, the foam: maximum penetration
-  unsigned subdivision = 1;       // sensing elements per texel edge
+  unsigned subdivision = 1;       // mesh cells per texel edge
+  PadElementPlacement placement = PadElementPlacement::kVertices;
+  // A curved fingertip: the sensing area wrapped, arc length kept, around an axis parallel to the pad's y axis
+  // at radius bend_radius_x (x bends) and around one parallel to x at bend_radius_y; 0 = flat in that direction.
+  // The centre stands proud and the edges fall back, as on a rounded fingertip. At most a quarter turn each way:
+  // radius ≥ width / π.
+  double bend_radius_x = 0, bend_radius_y = 0;  // m
   // The foam's contact law (PAPERS.md part B's sensor definition: k 1e3, c 10, σ0 200, σ1 0.5, μs 0.9, μd 0.6).
   ContactParams contact{1e3, 10, 0.9, 0.6, 200, 0.5, 0, 1e-3};
   // DSA 9205 output: intensity = min(4095, intensity_per_newton · texel normal force). Assumption (no datasheet
   // value): 4095 at 3 N per 3.4 mm texel, about 260 kPa.
   double intensity_per_newton = 4095.0 / 3.0;
   unsigned max_intensity = 4095;  // 12 bit
+
+  unsigned ElementsPerTexel() const {
+    const unsigned s = subdivision > 0 ? subdivision : 1;
+    return s * s * (placement == PadElementPlacement::kFaceCentres ? 2 : 1);
+  }
+  size_t ElementCount() const { return size_t{rows} * cols * ElementsPerTexel(); }
 };
 
 struct RobotSpec {
@@ -125,8 +142,12 @@ struct SceneModel {
   std::vector<TactileArraySpec> tactile_arrays;
   SimulationParams simulation;
   std::map<std::string, size_t> body_index, joint_index, robot_index, tactile_index;
+  // Derived by Reindex, for per-step loops that must not look names up: per joint its parent and child body
+  // indices; per robot its joints' indices in topological order.
+  std::vector<std::array<size_t, 2>> joint_bodies;
+  std::vector<std::vector<size_t>> robot_joints;
 
-  // Rebuilds the id → index maps after the vectors changed.
+  // Rebuilds the id → index maps and the derived indices after the vectors changed.
   void Reindex();
 };
 

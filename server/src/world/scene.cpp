@@ -138,7 +138,7 @@ AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, c
     const bool limited = joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic;
     state.joint_positions.push_back(limited ? std::clamp(0.0, joint.lower, joint.upper) : 0.0);
   }
-  UpdateRobotLinkPoses(*model, model->robots.back(), &state);
+  UpdateRobotLinkPoses(*model, model->robots.size() - 1, &state);
   SizeDynamicState(*model, &state);
   model_ = std::move(model);
   state_ = std::move(state);
@@ -254,7 +254,7 @@ uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& po
     }
   }
   for (const std::string& robot : moved_robots) {
-    UpdateRobotLinkPoses(*model_, model_->robots[model_->robot_index.at(robot)], &state);
+    UpdateRobotLinkPoses(*model_, model_->robot_index.at(robot), &state);
   }
   state_ = std::move(state);
   CommitLocked();
@@ -296,7 +296,7 @@ uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, doubl
     }
   }
   for (const std::string& robot : moved_robots) {
-    UpdateRobotLinkPoses(*model_, model_->robots[model_->robot_index.at(robot)], &state);
+    UpdateRobotLinkPoses(*model_, model_->robot_index.at(robot), &state);
   }
   state_ = std::move(state);
   CommitLocked();

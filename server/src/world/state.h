@@ -53,8 +53,9 @@ struct SceneState {
 // The bristle deflection of a contact, or zero for a new one.
 Vec3 FindBristle(const SceneState& state, const ContactKey& key);
 
-// Places every link of `robot` from its base pose and joint positions (parents before children).
-void UpdateRobotLinkPoses(const SceneModel& model, const RobotSpec& robot, SceneState* state);
+// Places every link of robot number `robot` (index into model.robots) from its base pose and joint positions
+// (parents before children). The model must be Reindex()ed.
+void UpdateRobotLinkPoses(const SceneModel& model, size_t robot, SceneState* state);
 
 // Transform of a joint's child frame relative to its joint frame at position q (rad or m).
 Pose JointMotion(const JointSpec& joint, double q);

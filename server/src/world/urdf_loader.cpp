@@ -3,6 +3,7 @@
 // last of two parents and only says "not a valid tree" for a cycle), and graspsim's <tactile_array> elements.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <set>
@@ -29,6 +30,8 @@ namespace {
 // 1 g and the inertia of a 1 g solid sphere of 1 cm radius, 2/5 m r^2, so the body stays integrable.
 constexpr double kFrameLinkMass = 1e-3;                            // kg
 constexpr double kFrameLinkInertia = 0.4 * kFrameLinkMass * 1e-4;  // kg m^2
+// Mesh cells per texel edge: 16 gives 256 elements per texel, far finer than any foam's resolution.
+constexpr unsigned kMaxSubdivision = 16;
 // Far above any real tactile sensor; it only keeps a typo from allocating millions of texels downstream.
 constexpr unsigned kMaxTexelsPerSide = 1024;
 
@@ -417,6 +420,36 @@ std::vector<TactileArraySpec> ParseTactileArrays(const TiXmlElement& robot, cons
     CheckPositive(field + " pitch (m)", spec.pitch);
     spec.thickness = ParseNumbers(field + " thickness (m)", RequiredAttribute(*e, "thickness", field), 1)[0];
     CheckPositive(field + " thickness (m)", spec.thickness);
+    // The sensing mesh (world/model.h): optional, a flat grid with one element per texel by default.
+    if (const char* text = e->Attribute("subdivision"); text != nullptr) {
+      spec.subdivision = ParseTexelCount(field + " subdivision", text);
+      if (spec.subdivision > kMaxSubdivision) {
+        ThrowInvalidArgument(field + " subdivision: " + Quoted(text) + " is above " + std::to_string(kMaxSubdivision));
+      }
+    }
+    if (const char* text = e->Attribute("elements"); text != nullptr) {
+      const std::string placement = text;
+      if (placement == "vertices") {
+        spec.placement = PadElementPlacement::kVertices;
+      } else if (placement == "face_centres") {
+        spec.placement = PadElementPlacement::kFaceCentres;
+      } else {
+        ThrowInvalidArgument(field + " elements: " + Quoted(placement) + " is not \"vertices\" or \"face_centres\"");
+      }
+    }
+    if (const char* text = e->Attribute("bend_radius"); text != nullptr) {
+      const std::vector<double> radii = ParseNumbers(field + " bend_radius (m)", text, 2);
+      const double widths[2] = {spec.cols * spec.pitch, spec.rows * spec.pitch};
+      for (int k = 0; k < 2; ++k) {
+        // 0 = flat; otherwise at most a quarter turn each way from the centre.
+        if (radii[k] != 0 && !(radii[k] >= widths[k] / M_PI)) {
+          ThrowInvalidArgument(field + " bend_radius (m): " + FormatNumber(radii[k]) + " along " + "xy"[k] +
+                               " must be 0 (flat) or at least the width / pi = " + FormatNumber(widths[k] / M_PI));
+        }
+      }
+      spec.bend_radius_x = radii[0];
+      spec.bend_radius_y = radii[1];
+    }
     if (const TiXmlElement* origin = e->FirstChildElement("origin"); origin != nullptr) {
       const auto vector = [&](const char* attribute) {
         const char* text = origin->Attribute(attribute);

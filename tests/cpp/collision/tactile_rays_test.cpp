@@ -5,6 +5,7 @@
 // sqrt(r² − ρ²) − sqrt((r − 0.1 mm)² − ρ²), never deeper.
 #include "collision/tactile_rays.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <utility>
@@ -50,15 +51,18 @@ BodySpec RobotLink(const std::string& id, Geometry geometry) {
 }
 
 // The finger's own box sits right behind the pad (its top face is the pad's z = 0): it must never be sensed.
-SceneModel Scene(std::vector<BodySpec> objects, unsigned subdivision = 1) {
+SceneModel Scene(std::vector<BodySpec> objects, const TactileArraySpec& pad) {
   Geometry finger = BoxGeometry(Vec3(0.06, 0.03, 0.01));
   finger.origin = kPadOrigin * At(0, 0, -0.005);
   std::vector<BodySpec> bodies = {RobotLink("hand/finger", finger), RobotLink("hand/palm", BoxGeometry(Vec3(0.1, 0.1, 0.02)))};
   for (BodySpec& o : objects) bodies.push_back(std::move(o));
   SceneModel model = Model(std::move(bodies));
-  model.tactile_arrays.push_back(PadSpec(subdivision));
+  model.tactile_arrays.push_back(pad);
   model.Reindex();
   return model;
+}
+SceneModel Scene(std::vector<BodySpec> objects, unsigned subdivision = 1) {
+  return Scene(std::move(objects), PadSpec(subdivision));
 }
 
 // World poses: the hand as above, then each object at its given pose in the pad frame.
@@ -339,6 +343,87 @@ TEST(TactileRaysTest, ElementTexelAgreesWithTheGrid) {
       ASSERT_EQ(row, elements[e].row) << "subdivision " << s << ", element " << e;
       ASSERT_EQ(col, elements[e].col) << "subdivision " << s << ", element " << e;
     }
+  }
+}
+
+TEST(TactileRaysTest, FaceCentresAreTheTwoTriangleCentroidsOfEachCell) {
+  // Two triangles per cell of the corner grid: centroids at 1/3 and 2/3 of the cell's diagonal box, normals +z,
+  // both in the cell's texel; the same grid cast against a box reads the same depth everywhere.
+  for (unsigned subdivision : {1u, 2u}) {
+    TactileArraySpec pad = PadSpec(subdivision);
+    pad.placement = PadElementPlacement::kFaceCentres;
+    const std::vector<PadElement> elements = MakePadElements(pad);
+    ASSERT_EQ(elements.size(), 2u * kRows * kCols * subdivision * subdivision);
+    ASSERT_EQ(elements.size(), pad.ElementCount());
+    const double cell = kPitch / subdivision;
+    const uint32_t cols = kCols * subdivision;
+    for (uint32_t i = 0; i < elements.size(); ++i) {
+      const PadElement& e = elements[i];
+      const uint32_t r = i / 2 / cols, c = i / 2 % cols;
+      const double x0 = c * cell - kCols * kPitch / 2, y0 = r * cell - kRows * kPitch / 2;
+      // Triangle (00, 01, 11) has its centroid at (2/3, 1/3) of the cell, triangle (00, 11, 10) at (1/3, 2/3).
+      const double fx = i % 2 == 0 ? 2.0 / 3 : 1.0 / 3, fy = 1 - fx;
+      EXPECT_NEAR(e.position.x(), x0 + fx * cell, 1e-12) << i;
+      EXPECT_NEAR(e.position.y(), y0 + fy * cell, 1e-12) << i;
+      EXPECT_LT((e.normal - Vec3::UnitZ()).norm(), 1e-12) << i;
+      EXPECT_EQ(e.row, r / subdivision);
+      EXPECT_EQ(e.col, c / subdivision);
+      const auto [row, col] = ElementTexel(pad, i);
+      EXPECT_EQ(row, e.row);
+      EXPECT_EQ(col, e.col);
+    }
+    const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))}, pad);
+    const TactileRayCaster caster(model);
+    ExpectFlatContact(caster, Cast(caster, Poses({BoxBottomAt(2.5e-3)})), 2.5e-3, kFirstObject);
+  }
+}
+
+TEST(TactileRaysTest, CurvedFingertipElementsLieOnTheCylinderAndSenseAlongItsRadius) {
+  // The pad wrapped around an axis along y at radius R below its centre: every element on the circle
+  // x² + (z + R)² = R² (face centroids on the chords just inside it), vertex elements at arc length x from the
+  // top; normals along the radius through them.
+  const double R = 0.02;
+  for (PadElementPlacement placement : {PadElementPlacement::kVertices, PadElementPlacement::kFaceCentres}) {
+    TactileArraySpec pad = PadSpec();
+    pad.bend_radius_x = R;
+    pad.placement = placement;
+    const std::vector<PadElement> elements = MakePadElements(pad);
+    const bool faces = placement == PadElementPlacement::kFaceCentres;
+    for (uint32_t i = 0; i < elements.size(); ++i) {
+      const PadElement& e = elements[i];
+      const Vec3 centre(0, e.position.y(), -R);
+      const Vec3 radial = e.position - centre;
+      // Face centroids lie on the chord, inside the circle by at most R (1 − cos(half the cell angle)).
+      const double sag = faces ? R * (1 - std::cos(kPitch / (2 * R))) : 1e-12;
+      EXPECT_LE(radial.norm(), R + 1e-12) << i;
+      EXPECT_GE(radial.norm(), R - sag - 1e-12) << i;
+      // Off the radius by at most half a cell's angle (a face's own tilt); an interior vertex, whose faces lie
+      // symmetrically about it, exactly on it.
+      const double angle = std::acos(std::clamp(e.normal.dot(radial.normalized()), -1.0, 1.0));
+      EXPECT_LT(angle, kPitch / (2 * R) + 1e-9) << i;
+      if (!faces) {
+        const uint32_t r = i / kCols, c = i % kCols;
+        if (r > 0 && r + 1 < kRows && c > 0 && c + 1 < kCols) EXPECT_LT(angle, 1e-7) << i;
+        const double arc = (c + 0.5) * kPitch - kCols * kPitch / 2;
+        EXPECT_NEAR(std::atan2(radial.x(), radial.z()), arc / R, 1e-12) << i;
+      }
+    }
+    // A box face pressed down onto the apex (plane z = h in the pad frame) is met by each element's segment at
+    // t = (h − z) / n_z: depth thickness − t wherever that is positive.
+    const double h = 2.5e-3;
+    const SceneModel model = Scene({Body("box", BoxGeometry(kBigBox))}, pad);
+    const TactileRayCaster caster(model);
+    const std::vector<PadHit> hits = Cast(caster, Poses({BoxBottomAt(h)}));
+    std::vector<double> depth(elements.size(), 0);
+    for (const PadHit& hit : hits) depth[hit.element] = hit.depth;
+    size_t touching = 0;
+    for (uint32_t i = 0; i < elements.size(); ++i) {
+      const double expected = kThickness - (h - elements[i].position.z()) / elements[i].normal.z();
+      EXPECT_NEAR(depth[i], std::max(expected, 0.0), kTol) << i;
+      touching += expected > kTol;
+    }
+    EXPECT_LT(touching, elements.size()) << "the edges fall away from a flat face";
+    EXPECT_GT(touching, 0u);
   }
 }
 

@@ -70,7 +70,7 @@ TEST(ForceTorqueTest, WeldedArmAtRestCarriesTheWeightOfItsSubtree) {
     SceneState state;
     state.body_poses = {Pose{Vec3(0.2, -0.1, 0.8), base_rotation}, Pose{}, Pose{}};
     state.joint_positions = {0.6, 0};
-    UpdateRobotLinkPoses(*model, model->robots[0], &state);
+    UpdateRobotLinkPoses(*model, 0, &state);
     Simulation simulation(model);
     simulation.PrepareState(&state);
     EXPECT_EQ(ReadForceTorque(*model, state, 0).force, Vec3::Zero()) << "zero before the first step";
@@ -168,7 +168,7 @@ TEST(ForceTorqueTest, SwingingPendulumMatchesTheClosedForm) {
   SceneState state;
   state.body_poses = {Pose{Vec3(0, 0, 1), Quat::Identity()}, Pose{}};
   state.joint_positions = {1.0};
-  UpdateRobotLinkPoses(*model, model->robots[0], &state);
+  UpdateRobotLinkPoses(*model, 0, &state);
   Simulation simulation(model);
   simulation.PrepareState(&state);
   double fastest = 0;

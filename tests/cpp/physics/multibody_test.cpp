@@ -67,7 +67,7 @@ void PlaceLinks(const SceneModel& model, SceneState* state) {
           mimic->multiplier * state->joint_positions[model.joint_index.at(mimic->joint_id)] + mimic->offset;
     }
   }
-  for (const RobotSpec& robot : model.robots) UpdateRobotLinkPoses(model, robot, state);
+  for (size_t robot = 0; robot < model.robots.size(); ++robot) UpdateRobotLinkPoses(model, robot, state);
 }
 
 // The configuration q ⊕ x, written here rather than taken from Multibody::Integrate: a free body's centre of
@@ -382,7 +382,7 @@ TEST(MultibodyPendulumTest, MatchesClosedForm) {
   const double pivot_inertia = model.bodies[1].inertial.inertia(0, 0) + m * l * l;
   for (double theta : {-2.5, -1.0, 0.3, 1.2, 2.8}) {
     state.joint_positions = {theta};
-    UpdateRobotLinkPoses(model, model.robots[0], &state);
+    UpdateRobotLinkPoses(model, 0, &state);
     EXPECT_NEAR(mb.MassMatrix(state)(0, 0) / pivot_inertia, 1, 1e-12) << theta;
     const double expected = m * 9.81 * l * std::sin(theta);
     for (double rate : {0.0, 3.0}) {

@@ -225,7 +225,7 @@ TEST(SimulationTest, PendulumEnergyDriftsLessThanATenthOfAPercent) {
                                           {"pendulum/hinge"}, {}});
   world.state.joint_positions = {M_PI / 3};
   world.model->Reindex();
-  UpdateRobotLinkPoses(*world.model, world.model->robots[0], &world.state);
+  UpdateRobotLinkPoses(*world.model, 0, &world.state);
   Simulation simulation = world.Start();
   Multibody multibody(*world.model);
   const double e0 = multibody.Energy(world.state, world.model->simulation.gravity);

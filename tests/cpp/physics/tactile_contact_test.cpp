@@ -21,8 +21,9 @@ struct PadWorld {
   std::shared_ptr<SceneModel> model = std::make_shared<SceneModel>();
   SceneState state;
 
-  PadWorld(unsigned subdivision, double box_mass, const Vec3& box_size) {
-    const TactileArraySpec pad = test_objects::StandPad(subdivision);
+  PadWorld(unsigned subdivision, double box_mass, const Vec3& box_size)
+      : PadWorld(test_objects::StandPad(subdivision), box_mass, box_size) {}
+  PadWorld(const TactileArraySpec& pad, double box_mass, const Vec3& box_size) {
     test_objects::AddPadStand(model.get(), pad);
     model->bodies.push_back(test_objects::UniformBox("box", box_size, box_mass));
     model->simulation.sleep_time = 0;
@@ -62,6 +63,30 @@ TEST(TactileContactTest, StaticLoadIsCarriedByThePadAtEveryResolution) {
     // The pad's stiffness is that of the undivided pad at every resolution: the same penetration.
     const double depth = 0.004 + 0.01 - world.state.body_poses[1].position.z();
     EXPECT_NEAR(depth / (0.2 * kG / (84 * 1e3)), 1.0, 0.01) << "subdivision " << subdivision;
+  }
+}
+
+TEST(TactileContactTest, StaticLoadIsCarriedByFaceCentreAndCurvedPads) {
+  // Elements at the triangles' centres (two per texel) and a curved fingertip (the pad wrapped around y at 5 cm):
+  // the load still adds up to m g within 0.5 %. On the flat pad every element carries it; on the curved one only
+  // the two columns next to the apex reach the box's flat face (the next ones fall 0.26 mm away).
+  TactileArraySpec faces = test_objects::StandPad();
+  faces.placement = PadElementPlacement::kFaceCentres;
+  TactileArraySpec curved = test_objects::StandPad();
+  curved.bend_radius_x = 0.05;
+  struct Case {
+    const char* name;
+    TactileArraySpec pad;
+    size_t loaded;
+  };
+  for (const Case& c : {Case{"face centres", faces, 168}, Case{"curved", curved, 28}}) {
+    PadWorld world(c.pad, 0.1, Vec3(0.03, 0.06, 0.01));
+    Simulation simulation = world.Start();
+    simulation.Step(&world.state, 2000);
+    const Vec3 force = world.PadForce();
+    EXPECT_NEAR(-force.z() / (0.1 * kG), 1.0, 5e-3) << c.name;
+    EXPECT_NEAR(std::hypot(force.x(), force.y()), 0, 1e-3 * kG) << c.name;
+    EXPECT_EQ(world.LoadedElements(), c.loaded) << c.name;
   }
 }
 

@@ -342,6 +342,33 @@ TEST(UrdfLoaderTest, RejectsBadTactileArrayNumbers) {
   ExpectInvalid(pad("14", "nan", "0.004"), {"'pad' pitch", "nan"});
 }
 
+TEST(UrdfLoaderTest, TactileArraySensingMeshOptions) {
+  const auto pad = [](const std::string& extra) {
+    return Robot(Link("a") + "<tactile_array name=\"pad\" link=\"a\" rows=\"14\" cols=\"6\" pitch=\"0.0034\" "
+                             "thickness=\"0.004\" " + extra + "/>");
+  };
+  const TactileArraySpec plain = LoadUrdf(pad(""), nullptr, Limits()).tactile_arrays.at(0);
+  EXPECT_EQ(plain.subdivision, 1u);
+  EXPECT_EQ(plain.placement, PadElementPlacement::kVertices);
+  EXPECT_EQ(plain.bend_radius_x, 0);
+  EXPECT_EQ(plain.bend_radius_y, 0);
+  const TactileArraySpec curved =
+      LoadUrdf(pad("subdivision=\"2\" elements=\"face_centres\" bend_radius=\"0.01 0\""), nullptr, Limits())
+          .tactile_arrays.at(0);
+  EXPECT_EQ(curved.subdivision, 2u);
+  EXPECT_EQ(curved.placement, PadElementPlacement::kFaceCentres);
+  EXPECT_EQ(curved.bend_radius_x, 0.01);
+  EXPECT_EQ(curved.bend_radius_y, 0);
+  EXPECT_EQ(curved.ElementCount(), 14u * 6 * 8);
+  ExpectInvalid(pad("subdivision=\"0\""), {"'pad' subdivision", "'0'"});
+  ExpectInvalid(pad("subdivision=\"17\""), {"'pad' subdivision", "'17'", "16"});
+  ExpectInvalid(pad("elements=\"edges\""), {"'pad' elements", "'edges'", "face_centres"});
+  ExpectInvalid(pad("bend_radius=\"0.01\""), {"'pad' bend_radius", "2 number"});
+  // 6 × 3.4 mm = 20.4 mm wide: a radius below 20.4 / π = 6.49 mm would wrap more than a quarter turn each way.
+  ExpectInvalid(pad("bend_radius=\"0.005 0\""), {"'pad' bend_radius", "0.005", "along x", "width / pi"});
+  ExpectInvalid(pad("bend_radius=\"0 -1\""), {"'pad' bend_radius", "-1", "along y"});
+}
+
 TEST(UrdfLoaderTest, RejectsGeometryUrdfdomCouldNotParse) {
   // urdfdom logs the error but returns the model without the collision element: it must not be dropped silently.
   ExpectInvalid(Robot(Link("a", InertialXml() + "<collision><geometry><box size=\"1 1\"/></geometry></collision>")),
