@@ -12,6 +12,9 @@
   of whole steps); static_load_rel_error: a 0.2 kg box on a 6 × 14 pad after 1 s at dt = 1 ms, one element per
   texel (runtime_vs_error: dt ∈ {1e-4, 3e-4, 1e-3, 3e-3} × elements per texel edge ∈ {1, 2, 4}); cells_reporting:
   texels with a non-zero intensity under a 3 × 6 cm box covering the pad (cells_covered: texels under it).
+- inprocess_cycle: the same 45 s cycle in process (graspsim_tactile_bench "cycle": no gRPC, no frames sent) at
+  dt = 1 and 2 ms; realtime_factor_dt_2ms: the gRPC cycle above at a 2 ms time step (SetSimulationParams), with its
+  lift and slip.
 - mujoco_realtime_factor, mujoco_cells_reporting: the same cycle and the same pressed box in MuJoCo with
   touch_grid pads (tests/bench/mujoco_tactile.py), in this process.
 - shape_iou: the shape-recognition experiment's IoU, read from its gtest (TactileShape*) when graspsim_tests has
@@ -59,14 +62,17 @@ def inprocess() -> dict:
             "static_load_rel_error": default["error"],
             "static_load_rel_error_max": max(r["error"] for r in table),
             "runtime_vs_error": table,
+            "inprocess_cycle": [{k: (round(v, 4) if isinstance(v, float) else v) for k, v in c.items()}
+                                for c in data["cycle"]],
             "cells_reporting": cells["covering"]["cells_reporting"], "cells_covered": cells["covering"]["cells_covered"],
             "cells_reporting_cube_2cm": cells["cube_2cm"]["cells_reporting"],
             "cells_covered_cube_2cm": cells["cube_2cm"]["cells_covered"]}
 
 
-def _cycle(client, hold_time: float):
+def _cycle(client, hold_time: float, time_step: float = 1e-3):
     scene_id = client.create_scene("tactile bench").id
     try:
+        client.set_simulation_params(scene_id, time_step=time_step)
         client.add_object(scene_id, "table", builtin="table")
         client.add_object(scene_id, CUBE, builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
         client.add_robot(scene_id, GRIPPER, builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, GRIPPER_BASE_Z, 1, 0, 0, 0])
@@ -101,7 +107,13 @@ def work_cycle(client) -> dict:
     def num(x, digits=5):
         return None if math.isnan(x) else round(float(x), digits)
     log(f"work cycle: {simulated:.2f} s simulated in {wall:.2f} s, stages {' > '.join(result.stages())}")
+    # The same cycle at a 2 ms time step (the lift and slip say whether it still does the job).
+    at_2ms, wall_2ms = _cycle(client, hold_time=max(CYCLE_S - rest, 1.0), time_step=2e-3)
+    summary_2ms = at_2ms.summary()
+    log(f"work cycle at dt = 2 ms: {at_2ms.time[-1] - at_2ms.time[0]:.2f} s simulated in {wall_2ms:.2f} s")
     return {"realtime_factor": round(simulated / wall, 3), "pad_sum_mismatch": mismatch, "work_cycle": "ran",
+            "realtime_factor_dt_2ms": round(float(at_2ms.time[-1] - at_2ms.time[0]) / wall_2ms, 3),
+            "cycle_dt_2ms_lift_mm": num(summary_2ms.lift * 1e3, 3), "cycle_dt_2ms_slip_mm": num(summary_2ms.slip * 1e3, 3),
             "cycle_simulated_s": round(simulated, 3), "cycle_wall_s": round(wall, 3), "cycle_frames": len(result),
             "cycle_stages": result.stages(), "cycle_hold_mismatch_max": num(summary.hold_mismatch),
             "cycle_lift_mm": num(summary.lift * 1e3, 3), "cycle_slip_mm": num(summary.slip * 1e3, 3),
