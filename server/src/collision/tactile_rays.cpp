@@ -369,7 +369,7 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
       hit.body = m.best_body[e];
       hit.depth = m.best_depth[e];
       hit.normal = pad_rotation * pad.elements[e].normal;
-      hit.point = pad_world * pad.elements[e].position + m.best_t[e] * hit.normal;
+      hit.point = pad_rotation * pad.elements[e].position + pad_world.position + m.best_t[e] * hit.normal;
     }
   }
 }

@@ -33,14 +33,26 @@ Vec3 ProjectBristle(const Vec3& normal, const Vec3& bristle, double limit) {
   return z;
 }
 
-// e^x − 1. A sticking contact's arguments are ~1e-8: there the cubic is exact to rounding (the next term is
-// x⁴/24 < 1e-21 relative) and several times cheaper than the library call, which every contact makes twice.
-double ExpMinusOne(double x) { return std::abs(x) < 1e-5 ? x * (1 + x * (0.5 + x / 6)) : std::expm1(x); }
+// e^x − 1 and (e^x − 1)/x. A sticking contact's arguments are ~1e-8: there the series are exact to rounding (the
+// next terms are below 1e-16 relative) and several times cheaper than the library call and the division, which
+// every contact needs twice a step. x = −∞ (g underflowing) gives −1 and 0.
+struct ExpMinusOne {
+  double value, over_x;
+  explicit ExpMinusOne(double x) {
+    if (std::abs(x) < 1e-5) {
+      over_x = 1 + x * (0.5 + x / 6);
+      value = x * over_x;
+    } else {
+      value = std::expm1(x);
+      over_x = value / x;
+    }
+  }
+};
 
 // exp(−v²/v_s²), the Stribeck hump; v_s ≤ 0 would be a drop of zero width: 1 at rest only.
 double Hump(const ContactParams& params, double slip_speed) {
   const double vs = params.stribeck_velocity;
-  return vs > 0 ? 1 + ExpMinusOne(-(slip_speed * slip_speed) / (vs * vs)) : (slip_speed == 0 ? 1.0 : 0.0);
+  return vs > 0 ? 1 + ExpMinusOne(-(slip_speed * slip_speed) / (vs * vs)).value : (slip_speed == 0 ? 1.0 : 0.0);
 }
 
 double Stribeck(const ContactParams& params, double normal_force, double hump) {
@@ -83,7 +95,8 @@ ContactForce EvaluateContact(const ContactParams& params, double depth, const Ve
 
   const double sigma0 = params.bristle_stiffness;
   const Vec3 z = ProjectBristle(normal, bristle, StaticLimit(params, out.normal_force) / sigma0);
-  const Vec3 z_rate = slip - (sigma0 * speed / g) * z;
+  const double relax = sigma0 * speed / g;  // −a of the bristle equation ż = v + a z
+  const Vec3 z_rate = slip - relax * z;
   out.bristle_rate = z_rate;
   const double sigma1 = params.stribeck_velocity > 0 ? params.bristle_damping * hump : 0.0;
   out.force -= sigma0 * z + sigma1 * z_rate + params.viscous_friction * slip;
@@ -103,14 +116,14 @@ ContactForce EvaluateContact(const ContactParams& params, double depth, const Ve
   // the step's displacement h v, so −σ0 P would add a drag σ0 h per contact to every steady slide.
   // Over a step the exact update moves z by (1 − e^{a dt})/(−a) · v, a = −σ0|v|/g, not dt · v: the bristles of a
   // contact slipping many bristle lengths per step saturate, and their stiffness falls by that ratio.
-  const double a_dt = speed > 0 && dt > 0 ? -sigma0 * speed / g * dt : 0;
-  const double follow = a_dt < -1e-12 ? -ExpMinusOne(a_dt) / -a_dt : 1.0;
+  const double follow = dt > 0 ? ExpMinusOne(-relax * dt).over_x : 1.0;
   const double tangential_stiffness = sigma0 * follow;
   out.k_iso = -tangential_stiffness;
   out.k_normal += tangential_stiffness;
   if (speed > 0) {
-    out.slip_direction = slip / speed;
-    const double stick = std::clamp(1 - sigma0 * z.dot(out.slip_direction) / g, 0.0, 1.0);
+    const double inverse_speed = 1 / speed;
+    out.slip_direction = slip * inverse_speed;
+    const double stick = std::clamp(1 - relax * inverse_speed * z.dot(out.slip_direction), 0.0, 1.0);
     out.k_slip = tangential_stiffness * (1 - stick);
   }
   return out;
@@ -133,11 +146,11 @@ Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3
   // a convex combination of z and the steady state, so no dt can overshoot (explicit Euler's factor 1 + a dt
   // leaves [−1, 1] once dt > 2g/(σ0|v|)). expm1 keeps (e^{a dt} − 1)/a accurate when a dt → 0; a dt = −∞
   // (g underflowing) gives z⁺ = 0, the relaxed bristle.
-  const double a = -sigma0 * speed / g;
-  const double x = a * dt;
-  const double grown = ExpMinusOne(x);  // e^{a dt} − 1
-  const double gain = x == 0 ? dt : grown / a;  // x == 0 only by underflow
-  return ProjectBristle(normal, (1 + grown) * z + gain * slip, cap);  // projection again only removes rounding
+  const double x = -sigma0 * speed / g * dt;  // a dt
+  const ExpMinusOne grown(x);                   // e^{a dt} − 1, and over a dt
+  // No projection afterwards: a convex combination of a capped z and z_ss (|z_ss| = g/σ0 ≤ the cap), both in the
+  // tangent plane, stays capped and tangent up to rounding, and the next evaluation projects anyway.
+  return (1 + grown.value) * z + (dt * grown.over_x) * slip;
 }
 
 ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b) {
