@@ -754,7 +754,7 @@ near(pose, [0 0 0.775 1 0 0 0], 1e-9, 'a refused work cycle moved the cube');
 end
 
 function test_error_other_services_unimplemented(c, sid)
-expectError(@() c.call('GraspService', 'SimulateGrasp', struct('scene_id', sid)), 'graspsim:UNIMPLEMENTED', {});
+expectError(@() c.call('GraspService', 'PlanArmPath', struct('scene_id', sid)), 'graspsim:UNIMPLEMENTED', {});
 expectError(@() c.call('PerceptionService', 'SegmentScene', struct()), 'graspsim:UNIMPLEMENTED', {});
 expectError(@() c.call('SceneService', 'NoSuchMethod', struct()), 'graspsim:NOT_FOUND', {'NoSuchMethod'});
 expectError(@() c.call('SceneService', 'GetScene', struct('scene_idd', sid)), 'graspsim:INVALID_ARGUMENT', ...

@@ -8,8 +8,8 @@ from graspsim.v1 import (gateway_pb2, gateway_pb2_grpc, grasp_pb2, grasp_pb2_grp
 CALLS = {
     "GatewayService.ListDevices": lambda ch: gateway_pb2_grpc.GatewayServiceStub(ch).ListDevices(
         gateway_pb2.ListDevicesRequest(), timeout=10),
-    "GraspService.SimulateGrasp": lambda ch: grasp_pb2_grpc.GraspServiceStub(ch).SimulateGrasp(
-        grasp_pb2.SimulateGraspRequest(scene_id="s", body_id="b", hand_id="h"), timeout=10),
+    "GraspService.PlanArmPath": lambda ch: grasp_pb2_grpc.GraspServiceStub(ch).PlanArmPath(
+        grasp_pb2.PlanArmPathRequest(scene_id="s", arm_id="a"), timeout=10),
     "PerceptionService.SegmentScene": lambda ch: perception_pb2_grpc.PerceptionServiceStub(ch).SegmentScene(
         perception_pb2.SegmentSceneRequest(), timeout=10),
 }

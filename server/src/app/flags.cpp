@@ -112,6 +112,12 @@ const std::vector<FlagSpec>& Specs() {
       {"drain-timeout-s", "on SIGTERM, how long in-flight requests may finish before they are cancelled, s",
        [](const ServerFlags& f) { return FormatNumber(f.server.drain_timeout_s); },
        [](const std::string& v, ServerFlags* f) { f->server.drain_timeout_s = ParsePositive("drain-timeout-s", v); }},
+      {"grasp-data-dir", "directory of the grasp-set store (grasp_sets.sqlite), or off to store nothing",
+       [](const ServerFlags& f) { return f.server.grasp_data_dir; },
+       [](const std::string& v, ServerFlags* f) {
+         if (v.empty()) ThrowInvalidArgument("--grasp-data-dir: empty; give a directory or off");
+         f->server.grasp_data_dir = v;
+       }},
   };
   return specs;
 }

@@ -1,6 +1,7 @@
 #include "rpc/server.h"
 
 #include <chrono>
+#include <cstdlib>
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -8,11 +9,18 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/log.h"
+#include "rpc/grasp_service.h"
 #include "rpc/scene_service.h"
 #include "rpc/tactile_service.h"
 #include "rpc/unimplemented_services.h"
 
 namespace graspsim::rpc {
+
+std::string DefaultGraspDataDir() {
+  if (const char* xdg = std::getenv("XDG_DATA_HOME"); xdg != nullptr && *xdg != '\0') return std::string(xdg) + "/graspsim";
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') return std::string(home) + "/.local/share/graspsim";
+  return "graspsim-data";
+}
 
 GraspsimServer::GraspsimServer(const ServerOptions& options)
     : options_(options), registry_(options.limits), pool_(options.worker_threads) {
@@ -22,7 +30,9 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
   services_.push_back(
       std::make_unique<SceneServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<PerceptionServiceStub>());
-  services_.push_back(std::make_unique<GraspServiceStub>());
+  std::shared_ptr<grasp::GraspStore> grasp_store;
+  if (options.grasp_data_dir != "off") grasp_store = std::make_shared<grasp::GraspStore>(options.grasp_data_dir);
+  services_.push_back(std::make_unique<GraspServiceImpl>(&registry_, &pool_, std::move(grasp_store)));
   services_.push_back(
       std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<GatewayServiceStub>());

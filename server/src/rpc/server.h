@@ -14,6 +14,8 @@
 
 namespace graspsim::rpc {
 
+std::string DefaultGraspDataDir();
+
 struct ServerOptions {
   std::string listen = "127.0.0.1:50051";
   int max_message_bytes = 4 << 20;
@@ -21,6 +23,9 @@ struct ServerOptions {
   double drain_timeout_s = 10;
   int worker_threads = 16;  // request bodies run here, off gRPC's threads
   Limits limits;
+  // Grasp sets survive restarts here (SQLite); "off" stores nothing. The default follows the XDG base
+  // directories: $XDG_DATA_HOME/graspsim, else $HOME/.local/share/graspsim, else ./graspsim-data.
+  std::string grasp_data_dir = DefaultGraspDataDir();
   bool http_enabled = true;
   HttpGatewayOptions http;
 };

@@ -11,13 +11,14 @@ Matplotlib helpers (optional extra "plot") live in graspsim.plot, imported only 
 from graspsim import inertia, meshes
 from graspsim._client import Client, connect
 from graspsim._errors import GraspsimError
+from graspsim._grasp import GraspSetResult
 from graspsim._pose import Pose, as_pose, quaternion_about_axis, quaternion_to_matrix
 from graspsim._sensors import ForceTorqueState, GripperState, SensorStream, TactileFrame
 from graspsim._watch import SceneWatch, Snapshot
 from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult, WorkCycleSummary
 from graspsim.v1 import common_pb2, scene_pb2, tactile_pb2
 
-__all__ = ["Client", "ForceTorqueState", "GraspsimError", "GripperState", "Pose", "SceneWatch", "SensorStream",
+__all__ = ["Client", "ForceTorqueState", "GraspSetResult", "GraspsimError", "GripperState", "Pose", "SceneWatch", "SensorStream",
            "Snapshot", "TactileFrame", "WorkCycleFrame", "WorkCycleResult", "WorkCycleSummary", "as_pose",
            "common_pb2", "connect", "inertia", "meshes", "quaternion_about_axis", "quaternion_to_matrix",
            "scene_pb2", "tactile_pb2"]

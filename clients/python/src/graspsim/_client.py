@@ -7,12 +7,13 @@ import grpc
 
 from graspsim import _build
 from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
+from graspsim._grasp import GraspSetResult, grasps_to_arrays, target_proto
 from graspsim._pose import Pose, PoseLike, as_pose
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
 from graspsim._upload import FileData, upload_chunks
 from graspsim._watch import SceneWatch
 from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult
-from graspsim.v1 import common_pb2, scene_pb2, scene_pb2_grpc, tactile_pb2, tactile_pb2_grpc
+from graspsim.v1 import common_pb2, grasp_pb2, grasp_pb2_grpc, scene_pb2, scene_pb2_grpc, tactile_pb2, tactile_pb2_grpc
 
 _CHANNEL_OPTIONS = [
     ("grpc.max_receive_message_length", 256 << 20),  # scenes with include_geometry can be large
@@ -49,6 +50,7 @@ class Client:
         self.call_timeout = call_timeout
         self.scene_stub = scene_pb2_grpc.SceneServiceStub(channel)
         self.tactile_stub = tactile_pb2_grpc.TactileServiceStub(channel)
+        self.grasp_stub = grasp_pb2_grpc.GraspServiceStub(channel)
 
     def close(self) -> None:
         """Closes the channel; open WatchScene streams end."""
@@ -296,3 +298,81 @@ class Client:
             call.cancel()  # a no-op once the stream has ended; stops the server's run otherwise
         return WorkCycleResult.from_frames(frames, tactile_setpoint=tactile_setpoint, lift_height=lift_height,
                                            coverage=coverage)
+
+    # --- grasp planning ----------------------------------------------------------------------------------
+    def plan_grasps(self, hand: str, *, scene_id: Optional[str] = None, body_id: Optional[str] = None,
+                    mesh=None, method: str = "bounding_box", friction: Optional[float] = None,
+                    preshapes: Sequence[str] = (), standoffs: Sequence[float] = (), rolls: Optional[int] = None,
+                    spacing: Optional[float] = None, circle_samples: Optional[int] = None,
+                    grasp_points=None, seed: Optional[int] = None, max_candidates: int = 0, max_grasps: int = 0,
+                    recompute: bool = False, progress: bool = True,
+                    on_progress: Optional[Callable[[int, int], None]] = None,
+                    timeout: Optional[float] = None) -> GraspSetResult:
+        """Plans the grasp set of an object for a built-in hand ("schunk_pg70", "barrett_bh8_282", "schunk_sdh2"),
+        or returns the stored one (same hand, mesh, obstacles, parameters: .from_store is True).
+
+        The object is a scene's body (scene_id, body_id; the scene's other bodies are obstacles) or mesh=(vertices
+        (n, 3) m, triangles (m, 3)). method: "bounding_box", "grasp_points" (grasp_points=(a, b) or detected),
+        "centroid_circles". friction μ (None = 0.4); preshapes (empty = all); standoffs m (empty = [0]); rolls
+        per approach (None = 4); spacing m of the bounding-box samples (None = 0.02); seed (None = 1);
+        max_candidates (0 = all); max_grasps kept (0 = 50). progress=True shows a tqdm bar when tqdm is
+        installed; on_progress(done, total) is called with every progress message. Returns a GraspSetResult
+        whose .grasps and .contacts are numpy structured arrays (object frame). timeout (s) bounds the call.
+        """
+        request = grasp_pb2.PlanGraspsRequest(object=target_proto(scene_id, body_id, mesh), hand=hand,
+                                              method=method, preshapes=list(preshapes), standoffs=list(standoffs),
+                                              max_candidates=max_candidates, max_grasps=max_grasps,
+                                              recompute=recompute)
+        for name, value in (("friction", friction), ("rolls", rolls), ("spacing", spacing),
+                            ("circle_samples", circle_samples), ("seed", seed)):
+            if value is not None:
+                setattr(request, name, value)
+        if grasp_points is not None:
+            a, b = grasp_points
+            request.grasp_point_a.CopyFrom(common_pb2.Vec3(x=a[0], y=a[1], z=a[2]))
+            request.grasp_point_b.CopyFrom(common_pb2.Vec3(x=b[0], y=b[1], z=b[2]))
+        bar = None
+        if progress:
+            try:
+                from tqdm import tqdm
+                bar = tqdm(total=0, unit="candidates", desc=f"grasps {hand}", leave=False)
+            except ImportError:
+                bar = None
+        call = self.grasp_stub.PlanGrasps(request, timeout=timeout)
+        result = None
+        try:
+            for message in call:
+                if bar is not None and message.candidates_total:
+                    bar.total = message.candidates_total
+                    bar.n = message.candidates_done
+                    bar.refresh()
+                if on_progress is not None:
+                    on_progress(message.candidates_done, message.candidates_total)
+                if message.HasField("result"):
+                    result = GraspSetResult.from_proto(message.result)
+        except grpc.RpcError as err:
+            raise from_rpc_error(err) from None
+        finally:
+            call.cancel()  # a no-op once the stream has ended; stops the planning otherwise
+            if bar is not None:
+                bar.close()
+        if result is None:
+            raise GraspsimError(grpc.StatusCode.INTERNAL, "PlanGrasps ended without a grasp set")
+        return result
+
+    def get_grasp_set(self, set_id: str) -> GraspSetResult:
+        """A stored grasp set by its id (GraspSetResult.set_id)."""
+        return GraspSetResult.from_proto(
+            self._unary("GetGraspSet", grasp_pb2.GetGraspSetRequest(set_id=set_id), self.grasp_stub))
+
+    def evaluate_grasp(self, hand: str, candidate: grasp_pb2.GraspCandidate, *, scene_id: Optional[str] = None,
+                       body_id: Optional[str] = None, mesh=None, friction: Optional[float] = None):
+        """Simulates one candidate (a grasp_pb2.GraspCandidate, object frame); returns (grasp row, contacts) as
+        structured arrays of one grasp, whatever its outcome ("grasp", "missed", "collision")."""
+        request = grasp_pb2.EvaluateGraspRequest(object=target_proto(scene_id, body_id, mesh), hand=hand,
+                                                 candidate=candidate)
+        if friction is not None:
+            request.friction = friction
+        reply = self._unary("EvaluateGrasp", request, self.grasp_stub)
+        rows, contacts = grasps_to_arrays([reply], len(reply.joint_positions))
+        return rows[0], contacts

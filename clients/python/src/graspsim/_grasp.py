@@ -1,0 +1,91 @@
+"""Grasp planning results as numpy structured arrays (GraspService.PlanGrasps / GetGraspSet / EvaluateGrasp)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import List, Optional, Sequence
+
+import numpy as np
+
+from graspsim.v1 import common_pb2, grasp_pb2
+
+
+def grasp_dtype(joint_count: int) -> np.dtype:
+    """One row per grasp; every vector in the object's frame (m, unit directions, quaternion w x y z)."""
+    return np.dtype([
+        ("candidate_index", np.uint32), ("outcome", "U9"), ("preshape", "U16"),
+        ("approach", np.float64, 3), ("target", np.float64, 3), ("reference", np.float64, 3),
+        ("roll", np.float64), ("standoff", np.float64),
+        ("hand_pose", np.float64, 7), ("joint_positions", np.float64, max(joint_count, 0)),
+        ("epsilon", np.float64), ("volume", np.float64), ("force_closure", np.bool_), ("contact_count", np.uint32),
+    ])
+
+
+CONTACT_DTYPE = np.dtype([("grasp", np.uint32), ("point", np.float64, 3), ("normal", np.float64, 3),
+                          ("link", "U64")])
+
+
+def _vec(v: common_pb2.Vec3) -> List[float]:
+    return [v.x, v.y, v.z]
+
+
+def _pose(p: common_pb2.Pose) -> List[float]:
+    q = p.orientation
+    return _vec(p.position) + ([q.w, q.x, q.y, q.z] if p.HasField("orientation") else [1.0, 0.0, 0.0, 0.0])
+
+
+def grasps_to_arrays(grasps: Sequence[grasp_pb2.Grasp], joint_count: int):
+    """(grasps, contacts): structured arrays; contacts["grasp"] indexes rows of grasps."""
+    rows = np.zeros(len(grasps), dtype=grasp_dtype(joint_count))
+    contacts = np.zeros(sum(len(g.contacts) for g in grasps), dtype=CONTACT_DTYPE)
+    k = 0
+    for i, g in enumerate(grasps):
+        c = g.candidate
+        rows[i] = (g.candidate_index, g.outcome, c.preshape, _vec(c.approach), _vec(c.target), _vec(c.reference),
+                   c.roll, c.standoff, _pose(g.hand_pose), list(g.joint_positions)[:joint_count] +
+                   [0.0] * max(0, joint_count - len(g.joint_positions)), g.epsilon, g.volume, g.force_closure,
+                   len(g.contacts))
+        for contact in g.contacts:
+            contacts[k] = (i, _vec(contact.point), _vec(contact.normal), contact.link)
+            k += 1
+    return rows, contacts
+
+
+@dataclass
+class GraspSetResult:
+    """A planned (or stored) grasp set: the force-closure grasps, best ε first, and the run's counts."""
+    set_id: str
+    hand: str
+    mesh_sha256: str
+    from_store: bool
+    candidates: int
+    missed: int
+    collisions: int
+    simulated: int
+    force_closure: int
+    seconds: float          # s, simulating and scoring every candidate when the set was planned
+    joint_ids: List[str]
+    preshapes: List[str]
+    params: str
+    grasps: np.ndarray      # grasp_dtype(len(joint_ids))
+    contacts: np.ndarray    # CONTACT_DTYPE
+
+    @classmethod
+    def from_proto(cls, message: grasp_pb2.GraspSet) -> "GraspSetResult":
+        grasps, contacts = grasps_to_arrays(message.grasps, len(message.joint_ids))
+        return cls(message.set_id, message.hand, message.mesh_sha256, message.from_store, message.candidates,
+                   message.missed, message.collisions, message.simulated, message.force_closure, message.seconds,
+                   list(message.joint_ids), list(message.preshapes), message.params, grasps, contacts)
+
+    @property
+    def candidates_per_s(self) -> float:
+        return self.candidates / self.seconds if self.seconds > 0 else float("inf")
+
+
+def target_proto(scene_id: Optional[str], body_id: Optional[str], mesh) -> grasp_pb2.GraspTarget:
+    """The object: a scene's body, or a mesh (vertices (n, 3) m, triangles (m, 3) indices)."""
+    if mesh is not None:
+        vertices, triangles = mesh
+        return grasp_pb2.GraspTarget(mesh=common_pb2.MeshData(
+            vertices=np.ascontiguousarray(vertices, dtype="<f4").tobytes(),
+            triangles=np.ascontiguousarray(triangles, dtype="<u4").tobytes()))
+    return grasp_pb2.GraspTarget(scene_id=scene_id or "", body_id=body_id or "")

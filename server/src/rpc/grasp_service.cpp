@@ -1,0 +1,225 @@
+#include "rpc/grasp_service.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/validate.h"
+#include "grasp/hand.h"
+#include "grasp/scene_object.h"
+#include "rpc/call.h"
+#include "rpc/convert.h"
+#include "rpc/unimplemented_services.h"
+
+namespace graspsim::rpc {
+namespace {
+
+constexpr size_t kDefaultMaxGrasps = 50;
+constexpr uint32_t kMaxGraspsLimit = 10000;
+
+struct ResolvedObject {
+  std::shared_ptr<const TriangleMesh> mesh;
+  std::vector<grasp::ObstacleBox> obstacles;
+};
+
+ResolvedObject ObjectFromProto(const v1::GraspTarget& target, const SceneRegistry& registry) {
+  ResolvedObject out;
+  if (!target.scene_id().empty()) {
+    if (target.body_id().empty()) ThrowInvalidArgument("object.body_id: empty; name the body to grasp");
+    const SceneView view = registry.Get(target.scene_id())->View();
+    grasp::SceneObject object = grasp::ObjectFromScene(*view.model, view.state, "object.body_id", target.body_id());
+    out.mesh = std::move(object.mesh);
+    out.obstacles = std::move(object.obstacles);
+    return out;
+  }
+  if (!target.body_id().empty()) ThrowInvalidArgument("object.scene_id: empty; a body needs its scene");
+  if (target.mesh().vertices().empty() && target.mesh().triangles().empty()) {
+    ThrowInvalidArgument("object: empty; give scene_id and body_id, or a mesh");
+  }
+  out.mesh = std::make_shared<TriangleMesh>(MeshFromProto("object.mesh", target.mesh(), registry.limits()));
+  return out;
+}
+
+grasp::SimulationParams SimulationFromProto(bool has_friction, double friction) {
+  grasp::SimulationParams params;
+  if (has_friction) {
+    if (!std::isfinite(friction) || friction <= 0) {
+      ThrowInvalidArgument("friction: " + FormatNumber(friction) + "; give a friction coefficient > 0 (absent = 0.4)");
+    }
+    params.friction = friction;
+  }
+  grasp::ValidateSimulationParams(params);
+  return params;
+}
+
+grasp::Candidate CandidateFromProto(const v1::GraspCandidate& c, const grasp::HandSpec& hand) {
+  grasp::Candidate out;
+  const Vec3 approach = FromProto(c.approach());
+  CheckFinite("candidate.approach", approach);
+  if (approach.norm() < 1e-9) ThrowInvalidArgument("candidate.approach: zero; give a direction");
+  out.approach = approach.normalized();
+  Vec3 reference = FromProto(c.reference());
+  CheckFinite("candidate.reference", reference);
+  reference -= reference.dot(out.approach) * out.approach;
+  if (reference.norm() < 1e-6) reference = out.approach.unitOrthogonal();  // absent or along the approach
+  out.reference = reference.normalized();
+  out.target = FromProto(c.target());
+  CheckFinite("candidate.target", out.target);
+  CheckFinite("candidate.roll", c.roll());
+  out.roll = c.roll();
+  if (!std::isfinite(c.standoff()) || c.standoff() < 0 || c.standoff() > 0.2) {
+    ThrowInvalidArgument("candidate.standoff: " + FormatNumber(c.standoff()) + " m is outside [0, 0.2] m");
+  }
+  out.standoff = c.standoff();
+  const grasp::Preshape& preshape = grasp::FindPreshape(hand, "candidate.preshape", c.preshape());
+  out.preshape = static_cast<uint32_t>(&preshape - hand.preshapes.data());
+  return out;
+}
+
+void CandidateToProto(const grasp::Candidate& c, const std::vector<std::string>& preshapes, v1::GraspCandidate* out) {
+  ToProto(c.approach, out->mutable_approach());
+  ToProto(c.target, out->mutable_target());
+  ToProto(c.reference, out->mutable_reference());
+  out->set_roll(c.roll);
+  out->set_standoff(c.standoff);
+  out->set_preshape(preshapes.at(c.preshape));
+}
+
+void GraspToProto(const grasp::PlannedGrasp& g, const std::vector<std::string>& preshapes,
+             const std::vector<std::string>& links, const char* outcome, v1::Grasp* out) {
+  CandidateToProto(g.candidate, preshapes, out->mutable_candidate());
+  out->set_candidate_index(g.candidate_index);
+  out->set_outcome(outcome);
+  ToProto(g.hand_pose, out->mutable_hand_pose());
+  for (double q : g.joints) out->add_joint_positions(q);
+  for (const grasp::GraspContact& c : g.contacts) {
+    v1::Contact* contact = out->add_contacts();
+    ToProto(c.point, contact->mutable_point());
+    ToProto(c.normal, contact->mutable_normal());
+    contact->set_link(links.at(c.link));
+  }
+  out->set_epsilon(g.quality.epsilon);
+  out->set_volume(g.quality.volume);
+  out->set_force_closure(g.quality.force_closure);
+}
+
+const char* OutcomeName(grasp::Outcome outcome) {
+  switch (outcome) {
+    case grasp::Outcome::kGrasp: return "grasp";
+    case grasp::Outcome::kMissed: return "missed";
+    case grasp::Outcome::kCollision: return "collision";
+  }
+  return "";
+}
+
+}  // namespace
+
+GraspPlanJob PlanJobFromProto(const v1::PlanGraspsRequest& r, const SceneRegistry& registry) {
+  GraspPlanJob job;
+  const grasp::HandSpec hand = grasp::LoadHand("hand", r.hand());
+  job.hand = r.hand();
+  job.simulation = SimulationFromProto(r.has_friction(), r.friction());
+  grasp::CandidateParams& c = job.candidates;
+  const std::string method = r.method().empty() ? "bounding_box" : r.method();
+  const auto parsed = grasp::ParseCandidateMethod(method);
+  if (!parsed) {
+    ThrowInvalidArgument("method: '" + method.substr(0, 80) +
+                         "' is not one of bounding_box, grasp_points, centroid_circles");
+  }
+  c.method = *parsed;
+  c.preshapes.clear();
+  for (int i = 0; i < r.preshapes_size(); ++i) {
+    const grasp::Preshape& p = grasp::FindPreshape(hand, "preshapes[" + std::to_string(i) + "]", r.preshapes(i));
+    c.preshapes.push_back(static_cast<uint32_t>(&p - hand.preshapes.data()));
+  }
+  if (c.preshapes.empty()) {
+    for (uint32_t p = 0; p < hand.preshapes.size(); ++p) c.preshapes.push_back(p);
+  }
+  if (r.standoffs_size() > 64) ThrowInvalidArgument("standoffs: " + std::to_string(r.standoffs_size()) + " values; at most 64");
+  if (r.standoffs_size() > 0) c.standoffs.assign(r.standoffs().begin(), r.standoffs().end());
+  if (r.has_rolls()) c.rolls = static_cast<int>(std::min<uint32_t>(r.rolls(), 1u << 20));
+  if (r.has_spacing()) c.spacing = r.spacing();
+  if (r.has_circle_samples()) c.circle_samples = static_cast<int>(std::min<uint32_t>(r.circle_samples(), 1u << 20));
+  if (r.has_grasp_point_a() != r.has_grasp_point_b()) {
+    ThrowInvalidArgument(std::string(r.has_grasp_point_a() ? "grasp_point_b" : "grasp_point_a") +
+                         ": absent; give both grasp points or neither");
+  }
+  if (r.has_grasp_point_a()) c.grasp_points = std::make_pair(FromProto(r.grasp_point_a()), FromProto(r.grasp_point_b()));
+  if (r.has_seed()) c.seed = r.seed();
+  c.max_candidates = r.max_candidates();
+  if (r.max_grasps() > kMaxGraspsLimit) {
+    ThrowInvalidArgument("max_grasps: " + std::to_string(r.max_grasps()) + "; at most " + std::to_string(kMaxGraspsLimit));
+  }
+  job.max_grasps = r.max_grasps() == 0 ? kDefaultMaxGrasps : r.max_grasps();
+  job.recompute = r.recompute();
+  grasp::ValidateCandidateParams(c);
+  ResolvedObject object = ObjectFromProto(r.object(), registry);
+  job.mesh = std::move(object.mesh);
+  job.obstacles = std::move(object.obstacles);
+  return job;
+}
+
+void ToProto(const grasp::GraspSet& set, const grasp::StoredGraspSet& meta, bool from_store, v1::GraspSet* out) {
+  out->set_set_id(meta.key);
+  out->set_hand(set.hand);
+  out->set_mesh_sha256(meta.mesh_hash);
+  out->set_from_store(from_store);
+  out->set_candidates(set.candidates);
+  out->set_missed(set.missed);
+  out->set_collisions(set.collisions);
+  out->set_simulated(set.simulated);
+  out->set_force_closure(set.force_closure);
+  out->set_seconds(set.seconds);
+  for (const std::string& id : set.joint_names) out->add_joint_ids(id);
+  for (const std::string& name : set.preshape_names) out->add_preshapes(name);
+  for (const grasp::PlannedGrasp& g : set.grasps) GraspToProto(g, set.preshape_names, set.link_names, "grasp", out->add_grasps());
+  out->set_params(meta.params_text);
+}
+
+grpc::ServerWriteReactor<v1::PlanGraspsProgress>* GraspServiceImpl::PlanGrasps(Context* context,
+                                                                               const v1::PlanGraspsRequest* request) {
+  return StartPlanGraspsStream(*request, registry_, store_, pool_, context);
+}
+
+grpc::ServerUnaryReactor* GraspServiceImpl::GetGraspSet(Context* context, const v1::GetGraspSetRequest* request,
+                                                        v1::GraspSet* response) {
+  return RunUnary(context, "GraspService/GetGraspSet", pool_, [=, this] {
+    const std::string& id = request->set_id();
+    if (id.size() != 64 || id.find_first_not_of("0123456789abcdef") != std::string::npos) {
+      ThrowInvalidArgument("set_id: '" + id.substr(0, 80) + "' is not a grasp-set id (64 lowercase hex digits)");
+    }
+    if (!store_) throw Error(ErrorCode::kFailedPrecondition, "set_id: the server stores no grasp sets (--grasp-data-dir=off)");
+    const auto stored = store_->Find(id);
+    if (!stored) ThrowNotFound("set_id: no stored grasp set '" + id + "'");
+    ToProto(stored->set, *stored, true, response);
+  });
+}
+
+grpc::ServerUnaryReactor* GraspServiceImpl::EvaluateGrasp(Context* context, const v1::EvaluateGraspRequest* request,
+                                                          v1::Grasp* response) {
+  return RunUnary(context, "GraspService/EvaluateGrasp", pool_, [=, this] {
+    const grasp::HandSpec hand = grasp::LoadHand("hand", request->hand());
+    const grasp::SimulationParams params = SimulationFromProto(request->has_friction(), request->friction());
+    if (!request->has_candidate()) ThrowInvalidArgument("candidate: absent; give the candidate to simulate");
+    const grasp::Candidate candidate = CandidateFromProto(request->candidate(), hand);
+    ResolvedObject object = ObjectFromProto(request->object(), *registry_);
+    const grasp::GraspPlanner planner(request->hand(), object.mesh, std::move(object.obstacles), params);
+    grasp::PlannedGrasp grasp;
+    const grasp::Outcome outcome = planner.Evaluate(candidate, &grasp);
+    std::vector<std::string> links;
+    for (const grasp::HandLink& link : planner.hand().links()) links.push_back(link.name);
+    GraspToProto(grasp, planner.hand().preshape_names(), links, OutcomeName(outcome), response);
+  });
+}
+
+grpc::ServerUnaryReactor* GraspServiceImpl::PlanArmPath(Context* context, const v1::PlanArmPathRequest*,
+                                                        v1::PlanArmPathResponse*) {
+  return NotBuiltYetUnary(context, "GraspService/PlanArmPath", kMotionPlanning);
+}
+
+grpc::ServerWriteReactor<v1::PickAndPlaceProgress>* GraspServiceImpl::PickAndPlace(Context* context,
+                                                                                   const v1::PickAndPlaceRequest*) {
+  return NotBuiltYetStream<v1::PickAndPlaceProgress>(context, "GraspService/PickAndPlace", kMotionPlanning);
+}
+
+}  // namespace graspsim::rpc
