@@ -32,6 +32,8 @@ def test_pg70_structure(client, scene_id, pg70):
     assert set(pads) == {"pg70/pad_left", "pg70/pad_right"}
     for pad in pads.values():
         assert (pad.rows, pad.cols) == (14, 6) and pad.pitch == pytest.approx(0.0034)
+        # The built-in DSA 9205 pads: flat, one sensing element per texel at its centre.
+        assert (pad.subdivision, pad.elements, pad.bend_radius_x, pad.bend_radius_y) == (1, "vertices", 0, 0)
         assert pad.body_id in {"pg70/finger_left", "pg70/finger_right"}
     assert scene.summary.robot_count == 1 and [r.id for r in scene.robots] == ["pg70"]
     base = graspsim.Pose.from_proto({b.id: b for b in scene.bodies}["pg70/base_link"].pose)

@@ -134,7 +134,7 @@ classdef Client < handle
       %   Joint: id, robotId, type, parentBody, childBody, origin, axis, lower, upper, velocityLimit,
       %     effortLimit, position, velocity (rad/s or m/s), mimic (jointId, multiplier, offset).
       %     Robot: id, source, baseBody, bodyIds, jointIds, tactileArrayIds. Tactile array: id, bodyId, origin,
-      %     rows, cols, pitch, thickness. File: path, size, sha256.
+      %     rows, cols, pitch, thickness, subdivision, elements, bendRadius. File: path, size, sha256.
       options = graspsim.internal.parseOptions(struct('IncludeGeometry', false), varargin, 'getScene');
       response = obj.sceneCall('GetScene', ...
                        struct('scene_id', sceneId, 'include_geometry', logical(options.IncludeGeometry)));

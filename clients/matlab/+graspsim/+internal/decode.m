@@ -134,11 +134,14 @@ end
 
 function out = tactileArray(msg)
 % id, bodyId, origin 1-by-7 (body frame; texels in its x-y plane, sensing along +z), rows (texels along y),
-% cols (along x), pitch (m), thickness (m).
+% cols (along x), pitch (m), thickness (m), subdivision (mesh cells per texel edge), elements ('vertices' or
+% 'face_centres'), bendRadius 1-by-2 (m; a curved fingertip's radii along x and y, 0 = flat).
 out = struct('id', field(msg, 'id', ''), 'bodyId', field(msg, 'body_id', ''), ...
              'origin', pose(field(msg, 'origin', struct())), ...
              'rows', number(field(msg, 'rows', 0)), 'cols', number(field(msg, 'cols', 0)), ...
-             'pitch', number(field(msg, 'pitch', 0)), 'thickness', number(field(msg, 'thickness', 0)));
+             'pitch', number(field(msg, 'pitch', 0)), 'thickness', number(field(msg, 'thickness', 0)), ...
+             'subdivision', number(field(msg, 'subdivision', 0)), 'elements', field(msg, 'elements', ''), ...
+             'bendRadius', [number(field(msg, 'bend_radius_x', 0)), number(field(msg, 'bend_radius_y', 0))]);
 end
 
 function out = fileInfo(msg)
