@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "stress/sweep.h"
 #include "test_util.h"
 
 namespace graspsim {
@@ -39,28 +40,12 @@ BodySpec Box(const std::string& id, const Vec3& size, double mass, BodyMotion mo
   return body;
 }
 
-// A floor: a static 10 × 10 × 1 m slab whose top is at z = 0 in its frame, as a closed 12-triangle mesh. As a
-// mesh it is sampled at its 8 corners only, so every contact is a sample of the body resting on it: the
+// A floor: the stress sweep's static 10 × 10 × 1 m slab (top at z = 0 in its frame, a closed 12-triangle mesh).
+// As a mesh it is sampled at its 8 corners only, so every contact is a sample of the body resting on it: the
 // analytic answers below count those.
 BodySpec Floor() {
-  auto mesh = std::make_shared<TriangleMesh>();
-  for (float z : {-1.0f, 0.0f}) {
-    for (float y : {-5.0f, 5.0f}) {
-      for (float x : {-5.0f, 5.0f}) mesh->vertices.emplace_back(x, y, z);
-    }
-  }
-  // Vertex i = x + 2 y + 4 z (bits); faces counter-clockwise seen from outside.
-  mesh->triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  BodySpec floor;
+  BodySpec floor = stress::TableBody();
   floor.id = "floor";
-  floor.motion = BodyMotion::kStatic;
-  Geometry geometry;
-  geometry.kind = Geometry::Kind::kMesh;
-  geometry.mesh = mesh;
-  floor.collision.push_back(geometry);
-  floor.inertial.mass = 1000;
-  floor.inertial.inertia = Mat3::Identity() * 1000;
   return floor;
 }
 
