@@ -82,7 +82,10 @@ def print_joints(scene) -> None:
 def print_tactile_arrays(scene) -> None:
     print(f"\ntactile arrays ({len(scene.tactile_arrays)}):")
     for pad in scene.tactile_arrays:
-        print(f"  {pad.id:<16} on {pad.body_id:<18} {pad.rows} rows x {pad.cols} cols, pitch {pad.pitch * 1000:.1f} mm")
+        shape = "curved" if pad.bend_radius_x or pad.bend_radius_y else "flat"
+        print(f"  {pad.id:<16} on {pad.body_id:<18} {pad.rows} rows x {pad.cols} cols, pitch {pad.pitch * 1000:.1f} mm,"
+              f" {shape}, {pad.rows * pad.cols * pad.subdivision ** 2 * (2 if pad.elements == 'face_centres' else 1)}"
+              f" sensing elements ({pad.elements})")
 
 
 def print_snapshot(client: graspsim.Client, scene_id: str) -> None:
