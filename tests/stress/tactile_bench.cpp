@@ -194,7 +194,7 @@ std::string Cells(const char* name, const Vec3& box, double mass) {
 }
 
 // The 45 s work cycle at time step dt, in process.
-std::string Cycle(double dt) {
+std::string Cycle(double dt, double coverage = 1, double setpoint = 60000) {
   const double table_top = 0.75, cube = 0.05, base_z = 1.05, cycle_seconds = 45, rest_seconds = 3.4;
   Scene scene("bench", "tactile cycle bench", Limits{});
   // The built-in table and cube as the server's AddObject builds them (rpc/scene_service.cpp).
@@ -219,6 +219,8 @@ std::string Cycle(double dt) {
   request.gripper_id = "cell";
   request.object_id = "cube";
   request.hold_time = cycle_seconds - rest_seconds;
+  request.coverage = coverage;
+  request.tactile_setpoint = setpoint;
   WorkCycle cycle(model, state, request);
   std::vector<WorkCycleFrame> frames;
   const double start_time = state.time;
@@ -259,9 +261,11 @@ std::string Cycle(double dt) {
 
 int main(int argc, char** argv) {
   using namespace graspsim;
-  // "graspsim_tactile_bench cycle [dt]": only the in-process work cycle (for profiling).
+  // "graspsim_tactile_bench cycle [dt [coverage [set-point]]]": only the in-process work cycle (for profiling).
   if (argc > 1 && std::string(argv[1]) == "cycle") {
-    std::cout << Cycle(argc > 2 ? std::stod(argv[2]) : 1e-3) << std::endl;
+    std::cout << Cycle(argc > 2 ? std::stod(argv[2]) : 1e-3, argc > 3 ? std::stod(argv[3]) : 1,
+                       argc > 4 ? std::stod(argv[4]) : 60000)
+              << std::endl;
     return 0;
   }
   std::ostringstream out;
