@@ -1,0 +1,38 @@
+// k-nearest-neighbour queries on an unorganized point cloud through a uniform grid of buckets (the points of a
+// depth camera are spread evenly over surfaces, so a grid sized to the sample spacing answers a query from a few
+// cells; no tree to build). Results are exact and deterministic: ties in distance go to the lower index.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+
+namespace graspsim {
+
+class NeighborGrid {
+ public:
+  // `points` must outlive the grid and be non-empty. `cell_size` (m) > 0 only sets the speed, never the answer.
+  NeighborGrid(const std::vector<Vec3>& points, double cell_size);
+
+  // The indices of the k points nearest to `query` (itself included when it is one of the points), nearest first.
+  // Fewer than k only when the cloud has fewer points.
+  void Nearest(const Vec3& query, int k, std::vector<uint32_t>* out) const;
+
+  // A cell size for ~k neighbours within a ring or two of cells when the points sample a surface: the mean
+  // sample spacing estimated from the bounding box (the area of a surface in a box grows like its diagonal²).
+  static double SuggestCellSize(const std::vector<Vec3>& points, int k);
+
+ private:
+  int64_t CellIndex(int x, int y, int z) const { return (int64_t(z) * dims_[1] + y) * dims_[0] + x; }
+  Eigen::Vector3i CellOf(const Vec3& p) const;
+
+  const std::vector<Vec3>& points_;
+  double cell_size_;
+  Vec3 origin_;
+  Eigen::Vector3i dims_;
+  std::vector<uint32_t> cell_start_;  // CSR: the points of cell c are order_[cell_start_[c] .. cell_start_[c + 1])
+  std::vector<uint32_t> order_;
+};
+
+}  // namespace graspsim

@@ -1,0 +1,252 @@
+#include "perception/poisson.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/validate.h"
+#include "perception/marching_cubes.h"
+#include "perception/screened_poisson_solver.h"
+
+namespace graspsim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void CheckRange(const std::string& field, double value, double lo, double hi, bool lo_open = false) {
+  CheckFinite(field, value);
+  if (value < lo || value > hi || (lo_open && value == lo)) {
+    ThrowInvalidArgument(field + ": " + FormatNumber(value) + " is outside " + (lo_open ? "(" : "") +
+                         FormatNumber(lo) + ".." + FormatNumber(hi) + (lo_open ? "]" : ""));
+  }
+}
+
+void Validate(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, const PoissonParams& params) {
+  if (params.depth < 5 || params.depth > 8) {
+    ThrowInvalidArgument("depth: " + std::to_string(params.depth) + " is outside 5..8");
+  }
+  CheckRange("screening", params.screening, 0, 1e4, true);
+  CheckRange("scale", params.scale, 1.05, 4);
+  CheckRange("tolerance", params.tolerance, 0, 0.1, true);
+  if (params.max_iterations < 1 || params.max_iterations > 1000) {
+    ThrowInvalidArgument("max_iterations: " + std::to_string(params.max_iterations) + " is outside 1..1000");
+  }
+  if (points.empty()) ThrowInvalidArgument("points: the cloud is empty");
+  if (normals.size() != points.size()) {
+    ThrowInvalidArgument("normals: " + std::to_string(normals.size()) + " normals for " +
+                         std::to_string(points.size()) + " points");
+  }
+  Vec3 mean = Vec3::Zero();
+  for (size_t i = 0; i < points.size(); ++i) {
+    CheckFinite("points[" + std::to_string(i) + "]", points[i]);
+    CheckFinite("normals[" + std::to_string(i) + "]", normals[i]);
+    if (normals[i].squaredNorm() == 0) ThrowInvalidArgument("normals[" + std::to_string(i) + "]: zero length");
+    mean += points[i];
+  }
+  mean /= double(points.size());
+  Mat3 covariance = Mat3::Zero();
+  for (const Vec3& p : points) covariance += (p - mean) * (p - mean).transpose();
+  const Vec3 spread = Eigen::SelfAdjointEigenSolver<Mat3>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
+  if (!(spread[2] > 0)) {
+    ThrowInvalidArgument("points: all " + std::to_string(points.size()) + " points coincide");
+  }
+  // A surface needs two directions of spread; a line (or a single point) bounds no volume.
+  if (spread[1] <= 1e-12 * spread[2]) {
+    ThrowInvalidArgument("points: all " + std::to_string(points.size()) +
+                         " points lie on a line (spread across it " +
+                         FormatNumber(std::sqrt(std::max(spread[1], 0.0) / double(points.size()))) + " m)");
+  }
+}
+
+struct Grid {
+  int depth = 0;
+  int n = 0;         // nodes per side
+  Vec3 origin;
+  double h = 0;      // cell size, m
+  Vec3 ToGrid(const Vec3& p) const { return (p - origin) / h; }
+  int64_t Index(int i, int j, int k) const { return (int64_t(k) * n + j) * n + i; }
+};
+
+Grid MakeGrid(const std::vector<Vec3>& points, const PoissonParams& params) {
+  Vec3 lo = points.front(), hi = points.front();
+  for (const Vec3& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  Grid grid;
+  grid.depth = params.depth;
+  grid.n = (1 << params.depth) + 1;
+  const double side = (hi - lo).maxCoeff() * params.scale;
+  grid.h = side / (1 << params.depth);
+  grid.origin = (lo + hi) / 2 - Vec3::Constant(side / 2);
+  return grid;
+}
+
+// Surface area the samples cover, m²: cells they occupy on the finest grid at which a cell holds ≥ 4 samples on
+// average (so few cells the surface crosses are empty), each worth h² / 1.5 (the mean area of a randomly
+// oriented plane in a unit cube is 1 / 1.5 of the cubes it crosses).
+double EstimateArea(const std::vector<Vec3>& points, const Grid& grid) {
+  std::vector<int64_t> cells(points.size());
+  double area = 0;
+  for (int coarsen = 0; coarsen <= grid.depth; ++coarsen) {
+    const double h = grid.h * (1 << coarsen);
+    const int64_t n = int64_t(1) << (grid.depth - coarsen);
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Vec3 u = (points[i] - grid.origin) / h;
+      const int64_t x = std::clamp<int64_t>(int64_t(u.x()), 0, n - 1), y = std::clamp<int64_t>(int64_t(u.y()), 0, n - 1),
+                    z = std::clamp<int64_t>(int64_t(u.z()), 0, n - 1);
+      cells[i] = (z * n + y) * n + x;
+    }
+    std::sort(cells.begin(), cells.end());
+    const double occupied = double(std::unique(cells.begin(), cells.end()) - cells.begin());
+    area = occupied * h * h / 1.5;
+    if (double(points.size()) >= 4 * occupied) break;
+  }
+  return area;
+}
+
+// Stage 2: the normal field on the grid's edges, and the divergence of it the solver needs (b = −div V).
+std::vector<float> SplatNormals(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, const Grid& grid,
+                                double sample_area) {
+  const int n = grid.n;
+  const double half_width = std::clamp(std::sqrt(sample_area) / grid.h, 1.0, 16.0);  // cells
+  const int reach = int(std::ceil(half_width));
+  const double jump = sample_area / (grid.h * grid.h);  // edges a sample's patch crosses, per unit normal
+  std::vector<float> field[3];
+  for (auto& f : field) f.assign(int64_t(n) * n * n, 0.0f);
+  std::vector<double> weights[3];
+  int first[3];
+  for (size_t s = 0; s < points.size(); ++s) {
+    const Vec3 u = grid.ToGrid(points[s]);
+    const Vec3 normal = normals[s].normalized();
+    for (int a = 0; a < 3; ++a) {
+      // Component a lives on the a-edges, centred half a cell along a from their lower node.
+      for (int axis = 0; axis < 3; ++axis) {
+        const double c = u[axis] - (axis == a ? 0.5 : 0.0);
+        const int last = axis == a ? n - 2 : n - 1;
+        first[axis] = std::max(0, int(std::floor(c)) - reach + 1);
+        const int end = std::min(last, int(std::floor(c)) + reach);
+        weights[axis].clear();
+        double sum = 0;
+        for (int m = first[axis]; m <= end; ++m) {
+          const double w = std::max(0.0, 1.0 - std::abs(m - c) / half_width);
+          weights[axis].push_back(w);
+          sum += w;
+        }
+        for (double& w : weights[axis]) w /= sum;
+      }
+      const double amount = normal[a] * jump;
+      for (size_t k = 0; k < weights[2].size(); ++k) {
+        for (size_t j = 0; j < weights[1].size(); ++j) {
+          const double wjk = amount * weights[2][k] * weights[1][j];
+          const int64_t row = grid.Index(first[0], first[1] + int(j), first[2] + int(k));
+          for (size_t i = 0; i < weights[0].size(); ++i) field[a][row + i] += float(wjk * weights[0][i]);
+        }
+      }
+    }
+  }
+  // b_i = Σ_a V_a(edge into i) − V_a(edge out of i): the right-hand side of the normal equations.
+  std::vector<float> b(int64_t(n) * n * n, 0.0f);
+  const int64_t stride[3] = {1, n, int64_t(n) * n};
+  int64_t at = 0;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i, ++at) {
+        const int idx[3] = {i, j, k};
+        float sum = 0;
+        for (int a = 0; a < 3; ++a) {
+          if (idx[a] > 0) sum += field[a][at - stride[a]];
+          if (idx[a] + 1 < n) sum -= field[a][at];
+        }
+        b[at] = sum;
+      }
+    }
+  }
+  return b;
+}
+
+ScreeningSample Sample(const Vec3& point, const Grid& grid, double sqrt_beta) {
+  const Vec3 u = grid.ToGrid(point);
+  int base[3];
+  double t[3];
+  for (int a = 0; a < 3; ++a) {
+    base[a] = std::clamp(int(std::floor(u[a])), 0, grid.n - 2);
+    t[a] = u[a] - base[a];
+  }
+  ScreeningSample sample;
+  sample.base = grid.Index(base[0], base[1], base[2]);
+  for (int c = 0; c < 8; ++c) {
+    const double w = ((c & 1) ? t[0] : 1 - t[0]) * ((c >> 1 & 1) ? t[1] : 1 - t[1]) * ((c >> 2 & 1) ? t[2] : 1 - t[2]);
+    sample.weight[c] = float(w * sqrt_beta);
+  }
+  return sample;
+}
+
+// Stage 4: χ at each sample (the screening weights divided back out), averaged.
+double IsoValue(const std::vector<ScreeningSample>& samples, const std::vector<float>& chi, const Grid& grid) {
+  double sum = 0;
+  for (const ScreeningSample& s : samples) {
+    double value = 0, weight = 0;
+    for (int c = 0; c < 8; ++c) {
+      const int64_t at = s.base + (c & 1) + int64_t(c >> 1 & 1) * grid.n + int64_t(c >> 2 & 1) * grid.n * grid.n;
+      value += double(s.weight[c]) * chi[at];
+      weight += s.weight[c];
+    }
+    sum += weight > 0 ? value / weight : 0;
+  }
+  return sum / double(samples.size());
+}
+
+}  // namespace
+
+PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                 const PoissonParams& params) {
+  Validate(points, normals, params);
+  PoissonResult result;
+  PoissonStats& stats = result.stats;
+
+  auto start = Clock::now();
+  const Grid grid = MakeGrid(points, params);
+  stats.cell_size = grid.h;
+  stats.sample_area = EstimateArea(points, grid) / double(points.size());
+  const std::vector<float> b = SplatNormals(points, normals, grid, stats.sample_area);
+  stats.ms_grid_splat = MsSince(start);
+
+  start = Clock::now();
+  // β = α a / h²: the screening of a patch does not depend on how densely it is sampled (Kazhdan & Hoppe, eq. 3).
+  const double sqrt_beta = std::sqrt(params.screening * stats.sample_area / (grid.h * grid.h));
+  std::vector<ScreeningSample> samples;
+  samples.reserve(points.size());
+  for (const Vec3& p : points) samples.push_back(Sample(p, grid, sqrt_beta));
+  std::vector<float> chi(b.size(), 0.0f);
+  const SolverReport report =
+      SolveScreenedPoisson(grid.depth, samples, b, params.tolerance, params.max_iterations, &chi);
+  stats.solver_iterations = report.iterations;
+  stats.solver_relative_residual = report.relative_residual;
+  stats.ms_solve = MsSince(start);
+
+  start = Clock::now();
+  stats.iso_value = IsoValue(samples, chi, grid);
+  stats.ms_iso = MsSince(start);
+
+  start = Clock::now();
+  GridSamples view;
+  view.nodes = Eigen::Vector3i::Constant(grid.n);
+  view.origin = grid.origin;
+  view.spacing = grid.h;
+  view.values = chi.data();
+  result.mesh = ExtractIsoSurface(view, float(stats.iso_value));
+  stats.ms_extract = MsSince(start);
+  return result;
+}
+
+}  // namespace graspsim

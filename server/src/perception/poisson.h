@@ -1,0 +1,55 @@
+// Screened Poisson surface reconstruction (Kazhdan & Hoppe 2013) on a regular grid: a closed, consistently
+// oriented mesh through oriented points (PAPERS.md part C, "Surface"; issue 5, stage 5).
+//
+// The stages, one function each in poisson.cpp:
+//   1. Grid:    a cube of side scale × (the cloud's largest extent), centred on its bounding box, with
+//               2^depth cells per side (spacing h).
+//   2. Splat:   each sample carries its normal times the surface area it stands for (a = A / N, the area A
+//               estimated from the cells the samples occupy) into the gradient field V on the grid's edges,
+//               spread by a tent kernel as wide as the sample spacing (√a, at least one cell), so sparse clouds
+//               leave no gaps.
+//   3. Solve:   the indicator χ minimising Σ_edges (∇χ − V)² + α (a / h²) Σ_p χ(p)² (screened_poisson_solver.h);
+//               χ jumps by ≈ 1 across the surface, low inside.
+//   4. Iso:     the mean of χ at the samples.
+//   5. Extract: marching cubes at that iso-value (marching_cubes.h): triangles counter-clockwise from outside.
+// The grid's border lies (scale − 1)/2 of the extent beyond the cloud, where χ is flat, so the surface never
+// reaches it and the mesh is closed.
+#pragma once
+
+#include <vector>
+
+#include "core/math.h"
+#include "core/mesh.h"
+
+namespace graspsim {
+
+struct PoissonParams {
+  int depth = 7;            // 2^depth cells per side, 5..8 (the paper's octree depths 5 and 7)
+  double screening = 4;     // α in (0, 1e4]: weight of χ = 0 at the samples against fitting the normals; it also
+                            // fixes the constant the Neumann problem leaves free, so it cannot be 0
+  double scale = 1.25;      // grid cube side / the cloud's largest extent, 1.05..4
+  double tolerance = 1e-4;  // conjugate gradients stop at this relative residual, (0, 0.1]
+  int max_iterations = 60;  // 1..1000
+};
+
+struct PoissonStats {
+  double ms_grid_splat = 0, ms_solve = 0, ms_iso = 0, ms_extract = 0;  // wall time per stage
+  int solver_iterations = 0;
+  double solver_relative_residual = 0;
+  double iso_value = 0;
+  double cell_size = 0;      // h, m
+  double sample_area = 0;    // a, m² per sample
+};
+
+struct PoissonResult {
+  TriangleMesh mesh;
+  PoissonStats stats;
+};
+
+// points and normals (one per point, any length > 0; outward) in m. Throws Error(kInvalidArgument) naming the
+// field and value for an empty cloud, points all on a line (or all equal), non-finite or zero normals, a count
+// mismatch, or parameters outside their ranges.
+PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                 const PoissonParams& params = {});
+
+}  // namespace graspsim

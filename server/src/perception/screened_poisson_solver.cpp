@@ -1,0 +1,261 @@
+#include "perception/screened_poisson_solver.h"
+
+#include <cmath>
+#include <memory>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+namespace graspsim {
+namespace {
+
+constexpr int kCoarsestDepth = 2;  // 5³ nodes: a dense Cholesky solve is instant
+constexpr int kSmoothingSweeps = 2;
+constexpr float kJacobiDamping = 0.8f;  // with the lumped diagonal, D⁻¹A ≤ 2: any ω ≤ 1 is stable
+
+// One grid of the hierarchy: A = c L + (exact samples on the finest grid | diag(s) on the coarser ones).
+struct Level {
+  int n = 0;                       // nodes per side
+  float c = 1;                     // Laplacian coefficient: 1 on the finest grid, ÷4 per coarsening
+  std::vector<float> s;            // lumped screening (row sums of S, restricted by full weighting)
+  std::vector<float> inv_diag;     // 1 / (c · degree + s): Jacobi's diagonal
+  std::vector<float> x, b, r;      // V-cycle work vectors
+  int64_t size() const { return int64_t(n) * n * n; }
+};
+
+class Multigrid {
+ public:
+  Multigrid(int depth, const std::vector<ScreeningSample>& samples) : samples_(samples) {
+    levels_.resize(depth + 1);
+    for (int d = depth; d >= kCoarsestDepth; --d) {
+      Level& level = levels_[d];
+      level.n = (1 << d) + 1;
+      level.c = d == depth ? 1.0f : levels_[d + 1].c / 4;
+      if (d == depth) {
+        level.s.assign(level.size(), 0);
+        for (const ScreeningSample& p : samples_) {
+          float sum = 0;
+          for (float w : p.weight) sum += w;
+          for (int corner = 0; corner < 8; ++corner) level.s[p.base + Offset(level.n, corner)] += p.weight[corner] * sum;
+        }
+      } else {
+        level.s.resize(level.size());
+        Restrict(levels_[d + 1].n, levels_[d + 1].s, &level.s);
+      }
+      level.inv_diag.resize(level.size());
+      ForEachNode(level.n, [&](int64_t i, int degree) { level.inv_diag[i] = 1.0f / (level.c * degree + level.s[i]); });
+      level.x.resize(level.size());
+      level.b.resize(level.size());
+      level.r.resize(level.size());
+    }
+    FactorCoarsest();
+  }
+
+  // y = A x on grid d.
+  void Apply(int d, const std::vector<float>& x, std::vector<float>* y) const {
+    const Level& level = levels_[d];
+    const int n = level.n;
+    const int64_t sy = n, sz = int64_t(n) * n;
+    float* out = y->data();
+    const float* in = x.data();
+    for (int k = 0; k < n; ++k) {
+      for (int j = 0; j < n; ++j) {
+        const int64_t row = k * sz + j * sy;
+        for (int i = 0; i < n; ++i) {
+          const int64_t at = row + i;
+          const float v = in[at];
+          float sum = 0;
+          if (i > 0) sum += v - in[at - 1];
+          if (i + 1 < n) sum += v - in[at + 1];
+          if (j > 0) sum += v - in[at - sy];
+          if (j + 1 < n) sum += v - in[at + sy];
+          if (k > 0) sum += v - in[at - sz];
+          if (k + 1 < n) sum += v - in[at + sz];
+          out[at] = level.c * sum;
+        }
+      }
+    }
+    if (d + 1 == int(levels_.size())) {
+      for (const ScreeningSample& p : samples_) {
+        float value = 0;
+        for (int corner = 0; corner < 8; ++corner) value += p.weight[corner] * in[p.base + Offset(n, corner)];
+        for (int corner = 0; corner < 8; ++corner) out[p.base + Offset(n, corner)] += p.weight[corner] * value;
+      }
+    } else {
+      for (int64_t i = 0; i < level.size(); ++i) out[i] += level.s[i] * in[i];
+    }
+  }
+
+  // z ≈ A⁻¹ r by one V-cycle from zero: symmetric (same sweeps down and up, restriction ∝ prolongationᵀ), so it
+  // is a valid preconditioner for conjugate gradients.
+  void Precondition(const std::vector<float>& r, std::vector<float>* z) {
+    const int top = int(levels_.size()) - 1;
+    levels_[top].b = r;
+    VCycle(top);
+    *z = levels_[top].x;
+  }
+
+ private:
+  static int64_t Offset(int n, int corner) {
+    return (corner & 1) + int64_t(corner >> 1 & 1) * n + int64_t(corner >> 2 & 1) * n * n;
+  }
+
+  template <typename Fn>
+  static void ForEachNode(int n, Fn fn) {
+    int64_t at = 0;
+    for (int k = 0; k < n; ++k) {
+      for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i, ++at) {
+          fn(at, (i > 0) + (i + 1 < n) + (j > 0) + (j + 1 < n) + (k > 0) + (k + 1 < n));
+        }
+      }
+    }
+  }
+
+  // Full weighting from a fine grid of nf = 2 nc − 1 nodes per side, one axis at a time: (¼, ½, ¼) about the
+  // coinciding node (½ of it on a border, where the grid ends): restriction = prolongationᵀ / 8.
+  static void Restrict(int nf, const std::vector<float>& fine, std::vector<float>* coarse) {
+    const int nc = (nf + 1) / 2;
+    std::vector<float> a(fine), b;
+    int dims[3] = {nf, nf, nf};
+    for (int axis = 0; axis < 3; ++axis) {
+      int out_dims[3] = {dims[0], dims[1], dims[2]};
+      out_dims[axis] = nc;
+      b.resize(int64_t(out_dims[0]) * out_dims[1] * out_dims[2]);
+      const int64_t in_stride = axis == 0 ? 1 : (axis == 1 ? dims[0] : int64_t(dims[0]) * dims[1]);
+      int64_t at = 0;
+      for (int k = 0; k < out_dims[2]; ++k) {
+        for (int j = 0; j < out_dims[1]; ++j) {
+          for (int i = 0; i < out_dims[0]; ++i, ++at) {
+            int src[3] = {i, j, k};
+            const int f = 2 * src[axis];
+            src[axis] = f;
+            const int64_t centre = src[0] + int64_t(src[1]) * dims[0] + int64_t(src[2]) * dims[0] * dims[1];
+            float sum = 0.5f * a[centre];
+            if (f > 0) sum += 0.25f * a[centre - in_stride];
+            if (f + 1 < nf) sum += 0.25f * a[centre + in_stride];
+            b[at] = sum;
+          }
+        }
+      }
+      a.swap(b);
+      dims[axis] = nc;
+    }
+    *coarse = std::move(a);
+  }
+
+  // fine += trilinear interpolation of the coarse grid (nc nodes per side, fine 2 nc − 1).
+  static void ProlongAdd(int nc, const std::vector<float>& coarse, std::vector<float>* fine) {
+    const int nf = 2 * nc - 1;
+    std::vector<float> a(coarse), b;
+    int dims[3] = {nc, nc, nc};
+    for (int axis = 0; axis < 3; ++axis) {
+      int out_dims[3] = {dims[0], dims[1], dims[2]};
+      out_dims[axis] = nf;
+      b.resize(int64_t(out_dims[0]) * out_dims[1] * out_dims[2]);
+      const int64_t in_stride = axis == 0 ? 1 : (axis == 1 ? dims[0] : int64_t(dims[0]) * dims[1]);
+      int64_t at = 0;
+      for (int k = 0; k < out_dims[2]; ++k) {
+        for (int j = 0; j < out_dims[1]; ++j) {
+          for (int i = 0; i < out_dims[0]; ++i, ++at) {
+            int src[3] = {i, j, k};
+            const int f = src[axis];
+            src[axis] = f / 2;
+            const int64_t s = src[0] + int64_t(src[1]) * dims[0] + int64_t(src[2]) * dims[0] * dims[1];
+            b[at] = (f & 1) ? 0.5f * (a[s] + a[s + in_stride]) : a[s];
+          }
+        }
+      }
+      a.swap(b);
+      dims[axis] = nf;
+    }
+    for (size_t i = 0; i < a.size(); ++i) (*fine)[i] += a[i];
+  }
+
+  void Smooth(int d) {
+    Level& level = levels_[d];
+    Apply(d, level.x, &level.r);
+    for (int64_t i = 0; i < level.size(); ++i) {
+      level.x[i] += kJacobiDamping * level.inv_diag[i] * (level.b[i] - level.r[i]);
+    }
+  }
+
+  void VCycle(int d) {
+    Level& level = levels_[d];
+    if (d == kCoarsestDepth) {
+      const Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXf>(level.b.data(), level.size()).cast<double>();
+      Eigen::Map<Eigen::VectorXf>(level.x.data(), level.size()) = coarsest_->solve(rhs).cast<float>();
+      return;
+    }
+    std::fill(level.x.begin(), level.x.end(), 0.0f);
+    for (int sweep = 0; sweep < kSmoothingSweeps; ++sweep) Smooth(d);
+    Apply(d, level.x, &level.r);
+    for (int64_t i = 0; i < level.size(); ++i) level.r[i] = level.b[i] - level.r[i];
+    Restrict(level.n, level.r, &levels_[d - 1].b);
+    VCycle(d - 1);
+    ProlongAdd(levels_[d - 1].n, levels_[d - 1].x, &level.x);
+    for (int sweep = 0; sweep < kSmoothingSweeps; ++sweep) Smooth(d);
+  }
+
+  void FactorCoarsest() {
+    const int64_t m = levels_[kCoarsestDepth].size();
+    Eigen::MatrixXd dense(m, m);
+    std::vector<float> e(m, 0.0f), column(m);
+    for (int64_t i = 0; i < m; ++i) {
+      e[i] = 1;
+      Apply(kCoarsestDepth, e, &column);
+      for (int64_t j = 0; j < m; ++j) dense(j, i) = column[j];
+      e[i] = 0;
+    }
+    coarsest_ = std::make_unique<Eigen::LLT<Eigen::MatrixXd>>(dense);
+  }
+
+  const std::vector<ScreeningSample>& samples_;
+  std::vector<Level> levels_;  // indexed by depth; entries below kCoarsestDepth unused
+  std::unique_ptr<Eigen::LLT<Eigen::MatrixXd>> coarsest_;
+};
+
+double Dot(const std::vector<float>& a, const std::vector<float>& b) {
+  double sum = 0;
+  for (size_t i = 0; i < a.size(); ++i) sum += double(a[i]) * b[i];
+  return sum;
+}
+
+}  // namespace
+
+SolverReport SolveScreenedPoisson(int depth, const std::vector<ScreeningSample>& samples,
+                                  const std::vector<float>& b, double tolerance, int max_iterations,
+                                  std::vector<float>* x) {
+  Multigrid multigrid(depth, samples);
+  const size_t size = b.size();
+  std::vector<float> r(size), z(size), p(size), q(size);
+  multigrid.Apply(depth, *x, &q);
+  for (size_t i = 0; i < size; ++i) r[i] = b[i] - q[i];
+  const double b_norm = std::sqrt(Dot(b, b));
+  SolverReport report;
+  if (b_norm == 0) return report;
+  multigrid.Precondition(r, &z);
+  p = z;
+  double rz = Dot(r, z);
+  report.relative_residual = std::sqrt(Dot(r, r)) / b_norm;
+  while (report.relative_residual > tolerance && report.iterations < max_iterations) {
+    multigrid.Apply(depth, p, &q);
+    const double pq = Dot(p, q);
+    if (!(pq > 0)) break;  // converged to float precision: no descent direction left
+    const float alpha = float(rz / pq);
+    for (size_t i = 0; i < size; ++i) {
+      (*x)[i] += alpha * p[i];
+      r[i] -= alpha * q[i];
+    }
+    ++report.iterations;
+    report.relative_residual = std::sqrt(Dot(r, r)) / b_norm;
+    multigrid.Precondition(r, &z);
+    const double rz_next = Dot(r, z);
+    const float beta = float(rz_next / rz);
+    rz = rz_next;
+    for (size_t i = 0; i < size; ++i) p[i] = z[i] + beta * p[i];
+  }
+  return report;
+}
+
+}  // namespace graspsim

@@ -1,0 +1,37 @@
+// The linear system of screened Poisson reconstruction on a regular grid of N³ nodes (N = 2^depth + 1), in grid
+// units (node spacing 1), and its solver:
+//
+//   (L + S) χ = b,   L = the 7-point graph Laplacian with natural (Neumann) borders,
+//                    S = Σ_p β_p w_p w_pᵀ   (w_p: trilinear weights of sample p on its cell's 8 nodes),
+//
+// i.e. the minimiser of Σ_edges (χ_j − χ_i − V_ij)² + Σ_p β_p χ(p)² (Kazhdan & Hoppe 2013, eq. 3, on a grid): the
+// gradient fits the splatted normal field V, and the screening pulls χ to 0 at the samples, which also fixes the
+// constant the Neumann Laplacian leaves free. Solved by conjugate gradients preconditioned with one multigrid
+// V-cycle (damped Jacobi with the lumped diagonal, full weighting, trilinear prolongation, coarse operators
+// L_c/4 + lumped restricted screening, a dense Cholesky solve at 5³ nodes). Single-threaded and in a fixed order:
+// the same input gives the same bits.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace graspsim {
+
+struct ScreeningSample {
+  int64_t base = 0;             // index of the cell's lowest node
+  std::array<float, 8> weight;  // trilinear weights on corners (c & 1, c >> 1 & 1, c >> 2 & 1), times sqrt(β_p)
+};
+
+struct SolverReport {
+  int iterations = 0;
+  double relative_residual = 0;  // |b − A χ| / |b| at the end
+};
+
+// x: in, the initial guess (N³ values, x fastest); out, the solution. Iterates until the relative residual is
+// below `tolerance` or `max_iterations`.
+SolverReport SolveScreenedPoisson(int depth, const std::vector<ScreeningSample>& samples,
+                                  const std::vector<float>& b, double tolerance, int max_iterations,
+                                  std::vector<float>* x);
+
+}  // namespace graspsim
