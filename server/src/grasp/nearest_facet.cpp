@@ -20,12 +20,29 @@ struct Facet {
 };
 
 // The plane through six wrenches, oriented so that `inside` is below it. False when they do not span a 5-flat.
-bool Plane(const std::vector<Vec6>& w, const std::array<int, 6>& v, const Vec6& inside, Vec6* normal, double* offset) {
-  Eigen::Matrix<double, 5, 6> m;
-  for (int k = 1; k < 6; ++k) m.row(k - 1) = (w[v[k]] - w[v[0]]).transpose();
-  const Eigen::FullPivLU<Eigen::Matrix<double, 5, 6>> lu(m);
-  if (lu.rank() < 5) return false;
-  *normal = lu.kernel().col(0).normalized();
+// Modified Gram-Schmidt on the five differences, then the unit axis least inside their span, made orthogonal
+// to them: ~300 flops, a fifth of a pivoting LU; the final facet is recomputed with the LU (ExactPlane).
+bool Plane(const std::vector<Vec6>& w, const std::array<int, 6>& v, const Vec6& inside, double scale, Vec6* normal,
+           double* offset) {
+  Vec6 q[5];
+  for (int k = 0; k < 5; ++k) {
+    q[k] = w[v[k + 1]] - w[v[0]];
+    for (int j = 0; j < k; ++j) q[k] -= q[k].dot(q[j]) * q[j];
+    const double length = q[k].norm();
+    if (length <= 1e-10 * scale) return false;
+    q[k] /= length;
+  }
+  int axis = 0;
+  double room = -1;
+  for (int j = 0; j < 6; ++j) {
+    double r = 1;
+    for (const Vec6& b : q) r -= b(j) * b(j);
+    if (r > room) room = r, axis = j;
+  }
+  Vec6 n = Vec6::Unit(axis);
+  for (const Vec6& b : q) n -= b(axis) * b;
+  for (const Vec6& b : q) n -= n.dot(b) * b;  // a second pass: orthogonal to rounding
+  *normal = n.normalized();
   *offset = normal->dot(w[v[0]]);
   if (normal->dot(inside) > *offset) {
     *normal = -*normal;
@@ -34,12 +51,27 @@ bool Plane(const std::vector<Vec6>& w, const std::array<int, 6>& v, const Vec6& 
   return true;
 }
 
+// The same plane from a full-pivoting LU's kernel: the most accurate offset, for the answer.
+double ExactOffset(const std::vector<Vec6>& w, const std::array<int, 6>& v, const Vec6& inside, double fallback) {
+  Eigen::Matrix<double, 5, 6> m;
+  for (int k = 1; k < 6; ++k) m.row(k - 1) = (w[v[k]] - w[v[0]]).transpose();
+  const Eigen::FullPivLU<Eigen::Matrix<double, 5, 6>> lu(m);
+  if (lu.rank() < 5) return fallback;
+  Vec6 normal = lu.kernel().col(0).normalized();
+  double offset = normal.dot(w[v[0]]);
+  if (normal.dot(inside) > offset) offset = -offset;
+  return offset;
+}
+
 }  // namespace
 
 NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
   NearestFacetResult result;
   const int n = static_cast<int>(wrenches.size());
-  if (n < 7) return result;
+  if (n < 7) {
+    result.degenerate = true;
+    return result;
+  }
   std::vector<Vec6> w(n);
   double scale = 0;
   for (int i = 0; i < n; ++i) {
@@ -67,7 +99,10 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
         simplex[k] = i;
       }
     }
-    if (best <= 1e-9 * scale) return result;  // the wrenches do not span R^6
+    if (best <= 1e-9 * scale) {  // the wrenches do not span R^6
+      result.degenerate = true;
+      return result;
+    }
     basis.push_back(best_residual / best);
   }
   Vec6 inside = Vec6::Zero();
@@ -83,7 +118,7 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
       if (j != skip) f.v[k++] = simplex[j];
     }
     std::sort(f.v.begin(), f.v.end());
-    if (!Plane(w, f.v, inside, &f.normal, &f.offset)) return result;
+    if (!Plane(w, f.v, inside, scale, &f.normal, &f.offset)) return result;
     f.alive = true;
     facets.push_back(f);
   }
@@ -104,7 +139,7 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
     }
     if (reach <= facets[nearest].offset + tolerance) {  // nothing beyond: a facet of the hull
       result.converged = true;
-      result.distance = facets[nearest].offset;
+      result.distance = ExactOffset(w, facets[nearest].v, inside, facets[nearest].offset);
       return result;
     }
     // Beneath-beyond: the facets that see the new wrench go; their ridges seen once form the horizon.
@@ -131,7 +166,7 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
         for (int j = 0; j < 5; ++j) f.v[j] = ridges[r].first[j];
         f.v[5] = support;
         std::sort(f.v.begin(), f.v.end());
-        if (Plane(w, f.v, inside, &f.normal, &f.offset)) {
+        if (Plane(w, f.v, inside, scale, &f.normal, &f.offset)) {
           f.alive = true;
           facets.push_back(f);
         }

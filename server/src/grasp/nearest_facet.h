@@ -15,7 +15,8 @@
 namespace graspsim::grasp {
 
 struct NearestFacetResult {
-  bool converged = false;  // false: degenerate input or the iteration cap; the caller falls back to qhull
+  bool degenerate = false; // the wrenches do not span R^6 (or are fewer than 7): no force closure
+  bool converged = false;  // false (and not degenerate): the iteration cap; the caller falls back to qhull
   double distance = 0;     // signed distance of the origin inside the nearest facet's plane (> 0: inside)
 };
 

@@ -110,6 +110,7 @@ Quality FastQuality(const std::vector<Wrench>& wrenches) {
   quality.volume = -1;  // not computed
   if (wrenches.size() < 7) return quality;
   const NearestFacetResult nearest = NearestFacet(wrenches);
+  if (nearest.degenerate) return quality;
   if (!nearest.converged) {  // degenerate or stuck: qhull decides (and then the volume is known)
     return HullQuality(wrenches);
   }

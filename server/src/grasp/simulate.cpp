@@ -71,37 +71,61 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
     any = true;
   };
 
-  // Hand samples against the object: only samples whose face leads the motion can strike first.
-  w->rays.Clear();
-  w->ray_length.clear();
-  w->ray_link.clear();
+  // Hand samples against the object: only samples whose face leads the motion can strike first. Links go
+  // front first (the fingertips before the palm on an approach), one batch each, and every later ray is cut at
+  // the first contact found so far: a palm behind touching fingertips then casts almost nothing.
+  w->link_order.clear();
   for (int l : links) {
+    if (!hand_.links()[l].bvh) continue;
+    const Pose& a = w->poses[l];
+    const Vec3 motion = w->next_poses[l].position - a.position;
+    w->link_order.push_back({-(motion.dot(a.position) + hand_.links()[l].reach * motion.norm()), l});
+  }
+  std::sort(w->link_order.begin(), w->link_order.end());
+  for (const auto& [lead, l] : w->link_order) {
     const HandLink& link = hand_.links()[l];
-    if (!link.bvh) continue;
     const Pose& a = w->poses[l];
     const Pose& b = w->next_poses[l];
     const double moved = (b.position - a.position).norm() + link.reach * a.orientation.angularDistance(b.orientation);
-    if (!BallMeetsBox(a.position, link.reach + moved, lo, hi)) continue;  // nowhere near the object
+    if (!BallMeetsBox(a.position, link.reach + best * moved + tol, lo, hi)) continue;  // nowhere near the object
     const Mat3 ra = a.orientation.toRotationMatrix(), rb = b.orientation.toRotationMatrix();
-    for (size_t i = 0; i < link.samples.size(); ++i) {
+    w->rays.Clear();
+    w->ray_length.clear();
+    if (a.orientation.coeffs() == b.orientation.coeffs()) {
+      // A pure translation (an approach, a prismatic jaw): one direction for every sample, so the leading test
+      // is a dot product in the link frame and trailing samples cost nothing more.
+      const Vec3 d = b.position - a.position;
+      const double length = d.norm();
+      if (length < 1e-12) continue;
+      const Vec3 u = d / length, local = ra.transpose() * u;
+      const double reach = best * length + tol;
+      for (size_t i = 0; i < link.samples.size(); ++i) {
+        if (link.normals[i].dot(local) <= 0) continue;
+        const Vec3 p0 = a.position + ra * link.samples[i];
+        if (!SegmentMeetsBox(p0, u, reach, lo, hi)) continue;
+        w->rays.Add(p0, u, reach, 0);
+        w->ray_length.push_back(static_cast<float>(length));
+      }
+    }
+    for (size_t i = 0; i < link.samples.size() && a.orientation.coeffs() != b.orientation.coeffs(); ++i) {
       const Vec3 p0 = a.position + ra * link.samples[i];
       const Vec3 d = b.position + rb * link.samples[i] - p0;
       const double length = d.norm();
       if (length < 1e-12 || (ra * link.normals[i]).dot(d) <= 0) continue;
       const Vec3 u = d / length;
-      if (!SegmentMeetsBox(p0, u, length, lo, hi)) continue;
-      w->rays.Add(p0, u, length + tol, static_cast<uint32_t>(w->ray_length.size()));
+      const double reach = best * length + tol;  // nothing beyond the first contact so far matters
+      if (!SegmentMeetsBox(p0, u, reach, lo, hi)) continue;
+      w->rays.Add(p0, u, reach, 0);
       w->ray_length.push_back(static_cast<float>(length));
-      w->ray_link.push_back(l);
     }
-  }
-  object_.bvh().Intersect(&w->rays);
-  for (size_t r = 0; r < w->rays.size(); ++r) {
-    if (!w->rays.Hit(r)) continue;
-    const RTCRay& ray = w->rays.rays[r].ray;
-    const double t = ray.tfar;
-    const Vec3 point = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
-    record(t, w->ray_length[r], point, -object_.face_normals()[w->rays.Triangle(r)], w->ray_link[r]);
+    object_.bvh().Intersect(&w->rays);
+    for (size_t r = 0; r < w->rays.size(); ++r) {
+      if (!w->rays.Hit(r)) continue;
+      const RTCRay& ray = w->rays.rays[r].ray;
+      const double t = ray.tfar;
+      const Vec3 point = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+      record(t, w->ray_length[r], point, -object_.face_normals()[w->rays.Triangle(r)], l);
+    }
   }
 
   // Sharp object vertices against each link, in the link frame: the relative motion runs backwards.
@@ -117,7 +141,6 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
     const Mat3 ra = a.orientation.toRotationMatrix();
     w->rays.Clear();
     w->ray_length.clear();
-    w->ray_link.clear();
     // A vertex can reach the link only if it lies within the link's reach of the path of the link's origin.
     const Vec3 path = b.position - a.position;
     const double path2 = path.squaredNorm();
@@ -128,7 +151,7 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
       const Vec3 d = ib * v - v0;
       const double length = d.norm();
       if (length < 1e-12) continue;
-      w->rays.Add(v0, d / length, length + tol, static_cast<uint32_t>(w->ray_length.size()));
+      w->rays.Add(v0, d / length, best * length + tol, 0);
       w->ray_length.push_back(static_cast<float>(length));
     }
     link.bvh->Intersect(&w->rays);

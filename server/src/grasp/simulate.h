@@ -53,7 +53,7 @@ enum class Outcome : uint8_t {
 struct SimulationWork {
   RayBatch rays;
   std::vector<float> ray_length;   // per ray: the chord length, m
-  std::vector<int32_t> ray_link;   // per ray: link, or -(link + 1) for an object vertex against the link
+  std::vector<std::pair<double, int>> link_order;  // links of a sweep, front first
   std::vector<Pose> poses, next_poses;
   std::vector<double> q;
   std::vector<GraspContact> raw, contacts;
