@@ -27,8 +27,10 @@ struct HandTable {
 //   at its own contact; the contact geometry relative to the object is the same.
 // - Barrett: "power" with fingers 1 and 2 side by side opposite finger 3, "spherical" at a 60 deg spread
 //   (three fingers about 120 deg apart), "pinch" from bent fingers so the tips meet first.
-// - SDH: the same three grasps with its rotation axis; both flex joints of a finger close at the same rate,
-//   as SCHUNK's own grasp controller does for cylindrical and spherical grasps.
+// - SDH: the same three grasps with its rotation axis. "power" and "spherical" open the fingers outward
+//   (proximal -0.6 rad, distal +0.3 rad: the fingertips 10 cm apart) so that the palm can reach objects
+//   wider than the straight fingers' gap; "pinch" starts straight for small objects. Both flex joints of a
+//   finger close at the same rate, as SCHUNK's own grasp controller does for cylindrical and spherical grasps.
 const std::map<std::string, HandTable>& Tables() {
   static const std::map<std::string, HandTable> tables = {
       {"schunk_pg70",
@@ -42,11 +44,15 @@ const std::map<std::string, HandTable>& Tables() {
         {{"finger1", {{"finger1_flex", 1.0}}}, {"finger2", {{"finger2_flex", 1.0}}}, {"finger3", {{"finger3_flex", 1.0}}}},
         2 * kPi}},
       {"schunk_sdh2",
-       {{{"power", {{"finger1_rotation", 0.0}}},
-         {"spherical", {{"finger1_rotation", kPi / 3}}},
-         {"pinch",
-          {{"finger1_rotation", 0.0}, {"finger1_proximal_joint", 0.3}, {"finger2_proximal_joint", 0.3},
-           {"finger3_proximal_joint", 0.3}}}},
+       {{{"power",
+          {{"finger1_rotation", 0.0}, {"finger1_proximal_joint", -0.6}, {"finger1_distal_joint", 0.3},
+           {"finger2_proximal_joint", -0.6}, {"finger2_distal_joint", 0.3}, {"finger3_proximal_joint", -0.6},
+           {"finger3_distal_joint", 0.3}}},
+         {"spherical",
+          {{"finger1_rotation", kPi / 3}, {"finger1_proximal_joint", -0.6}, {"finger1_distal_joint", 0.3},
+           {"finger2_proximal_joint", -0.6}, {"finger2_distal_joint", 0.3}, {"finger3_proximal_joint", -0.6},
+           {"finger3_distal_joint", 0.3}}},
+         {"pinch", {{"finger1_rotation", 0.0}}}},
         {{"finger1", {{"finger1_proximal_joint", 1.0}, {"finger1_distal_joint", 1.0}}},
          {"finger2", {{"finger2_proximal_joint", 1.0}, {"finger2_distal_joint", 1.0}}},
          {"finger3", {{"finger3_proximal_joint", 1.0}, {"finger3_distal_joint", 1.0}}}},
