@@ -7,7 +7,10 @@ gateway that Matlab and browsers use, then simulate: the cube settles, the PG70 
 control with a current (force) limit, and the table is taken away while the fingers hold the cube. Last, the
 tactile work cycle in a fresh scene (a PG70 on a vertical axis: approach, grasp under tactile force control,
 lift, hold, move down, release; examples/tactile_cycle.py runs it at several coverages) with its summary, and
-its plots when matplotlib is installed. Exits non-zero on any error.
+its plots when matplotlib is installed. Then grasp planning: the PG70's grasp set of the cube on the table
+(examples/grasp_planning.py does all three hands and draws them; shape completion, which would give the
+object's completed mesh, is a later issue, so the cube's own geometry is planned on). Exits non-zero on any
+error.
 
     python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080 [--out DIR]
 """
@@ -22,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 import graspsim
+import grasp_planning  # examples/grasp_planning.py, next to this file
 import tactile_cycle  # examples/tactile_cycle.py, next to this file
 from graspsim.v1 import common_pb2
 
@@ -152,6 +156,13 @@ def run_work_cycle(client: graspsim.Client, out) -> None:
         print(f"  plot: {path}")
 
 
+def plan_grasps(client: graspsim.Client) -> None:
+    print("\ngrasp planning (the cube on the table, bounding-box candidates, stored for the next run):")
+    scene_id = grasp_planning.build_scene(client)
+    grasp_planning.plan(client, scene_id, "schunk_pg70")
+    client.delete_scene(scene_id)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--server", default="127.0.0.1:50051", help="host:port of graspsim-server")
@@ -175,6 +186,7 @@ def main(argv=None) -> int:
             if not args.keep:
                 client.delete_scene(scene_id)
             run_work_cycle(client, args.out)
+            plan_grasps(client)
     except (graspsim.GraspsimError, OSError) as err:
         print(f"demo failed: {err}", file=sys.stderr)
         return 1
