@@ -88,7 +88,7 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
     const Pose& b = w->next_poses[l];
     const double moved = (b.position - a.position).norm() + link.reach * a.orientation.angularDistance(b.orientation);
     if (!BallMeetsBox(a.position, link.reach + best * moved + tol, lo, hi)) continue;  // nowhere near the object
-    const Mat3 ra = a.orientation.toRotationMatrix(), rb = b.orientation.toRotationMatrix();
+    const Mat3 ra = a.orientation.toRotationMatrix();
     w->rays.Clear();
     w->ray_length.clear();
     if (a.orientation.coeffs() == b.orientation.coeffs()) {
@@ -106,17 +106,25 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
         w->rays.Add(p0, u, reach, 0);
         w->ray_length.push_back(static_cast<float>(length));
       }
-    }
-    for (size_t i = 0; i < link.samples.size() && a.orientation.coeffs() != b.orientation.coeffs(); ++i) {
-      const Vec3 p0 = a.position + ra * link.samples[i];
-      const Vec3 d = b.position + rb * link.samples[i] - p0;
-      const double length = d.norm();
-      if (length < 1e-12 || (ra * link.normals[i]).dot(d) <= 0) continue;
-      const Vec3 u = d / length;
-      const double reach = best * length + tol;  // nothing beyond the first contact so far matters
-      if (!SegmentMeetsBox(p0, u, reach, lo, hi)) continue;
-      w->rays.Add(p0, u, reach, 0);
-      w->ray_length.push_back(static_cast<float>(length));
+    } else {
+      // A turning link: the chord of sample s is R_a (Δ s − s) with Δ = T_a⁻¹ T_b, the step as seen from the
+      // link, so the leading test needs one product per sample and the world position only the leading ones.
+      const Pose delta = a.Inverse() * b;
+      const Mat3 rd = delta.orientation.toRotationMatrix();
+      for (size_t i = 0; i < link.samples.size(); ++i) {
+        const Vec3& s_local = link.samples[i];
+        const Vec3 chord_local = rd * s_local + delta.position - s_local;
+        if (link.normals[i].dot(chord_local) <= 0) continue;
+        const double length = chord_local.norm();
+        if (length < 1e-12) continue;
+        const double reach = best * length + tol;
+        const Vec3 p0 = a.position + ra * s_local;
+        // The segment lies within `reach` of p0: a box test with no division culls nearly as well here, where
+        // steps are a few millimetres.
+        if ((p0.array() < lo.array() - reach).any() || (p0.array() > hi.array() + reach).any()) continue;
+        w->rays.Add(p0, ra * (chord_local / length), reach, 0);
+        w->ray_length.push_back(static_cast<float>(length));
+      }
     }
     object_.bvh().Intersect(&w->rays);
     for (size_t r = 0; r < w->rays.size(); ++r) {
