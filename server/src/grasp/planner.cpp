@@ -97,15 +97,24 @@ std::vector<Candidate> GraspPlanner::Candidates(const CandidateParams& params) c
   return GenerateCandidates(*object_, hand_model_->roll_period(), params);
 }
 
-void GraspPlanner::AddVolumes(std::vector<PlannedGrasp>* grasps) const {
-  std::vector<Wrench> wrenches;
+void GraspPlanner::AddVolumes(std::vector<PlannedGrasp>* grasps, int threads) const {
+  // Whole hulls are the slow part of a plan's answer (~10-100 ms each): the kept grasps are shared out.
+  const size_t count = std::min(grasps->size(), kMaxVolumes);
   const SimulationParams& p = simulator_->params();
-  for (size_t i = 0; i < grasps->size() && i < kMaxVolumes; ++i) {
-    PlannedGrasp& grasp = (*grasps)[i];
-    ContactWrenches(grasp.contacts.data(), grasp.contacts.size(), object_->centroid(),
-                    object_->characteristic_length(), p.friction, p.cone_edges, &wrenches);
-    grasp.quality.volume = HullQuality(wrenches).volume;
-  }
+  auto work = [&](size_t first, size_t stride) {
+    std::vector<Wrench> wrenches;
+    for (size_t i = first; i < count; i += stride) {
+      PlannedGrasp& grasp = (*grasps)[i];
+      ContactWrenches(grasp.contacts.data(), grasp.contacts.size(), object_->centroid(),
+                      object_->characteristic_length(), p.friction, p.cone_edges, &wrenches);
+      grasp.quality.volume = HullQuality(wrenches).volume;
+    }
+  };
+  const size_t workers = std::max<size_t>(1, std::min<size_t>(threads, count));
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < workers; ++t) pool.emplace_back(work, t, workers);
+  work(0, workers);
+  for (std::thread& t : pool) t.join();
 }
 
 Outcome GraspPlanner::Evaluate(const Candidate& candidate, PlannedGrasp* grasp) const {
@@ -118,7 +127,7 @@ Outcome GraspPlanner::Evaluate(const Candidate& candidate, PlannedGrasp* grasp) 
   grasp->quality = work.quality;
   if (outcome == Outcome::kGrasp) {
     std::vector<PlannedGrasp> one(1, *grasp);
-    AddVolumes(&one);
+    AddVolumes(&one, 1);
     grasp->quality.volume = one[0].quality.volume;
   }
   return outcome;
@@ -181,7 +190,7 @@ std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candida
   if (max_grasps > 0 && set.grasps.size() > max_grasps) set.grasps.resize(max_grasps);
   const auto scored = std::chrono::steady_clock::now();
   set.seconds = std::chrono::duration<double>(scored - start).count();
-  AddVolumes(&set.grasps);
+  AddVolumes(&set.grasps, workers);
   set.volume_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - scored).count();
   return set;
 }

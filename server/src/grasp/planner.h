@@ -70,7 +70,7 @@ class GraspPlanner {
   Outcome Evaluate(const Candidate& candidate, PlannedGrasp* grasp) const;
 
  private:
-  void AddVolumes(std::vector<PlannedGrasp>* grasps) const;
+  void AddVolumes(std::vector<PlannedGrasp>* grasps, int threads) const;
 
   HandSpec hand_spec_;
   std::unique_ptr<RayDevice> device_;
