@@ -63,6 +63,7 @@ void Pg70Emulator::Step(double dt) {
   if (mode_ == Mode::kPosition && (velocity_mm_s_ >= 0 ? next >= target_mm_ : next <= target_mm_)) {
     next = target_mm_;
     reached_ = true;
+    announce_reached_ = true;
   }
   if (options_.object_width_mm && velocity_mm_s_ < 0 && position_mm_ >= *options_.object_width_mm &&
       next <= *options_.object_width_mm) {
@@ -94,13 +95,15 @@ void Pg70Emulator::Handle(const smp::Message& request) {
     fault = fault_;
     if (--fault_count_ == 0) fault_ = Fault::kNone;
   }
-  if (fault == Fault::kErrorMessage) {
+  if (fault == Fault::kErrorMessage) {  // a serious error: the module shuts the motor down and says so on 0x300
+    mode_ = Mode::kIdle;
+    blocked_ = false;
     Send(smp::ErrorMessage(fault_code_), smp::kErrorFromModule);
     return;
   }
   const uint8_t code = request[0];
   const size_t n = request.size();
-  const auto refuse = [&](uint8_t error) { Send(smp::ErrorMessage(error), smp::kErrorFromModule); };
+  const auto refuse = [&](uint8_t reason) { Send(smp::Refusal(code, reason), smp::kFromModule); };
   const bool is_move = code == smp::kMovePos || code == smp::kMoveVel || code == smp::kMoveGrip;
   const bool length_ok = (code == smp::kMovePos && (n == 5 || n == 17)) || (code == smp::kMoveVel && n == 9) ||
                          (code == smp::kMoveGrip && n == 5) || (code == smp::kStop && n == 1) ||
@@ -170,6 +173,12 @@ void Pg70Emulator::Run() {
     std::unique_lock lock(mutex_);
     Step(std::chrono::duration<double>(now - last).count());
     last = now;
+    if (announce_reached_) {  // the spontaneous "position reached" a real module sends after MOVE_POS
+      announce_reached_ = false;
+      smp::Message reached{smp::kPosReached};
+      smp::PutFloat(reached, static_cast<float>(position_mm_));
+      Send(reached, smp::kFromModule);
+    }
     if (ready <= 0 || !(pfd.revents & POLLIN)) {
       if (ready > 0) {  // the driver's end was closed: nothing more will come
         lock.unlock();
@@ -183,9 +192,8 @@ void Pg70Emulator::Run() {
     try {
       const auto request = assembler.Feed(frame);
       if (request) Handle(*request);
-    } catch (const DeviceError&) {
+    } catch (const DeviceError&) {  // broken framing from the master: count it, answer nothing
       malformed_++;
-      Send(smp::ErrorMessage(smp::kErrorWrongDataLength), smp::kErrorFromModule);
     }
   }
 }

@@ -2,12 +2,14 @@
 // a socketpair end in tests, a raw CAN socket where the kernel has vcan), in a thread of its own. Simple motion:
 // MOVE_POS drives toward the target at the requested velocity, MOVE_VEL at a constant velocity until a stroke
 // end, MOVE_GRIP closes (or opens) at a speed proportional to the current; closing stops on an emulated object
-// and holds it with the commanded current. Moves are refused with "not referenced" until CMD_REFERENCE.
+// and holds it with the commanded current; a reached MOVE_POS target is announced spontaneously (0x94). Requests
+// the module cannot run are refused with a D-Len 2 answer: unknown command, wrong length, moves before
+// CMD_REFERENCE ("not referenced").
 //
 // Fault injection for the tests, applied to the next `count` requests:
 //   kSilent        the request takes effect, no answer is sent
 //   kMalformed     the request takes effect, the answer's framing is broken (a fragment out of order)
-//   kErrorMessage  no effect; CMD_ERROR with the given code on 0x300 + id
+//   kErrorMessage  a serious error instead of the answer: the motor stops, CMD_ERROR with the code on 0x300 + id
 #pragma once
 
 #include <atomic>
@@ -56,6 +58,7 @@ class Pg70Emulator {
   bool referenced_ = false;
   bool blocked_ = false;  // stopped on the object
   bool reached_ = false;
+  bool announce_reached_ = false;
   double position_mm_, velocity_mm_s_ = 0.0, target_mm_ = 0.0, speed_mm_s_ = 0.0, current_a_ = 0.0;
   Fault fault_ = Fault::kNone;
   int fault_count_ = 0;

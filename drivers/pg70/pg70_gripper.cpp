@@ -48,8 +48,13 @@ smp::Message Gripper::ExchangeOnce(const smp::Message& request) {
       throw DeviceError(DeviceFailure::kDeviceException,
                         Name() + ": module reports error " + Hex(code) + " (" + smp::ErrorName(code) + ")");
     }
+    if ((*message)[0] == request[0] && message->size() == 2) {  // D-Len 2: the module refused the request
+      const uint8_t reason = (*message)[1];
+      throw DeviceError(DeviceFailure::kDeviceException, Name() + ": module refused command " + Hex(request[0]) +
+                                                             ": " + Hex(reason) + " (" + smp::ErrorName(reason) + ")");
+    }
     if ((*message)[0] == request[0]) return *message;
-    // An answer to some other command (e.g. a late one after a timeout): not ours, keep waiting.
+    // Spontaneous messages (position reached, warnings, infos) and late answers to other commands: not ours.
   }
 }
 

@@ -1,6 +1,7 @@
 // Schunk PG70 device logic over a CanTransport speaking SMP (smp_codec.h). Units: position in mm (the module's
 // axis: 0 closed .. 70 open, two fingers of 35 mm), velocity in mm/s, acceleration in mm/s^2, current in A.
-// Each call sends one request and waits for the module's answer to that command; frames of other ids are skipped.
+// Each call sends one request and waits for the module's answer to that command; frames of other ids and
+// spontaneous messages are skipped; a D-Len 2 answer (a refusal) or a CMD ERROR throws kDeviceException.
 // Limits are checked before anything is sent (kInvalidArgument naming the field and value). A timeout, a
 // malformed answer or an SMP error message throws DeviceError after a best-effort CMD_STOP, so the module is
 // left stopped.

@@ -40,7 +40,9 @@ const char* ErrorName(uint8_t code) {
     case kErrorSoftHigh: return "soft limit high";
     case kErrorEmergencyStop: return "emergency stop";
     case kErrorNotReferenced: return "not referenced";
+    case kErrorTow: return "tow error";
     case kErrorOverCurrent: return "over current";
+    case kErrorMotorVoltageLow: return "motor voltage low";
     default: return "unknown error";
   }
 }
@@ -151,6 +153,7 @@ Message GetState(float period_s, uint8_t mode) {
 
 Message Ok(uint8_t code) { return {code, 'O', 'K'}; }
 Message ErrorMessage(uint8_t error) { return {kError, error}; }
+Message Refusal(uint8_t code, uint8_t reason) { return {code, reason}; }
 
 Message StateAnswer(const State& s) {
   Message m{kGetState};
@@ -162,13 +165,18 @@ Message StateAnswer(const State& s) {
   return m;
 }
 
-std::optional<State> ParseState(std::span<const uint8_t> m) {
-  if (m.size() != 15 || m[0] != kGetState) return std::nullopt;
-  return State{.position_mm = GetFloat(m.subspan(1)),
-               .velocity_mm_s = GetFloat(m.subspan(5)),
-               .current_a = GetFloat(m.subspan(9)),
-               .flags = m[13],
-               .error_code = m[14]};
+std::optional<State> ParseState(std::span<const uint8_t> m, uint8_t mode) {
+  float* fields[3];
+  State state;
+  size_t n = 0;
+  if (mode & 0x01) fields[n++] = &state.position_mm;
+  if (mode & 0x02) fields[n++] = &state.velocity_mm_s;
+  if (mode & 0x04) fields[n++] = &state.current_a;
+  if (m.size() != 1 + 4 * n + 2 || m[0] != kGetState) return std::nullopt;
+  for (size_t i = 0; i < n; ++i) *fields[i] = GetFloat(m.subspan(1 + 4 * i));
+  state.flags = m[1 + 4 * n];
+  state.error_code = m[2 + 4 * n];
+  return state;
 }
 
 }  // namespace graspsim::drivers::pg70::smp

@@ -136,7 +136,7 @@ TEST(Pg70Gripper, CommandsOutsideTheLimitsAreRejectedBeforeSending) {
 TEST(Pg70Gripper, ModuleErrorIsReportedAndTheModuleStopped) {
   Rig rig = MakeRig();
   ExpectDeviceError([&] { rig.gripper->MoveVelocity(-5.0, 1.0); }, DeviceFailure::kDeviceException,
-                    {"module reports error 0xDB", "not referenced", "stop sent"});
+                    {"module refused command 0xB5: 0xDB", "not referenced", "stop sent"});
   rig.gripper->Reference();
   rig.gripper->MoveVelocity(-5.0, 1.0);
   rig.emulator->InjectFault(Pg70Emulator::Fault::kErrorMessage, 1, smp::kErrorOverCurrent);

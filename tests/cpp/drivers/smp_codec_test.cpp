@@ -56,6 +56,31 @@ TEST(Pg70Smp, ShortCommandsFitOneFrame) {
   EXPECT_EQ(Data(EncodeFrames(kToModule + 1, GetState())[0]), (Bytes{0x06, 0x95, 0, 0, 0, 0, 0x07}));
 }
 
+TEST(Pg70Smp, SchunkDocumentationExamples) {
+  // SMP v1.41 examples. GET STATE every 1 s, position only: "0x501 06 95 00 00 80 3F 01".
+  const auto request = EncodeFrames(kToModule + 1, GetState(1.0f, 0x01));
+  ASSERT_EQ(request.size(), 1u);
+  EXPECT_EQ(request[0].can_id, 0x501u);
+  EXPECT_EQ(Data(request[0]), (Bytes{0x06, 0x95, 0x00, 0x00, 0x80, 0x3F, 0x01}));
+  // Its answer "0x701 07 95 36 89 81 3F 02 00": position 1.011 mm, moving, no error.
+  Assembler assembler;
+  const auto answer = assembler.Feed(RawFrame(0x701, {0x07, 0x95, 0x36, 0x89, 0x81, 0x3F, 0x02, 0x00}));
+  ASSERT_TRUE(answer);
+  const auto state = ParseState(*answer, 0x01);
+  ASSERT_TRUE(state);
+  EXPECT_NEAR(state->position_mm, 1.011f, 1e-3);
+  EXPECT_EQ(state->flags, state::kMoving);
+  EXPECT_EQ(state->error_code, 0);
+  EXPECT_FALSE(ParseState(*answer, 0x07));  // the wrong mode does not parse
+  // MOVE POS answer "05 B0 CD CC 04 41": the move takes 8.3 s.
+  EXPECT_FLOAT_EQ(GetFloat(Bytes{0xCD, 0xCC, 0x04, 0x41}), 8.3f);
+  // CMD ERROR on 0x300 + id: "0x301 02 88 74" (motor voltage low).
+  EXPECT_EQ(Data(EncodeFrames(kErrorFromModule + 1, ErrorMessage(kErrorMotorVoltageLow))[0]),
+            (Bytes{0x02, 0x88, 0x74}));
+  // CMD ACK and its answer: "0x501 01 8B", "0x701 03 8B 4F 4B".
+  EXPECT_EQ(Data(EncodeFrames(kFromModule + 1, Ok(kAck))[0]), (Bytes{0x03, 0x8B, 0x4F, 0x4B}));
+}
+
 TEST(Pg70Smp, LongMovePosIsFragmentedWithDLenCountingDown) {
   // 17 bytes: B0, position 10, velocity 1 (0x3F800000), acceleration 2 (0x40000000), current 0.5 (0x3F000000).
   const auto frames = EncodeFrames(kToModule + 12, MovePos(10.0f, Profile{1.0f, 2.0f, 0.5f}));
