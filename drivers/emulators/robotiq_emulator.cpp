@@ -62,6 +62,7 @@ std::unique_ptr<RobotiqEmulator> RobotiqEmulator::StartRtu(RobotiqModel::Options
   emulator->client_fd_ = master;
   emulator->device_ = ptsname(master);
   emulator->pty_slave_fd_ = open(emulator->device_.c_str(), O_RDWR | O_NOCTTY);
+  if (emulator->pty_slave_fd_ < 0) throw std::runtime_error("robotiq emulator: cannot open " + emulator->device_);
   termios raw{};
   tcgetattr(emulator->pty_slave_fd_, &raw);
   cfmakeraw(&raw);  // binary frames: no echo, no CR/LF translation (the driver's libmodbus sets the same)
@@ -98,6 +99,11 @@ double RobotiqEmulator::opening_mm() const { std::lock_guard lock(mutex_); retur
 void RobotiqEmulator::set_object(std::optional<double> opening_mm) {
   std::lock_guard lock(mutex_);
   model_.set_object(opening_mm);
+}
+
+void RobotiqEmulator::raise_fault(uint8_t gFLT) {
+  std::lock_guard lock(mutex_);
+  model_.raise_fault(gFLT);
 }
 
 void RobotiqEmulator::Run() {

@@ -41,6 +41,7 @@ class RobotiqEmulator {
   bool moving() const;
   double opening_mm() const;
   void set_object(std::optional<double> opening_mm);
+  void raise_fault(uint8_t gFLT);
   int requests_served() const { return requests_.load(); }
 
  private:

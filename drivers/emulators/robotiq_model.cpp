@@ -13,14 +13,18 @@ RobotiqModel::RobotiqModel(Options options) : options_(options) {
 
 void RobotiqModel::WriteCommand(const Registers& registers) {
   const Command next = DecodeCommand(registers);
-  if (!next.rACT) activation_elapsed_s_ = 0.0;  // reset: activation starts over when rACT is set again
+  if (!next.rACT) {  // reset: clears a latched fault; activation starts over when rACT is set again
+    activation_elapsed_s_ = 0.0;
+    latched_fault_ = kFaultNone;
+  }
   // A new request (or a fresh go-to) releases the latched contact; the fingers re-evaluate from where they are.
   if (next.rPR != command_.rPR || (next.rGTO && !command_.rGTO)) contact_ = false;
   command_ = next;
 }
 
 bool RobotiqModel::moving() const {
-  return activated() && command_.rGTO && !contact_ && std::abs(command_.rPR - position_counts_) >= 0.5;
+  return activated() && command_.rGTO && !contact_ && latched_fault_ < kFaultOverTemperature &&
+         std::abs(command_.rPR - position_counts_) >= 0.5;
 }
 
 double RobotiqModel::opening_mm() const { return options_.calibration.stroke_mm * (1.0 - position_counts_ / 255.0); }
@@ -50,10 +54,13 @@ Status RobotiqModel::status() const {
   s.gSTA = !command_.rACT ? ActivationState::kReset
            : activated()  ? ActivationState::kActivated
                           : ActivationState::kActivating;
-  if (command_.rGTO && !command_.rACT) s.gFLT = kFaultActivationBit;
+  if (latched_fault_ != kFaultNone) s.gFLT = latched_fault_;
+  else if (command_.rGTO && !command_.rACT) s.gFLT = kFaultActivationBit;
   else if (command_.rGTO && !activated()) s.gFLT = kFaultActionDelayed;
   if (contact_) s.gOBJ = ObjectState::kContactClosing;
-  else if (activated() && command_.rGTO && !moving()) s.gOBJ = ObjectState::kAtRequest;
+  else if (activated() && command_.rGTO && !moving() && latched_fault_ < kFaultOverTemperature) {
+    s.gOBJ = ObjectState::kAtRequest;
+  }
   else s.gOBJ = ObjectState::kMoving;
   s.gPR = command_.rPR;
   s.gPO = static_cast<uint8_t>(std::lround(std::clamp(position_counts_, 0.0, 255.0)));

@@ -16,7 +16,8 @@ void CheckLimitWithin(const std::string& field, double value, double low, double
 Reading ToReading(const Calibration& cal, const Status& s) {
   Reading r;
   r.activated = s.gSTA == ActivationState::kActivated;
-  r.moving = s.gGTO && s.gOBJ == ObjectState::kMoving;
+  // gOBJ 0 reads "moving toward the request", but fingers only move once activated and without a major fault.
+  r.moving = r.activated && s.gGTO && s.gOBJ == ObjectState::kMoving && s.gFLT < kFaultOverTemperature;
   r.object_detected = s.gOBJ == ObjectState::kContactOpening || s.gOBJ == ObjectState::kContactClosing;
   r.opening_mm = OpeningMm(cal, s.gPO);
   r.requested_opening_mm = OpeningMm(cal, s.gPR);

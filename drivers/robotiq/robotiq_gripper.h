@@ -31,7 +31,7 @@ struct Config {
 
 struct Reading {
   bool activated = false;        // gSTA == activated
-  bool moving = false;           // gGTO set and gOBJ == moving
+  bool moving = false;           // activated, gGTO set, gOBJ == moving, no major fault
   bool object_detected = false;  // stopped on contact (gOBJ 1 or 2)
   double opening_mm = 0.0;       // from gPO
   double requested_opening_mm = 0.0;  // from gPR
@@ -46,8 +46,8 @@ class Gripper {
   // Throws kInvalidArgument if the limits leave the calibration's ranges.
   Gripper(std::unique_ptr<modbus::ModbusTransport> link, Config config);
 
-  // Reset (rACT 0) then activate (rACT 1) and wait for gSTA == activated; throws on a fault or after
-  // activation_timeout (the gripper is then reset and stopped).
+  // Reset (rACT 0, which also clears a latched fault) then activate (rACT 1) and wait for gSTA == activated;
+  // throws on a major fault or after activation_timeout, the gripper stopped (rGTO 0) in both cases.
   void Activate();
   // Starts a move; does not wait. Throws kFailedPrecondition before Activate().
   void Move(double opening_mm, double speed_mm_s, double force_n);

@@ -223,6 +223,30 @@ TEST_P(RobotiqGripperTest, MalformedAnswerIsReportedAndTheGripperStopped) {
   EXPECT_FALSE(rig.emulator->moving());
 }
 
+TEST_P(RobotiqGripperTest, MinorFaultIsReportedInTheStatus) {
+  Rig rig = MakeRig(GetParam());
+  const Registers go_without_activation = EncodeCommand(Command{.rACT = false, .rGTO = true, .rPR = 100});
+  rig.gripper->link().WriteRegisters(kCommandAddress, go_without_activation);
+  const Reading r = rig.gripper->ReadStatus();
+  EXPECT_EQ(r.fault, kFaultActivationBit);
+  EXPECT_EQ(r.fault_name, "activation bit must be set first");
+  EXPECT_FALSE(r.moving);
+}
+
+TEST_P(RobotiqGripperTest, MajorFaultStopsTheWaitAndAResetClearsIt) {
+  Rig rig = MakeRig(GetParam());
+  rig.gripper->Activate();
+  rig.gripper->Move(0.0, 20.0, 50.0);
+  rig.emulator->raise_fault(kFaultOverCurrent);
+  ExpectDeviceError([&] { rig.gripper->WaitUntilStopped(kSettle); }, DeviceFailure::kDeviceFault,
+                    {"fault 14 (over-current)", "stop sent"});
+  EXPECT_FALSE(rig.emulator->command().rGTO);
+  rig.gripper->Activate();  // the reset clears the fault
+  EXPECT_EQ(rig.gripper->ReadStatus().fault, kFaultNone);
+  rig.gripper->Move(60.0, 150.0, 50.0);
+  EXPECT_NEAR(rig.gripper->WaitUntilStopped(kSettle).opening_mm, 60.0, kCountMm);
+}
+
 TEST(RobotiqGripperRtu, BadCrcIsReportedAndTheGripperStopped) {
   Rig rig = MakeRig(Link::kRtu);
   rig.gripper->Activate();
