@@ -27,7 +27,7 @@ double AdvanceCurrent(const DcMotorParams& p, double current, double voltage, do
 }  // namespace
 
 ActuatorOutput StepDcMotor(const DcMotorParams& params, const ActuatorCommand& command, double q, double q_dot,
-                           double dt, DcMotorState* state) {
+                           double dt, DcMotorState* state, CurrentLimitMode mode) {
   ActuatorOutput out;
   dt = std::max(dt, 0.0);
   if (command.mode == ActuatorMode::kOff) {
@@ -78,24 +78,36 @@ ActuatorOutput StepDcMotor(const DcMotorParams& params, const ActuatorCommand& c
   }
 
   const double free_current = AdvanceCurrent(params, state->current, voltage, back_emf, dt);
-  const double current = Symmetric(free_current, current_limit);
   const double force_per_amp = params.ratio * params.efficiency * params.torque_constant;
-  if (current != free_current) {
+  // i = i0 e^{−R dt/L} + (1 − e^{−R dt/L}) (V − k_e ratio q̇)/R: how far the current follows within the step.
+  const double follow = params.inductance > 0 ? -std::expm1(-params.resistance * dt / params.inductance) : 1.0;
+  out.free_force = force_per_amp * free_current;
+  out.free_damping = force_per_amp * follow * (dV_dqdot - params.torque_constant * params.ratio) / params.resistance;
+  out.free_stiffness = force_per_amp * follow * dV_dq / params.resistance;
+  out.force_limit = force_per_amp * current_limit;
+  const bool at_limit_by_caller =
+      mode == CurrentLimitMode::kAtPositiveLimit || mode == CurrentLimitMode::kAtNegativeLimit;
+  out.limited = at_limit_by_caller || (mode == CurrentLimitMode::kAuto && std::abs(free_current) > current_limit);
+  // Limited: ±limit in the direction the controller pushes (at the new velocity when the caller decided). Free
+  // by the caller's decision: the free current, which may exceed the limit at the start velocity though not at
+  // the new one.
+  const double direction = at_limit_by_caller ? (mode == CurrentLimitMode::kAtPositiveLimit ? 1.0 : -1.0)
+                                              : free_current;
+  const double current = out.limited ? std::copysign(current_limit, direction) : free_current;
+  if (out.limited) {
     // The current loop holds |i| at the limit by lowering the terminal voltage to what sustains it
     // (di/dt = 0 at the limit): report that voltage, and hold the integral as for voltage saturation. The
     // force is then constant: no damping, no stiffness.
     voltage = Symmetric(params.resistance * current + back_emf, voltage_limit);
     if (closed_loop && current * error > 0) integral = state->velocity_error_integral;
   } else {
-    // i = i0 e^{−R dt/L} + (1 − e^{−R dt/L}) (V − k_e ratio q̇)/R: how far the current follows within the step.
-    const double follow = params.inductance > 0 ? -std::expm1(-params.resistance * dt / params.inductance) : 1.0;
-    out.damping = force_per_amp * follow * (dV_dqdot - params.torque_constant * params.ratio) / params.resistance;
-    out.stiffness = force_per_amp * follow * dV_dq / params.resistance;
+    out.damping = out.free_damping;
+    out.stiffness = out.free_stiffness;
   }
 
-  state->current = current;
+  state->current = Symmetric(current, current_limit);
   state->velocity_error_integral = closed_loop ? integral : 0;  // only the PI loop keeps an integral
-  out.current = current;
+  out.current = state->current;
   out.voltage = voltage;
   out.joint_force = force_per_amp * current;
   return out;

@@ -18,11 +18,23 @@ struct ActuatorOutput {
   // geared motor far too stiffly for an explicit step (the PG70 finger: ~3 kN s/m on 0.1 kg).
   double damping = 0;            // ∂force/∂q̇, N s/m or N m s/rad (≤ 0)
   double stiffness = 0;          // ∂force/∂q, N/m or N m/rad (≤ 0; position mode)
+  // The current limit as a constraint of the step. free_*: the force the controller asks for and its
+  // derivatives as if there were no limit; force_limit: the largest |force| the limit allows; limited: the
+  // limit holds this step (joint_force = ±force_limit, damping = stiffness = 0).
+  double free_force = 0, free_damping = 0, free_stiffness = 0;
+  double force_limit = 0;
+  bool limited = false;
 };
+
+// How a step decides whether the current limit holds. kAuto: at the joint's velocity at the start of the step.
+// The others: as the caller decided, at the step's new velocity (the simulation's implicit solve treats the
+// limit as an active constraint, force = clamp(free force at the new velocity): a drive that saturates within a
+// large step is then not stepped explicitly, which made position loops chatter).
+enum class CurrentLimitMode { kAuto, kFree, kAtPositiveLimit, kAtNegativeLimit };
 
 // One control step: the motor's output for the joint's position q and velocity q̇ over dt (state advanced).
 ActuatorOutput StepDcMotor(const DcMotorParams& params, const ActuatorCommand& command, double q, double q_dot,
-                           double dt, DcMotorState* state);
+                           double dt, DcMotorState* state, CurrentLimitMode mode = CurrentLimitMode::kAuto);
 
 // The Schunk PG70 finger drive: velocity control of the finger joint (m/s) with a maximum motor current; its
 // parameters reproduce the datasheet's 200 N gripping force at the rated current and 82 mm/s top speed.

@@ -1,5 +1,5 @@
 // The dynamic simulation of one scene, as a readable list of stages per step (MuJoCo's mj_step):
-//   FindContacts → ContactForces → ActuatorForces → SolveVelocityChange → AdvanceBristles → Integrate
+//   FindContacts → ContactForces → ActuatorForces → SolveVelocityChange (⇄ LimitCurrents) → AdvanceBristles → Integrate
 //   → RecordJointWrenches → ClampJointLimits → UpdateSleep, then CheckFinite.
 // Contacts are soft (penalty normal force, LuGre friction; physics/contact_law.h) at the surface samples the
 // collision library finds; the articulated dynamics are physics/multibody.h. The linearly implicit integrator
@@ -81,6 +81,9 @@ class Simulation {
                            SceneState* state) const;
   void ContactForces(const SceneState& state, const Eigen::VectorXd& v, double h, Forces* forces);
   void ActuatorForces(SceneState* state, double h, Forces* forces);
+  bool LimitCurrents(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h, SceneState* state,
+                     Forces* forces);
+  void RecordDriveOutputs(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h, SceneState* state) const;
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
                                       double h) const;
   void AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state);
@@ -106,6 +109,14 @@ class Simulation {
   Forces forces_at_start_, forces_at_end_;  // of a sub-step (the end's only for velocity Verlet)
   std::vector<std::pair<ContactKey, Vec3>> spare_bristles_;  // swapped with the state's each sub-step
   std::vector<Multibody::Vec6> twists_;  // per pair
+  // The sub-step's driven joints: the motor's state before the step and its output (ActuatorForces).
+  struct Drive {
+    size_t joint = 0;
+    int offset = 0;
+    DcMotorState state_before;
+    ActuatorOutput output;
+  };
+  std::vector<Drive> drives_;
 };
 
 }  // namespace graspsim
