@@ -225,6 +225,7 @@ bool RobotiqEmulator::SendFaulty(const uint8_t* query, ReplyFault fault) {
   } else {
     frame = modbus::TcpFrame(U16(query), query[6], pdu);
   }
+  if (fault == ReplyFault::kTruncated) frame.resize(frame.size() / 2);
   return write(client_fd_, frame.data(), frame.size()) == static_cast<ssize_t>(frame.size());
 }
 

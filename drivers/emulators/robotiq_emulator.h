@@ -9,6 +9,8 @@
 //   kException    no effect; a Modbus exception answer with the given code
 //   kWrongCount   the request takes effect; the answer is well framed but its register count is wrong
 //   kBadCrc       (RTU) the request takes effect; the answer's CRC is corrupted
+//   kTruncated    the request takes effect; only the first half of the answer is sent (the master times out
+//                 waiting for the rest)
 #pragma once
 
 #include <atomic>
@@ -24,7 +26,7 @@ typedef struct _modbus_mapping_t modbus_mapping_t;
 
 namespace graspsim::drivers::emulators {
 
-enum class ReplyFault { kNone, kNoReply, kException, kWrongCount, kBadCrc };
+enum class ReplyFault { kNone, kNoReply, kException, kWrongCount, kBadCrc, kTruncated };
 
 class RobotiqEmulator {
  public:

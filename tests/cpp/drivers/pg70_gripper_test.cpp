@@ -5,6 +5,7 @@
 #include "drivers/pg70/pg70_gripper.h"
 
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -171,6 +172,29 @@ TEST(Pg70Gripper, MalformedAnswerIsReportedAndTheModuleStopped) {
                     {"socketpair pg70 module 12", "FRAG_END without FRAG_START", "stop sent"});
   EXPECT_FALSE(rig.emulator->moving());
   EXPECT_TRUE(rig.gripper->GetState().flags & smp::state::kReferenced);  // the link recovers
+}
+
+TEST(Pg70Gripper, EmulatorSurvivesBrokenFramingFromTheMaster) {
+  int fds[2];
+  ASSERT_EQ(socketpair(AF_UNIX, SOCK_SEQPACKET, 0, fds), 0);
+  Pg70Emulator emulator(fds[1], {});
+  can::CanTransport raw(dup(fds[0]), "raw");
+  Gripper gripper(std::make_unique<can::CanTransport>(fds[0], "socketpair"), Config{});
+  can_frame stray{};  // a FRAG_END nobody started
+  stray.can_id = smp::kToModule + 12;
+  stray.can_dlc = 4;
+  stray.data[0] = 2;
+  stray.data[1] = smp::kFragEnd;
+  raw.Send(stray);
+  gripper.Reference();  // answered as if nothing had happened
+  EXPECT_EQ(emulator.malformed_requests(), 1);
+  const smp::Message unknown{0x42};
+  for (const can_frame& f : smp::EncodeFrames(smp::kToModule + 12, unknown)) raw.Send(f);
+  const auto refusal = raw.Receive(std::chrono::milliseconds(2000));
+  ASSERT_TRUE(refusal);
+  EXPECT_EQ(refusal->can_id, smp::kFromModule + 12);
+  EXPECT_EQ(std::vector<uint8_t>(refusal->data, refusal->data + refusal->can_dlc),
+            (std::vector<uint8_t>{0x02, 0x42, smp::kErrorUnknownCommand}));
 }
 
 TEST(Pg70Gripper, ModuleIdSelectsTheCanIds) {

@@ -247,6 +247,32 @@ TEST_P(RobotiqGripperTest, MajorFaultStopsTheWaitAndAResetClearsIt) {
   EXPECT_NEAR(rig.gripper->WaitUntilStopped(kSettle).opening_mm, 60.0, kCountMm);
 }
 
+TEST_P(RobotiqGripperTest, TruncatedAnswerTimesOutAndTheGripperIsStopped) {
+  Rig rig = MakeRig(GetParam());
+  rig.gripper->Activate();
+  rig.gripper->Move(0.0, 20.0, 50.0);
+  rig.emulator->InjectFault(ReplyFault::kTruncated);  // half a status answer, then silence
+  ExpectDeviceError([&] { rig.gripper->ReadStatus(); }, DeviceFailure::kTimeout,
+                    {"read 3 registers at 0x07D0", "stop sent"});
+  EXPECT_FALSE(rig.emulator->moving());
+  EXPECT_NO_THROW(rig.gripper->ReadStatus());  // no stale bytes left on the link
+}
+
+TEST(RobotiqGripperTcp, ANewConnectionTakesOverAndTheOldOneFailsClearly) {
+  Rig rig = MakeRig(Link::kTcp);
+  rig.gripper->Activate();
+  // The gateway reconnecting after a link loss: the adapter serves the newest master, the device state persists.
+  Gripper second(Connect(Link::kTcp, *rig.emulator), Config{});
+  EXPECT_TRUE(second.ReadStatus().activated);
+  try {
+    rig.gripper->ReadStatus();
+    ADD_FAILURE() << "the replaced connection still answered";
+  } catch (const DeviceError& error) {
+    EXPECT_TRUE(error.failure() == DeviceFailure::kIo || error.failure() == DeviceFailure::kTimeout) << error.what();
+    EXPECT_NE(std::string(error.what()).find("modbus tcp 127.0.0.1"), std::string::npos) << error.what();
+  }
+}
+
 TEST(RobotiqGripperRtu, BadCrcIsReportedAndTheGripperStopped) {
   Rig rig = MakeRig(Link::kRtu);
   rig.gripper->Activate();
