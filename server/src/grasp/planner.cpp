@@ -107,7 +107,7 @@ void GraspPlanner::AddVolumes(std::vector<PlannedGrasp>* grasps, int threads) co
       PlannedGrasp& grasp = (*grasps)[i];
       ContactWrenches(grasp.contacts.data(), grasp.contacts.size(), object_->centroid(),
                       object_->characteristic_length(), p.friction, p.cone_edges, &wrenches);
-      grasp.quality.volume = HullQuality(wrenches).volume;
+      grasp.quality.volume = HullQuality(wrenches, true).volume;
     }
   };
   const size_t workers = std::max<size_t>(1, std::min<size_t>(threads, count));

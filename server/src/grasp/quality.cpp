@@ -69,7 +69,7 @@ void ContactWrenches(const GraspContact* contacts, size_t count, const Vec3& cen
   }
 }
 
-Quality HullQuality(const std::vector<Wrench>& wrenches) {
+Quality HullQuality(const std::vector<Wrench>& wrenches, bool joggle) {
   Quality quality;
   if (wrenches.size() < 7 || !SpansR6(wrenches)) return quality;
   std::vector<coordT> points(6 * wrenches.size());
@@ -81,7 +81,8 @@ Quality HullQuality(const std::vector<Wrench>& wrenches) {
   FILE* quiet = QuietStream();
   qh_zero(qh, quiet);
   // Default options (Qx merging in 6-D): merged facets keep exact hyperplanes through their vertices.
-  char options[] = "qhull";
+  char exact[] = "qhull", joggled[] = "qhull QJ";
+  char* options = joggle ? joggled : exact;
   const int exit_code = qh_new_qhull(qh, 6, static_cast<int>(wrenches.size()), points.data(), False, options,
                                      nullptr, quiet);
   if (exit_code == 0) {

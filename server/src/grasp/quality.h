@@ -42,8 +42,10 @@ void ContactWrenches(const GraspContact* contacts, size_t count, const Vec3& cen
                      double friction, int cone_edges, std::vector<Wrench>* wrenches);
 
 // ε, volume and force closure of the convex hull of `wrenches` (qhull, the whole hull). Degenerate sets (fewer
-// than 7 points, or not spanning R^6) are not force closure: ε = volume = 0.
-Quality HullQuality(const std::vector<Wrench>& wrenches);
+// than 7 points, or not spanning R^6) are not force closure: ε = volume = 0. `joggle` (qhull's QJ: the input
+// moved by ~1e-11 relative, with qhull's fixed seed, so repeatable) builds a simplicial hull without facet
+// merging, about twice as fast on the many coplanar wrenches of flat contact patches: for volumes.
+Quality HullQuality(const std::vector<Wrench>& wrenches, bool joggle = false);
 
 // ε and force closure only, from the hull's facet nearest the origin (nearest_facet.h; qhull when that does not
 // converge): the same ε as HullQuality to rounding, at a fraction of the cost. volume = -1 (not computed).
