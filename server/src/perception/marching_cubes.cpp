@@ -119,13 +119,18 @@ TriangleMesh ExtractIsoSurface(const GridSamples& grid, float iso) {
     mesh.vertices.push_back(p.cast<float>());
     return uint32_t(slot);
   };
+  // Inside flags once per node (a pass that vectorises), then each cell's pattern from eight bytes: most cells
+  // are all in or all out and cost only that.
+  std::vector<uint8_t> inside(layer * nz);
+  for (int64_t i = 0; i < layer * nz; ++i) inside[i] = grid.values[i] < iso;
   for (int k = 0; k + 1 < nz; ++k) {
     for (int j = 0; j + 1 < ny; ++j) {
+      const uint8_t* s00 = inside.data() + (int64_t(k) * ny + j) * nx;  // corners (·, 0, 0)
+      const uint8_t *s01 = s00 + nx, *s10 = s00 + layer, *s11 = s10 + nx;
       for (int i = 0; i + 1 < nx; ++i) {
-        int pattern = 0;
-        for (int c = 0; c < 8; ++c) {
-          if (value(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1)) < iso) pattern |= 1 << c;
-        }
+        const int pattern = s00[i] | s00[i + 1] << 1 | s01[i] << 2 | s01[i + 1] << 3 | s10[i] << 4 |
+                            s10[i + 1] << 5 | s11[i] << 6 | s11[i + 1] << 7;
+        if (pattern == 0 || pattern == 255) continue;
         for (const auto& tri : cases[pattern]) {
           std::array<uint32_t, 3> t;
           for (int v = 0; v < 3; ++v) {

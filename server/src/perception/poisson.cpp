@@ -18,6 +18,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Grids up to 33³ nodes are solved whole (multigrid CG: a few ms); finer ones only near the samples.
+constexpr int kFullSolveDepth = 5;
+// Band half-width beyond the splat's reach, cells: enough for the indicator's transition at this level.
+constexpr int kBandMargin = 2;
+
 double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
@@ -91,6 +96,32 @@ Grid MakeGrid(const std::vector<Vec3>& points, const PoissonParams& params) {
   return grid;
 }
 
+// The same cube with 2^depth cells per side.
+Grid Coarsened(const Grid& fine, int depth) {
+  Grid grid = fine;
+  grid.depth = depth;
+  grid.n = (1 << depth) + 1;
+  grid.h = fine.h * double(1 << (fine.depth - depth));
+  return grid;
+}
+
+// Nodes within `margin` cells of a sample's cell: where the splat put b ≠ 0 (reach ≤ margin − 1) and where the
+// indicator changes on the scale of this grid.
+std::vector<uint8_t> BandAround(const std::vector<ScreeningSample>& samples, const Grid& grid, int margin) {
+  std::vector<uint8_t> band(int64_t(grid.n) * grid.n * grid.n, 0);
+  const int64_t layer = int64_t(grid.n) * grid.n;
+  for (const ScreeningSample& s : samples) {
+    const int i0 = int(s.base % grid.n), j0 = int(s.base / grid.n % grid.n), k0 = int(s.base / layer);
+    const int ilo = std::max(0, i0 - margin), ihi = std::min(grid.n - 1, i0 + 1 + margin);
+    for (int k = std::max(0, k0 - margin); k <= std::min(grid.n - 1, k0 + 1 + margin); ++k) {
+      for (int j = std::max(0, j0 - margin); j <= std::min(grid.n - 1, j0 + 1 + margin); ++j) {
+        std::fill_n(band.begin() + grid.Index(ilo, j, k), ihi - ilo + 1, uint8_t(1));
+      }
+    }
+  }
+  return band;
+}
+
 // Surface area the samples cover, m²: cells they occupy on the finest grid at which a cell holds ≥ 4 samples on
 // average (so few cells the surface crosses are empty), each worth h² / 1.5 (the mean area of a randomly
 // oriented plane in a unit cube is 1 / 1.5 of the cubes it crosses).
@@ -114,22 +145,25 @@ double EstimateArea(const std::vector<Vec3>& points, const Grid& grid) {
   return area;
 }
 
-// Stage 2: the normal field on the grid's edges, and the divergence of it the solver needs (b = −div V).
+// Stage 2: the right-hand side b = Dᵀ V of the normal equations, straight from the samples. Each sample carries
+// its normal's component a into the a-edges around it (tent weights, centred half a cell along a from the edges'
+// lower nodes); an a-edge from node m to m + e_a with value v adds v to b at m + e_a and −v at m. So b is nonzero
+// only within the kernel's reach of the samples, and the field V itself is never stored.
 std::vector<float> SplatNormals(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, const Grid& grid,
-                                double sample_area) {
+                                double sample_area, int* reach_out) {
   const int n = grid.n;
   const double half_width = std::clamp(std::sqrt(sample_area) / grid.h, 1.0, 16.0);  // cells
   const int reach = int(std::ceil(half_width));
+  *reach_out = reach;
   const double jump = sample_area / (grid.h * grid.h);  // edges a sample's patch crosses, per unit normal
-  std::vector<float> field[3];
-  for (auto& f : field) f.assign(int64_t(n) * n * n, 0.0f);
+  const int64_t stride[3] = {1, n, int64_t(n) * n};
+  std::vector<float> b(int64_t(n) * n * n, 0.0f);
   std::vector<double> weights[3];
   int first[3];
   for (size_t s = 0; s < points.size(); ++s) {
     const Vec3 u = grid.ToGrid(points[s]);
     const Vec3 normal = normals[s].normalized();
     for (int a = 0; a < 3; ++a) {
-      // Component a lives on the a-edges, centred half a cell along a from their lower node.
       for (int axis = 0; axis < 3; ++axis) {
         const double c = u[axis] - (axis == a ? 0.5 : 0.0);
         const int last = axis == a ? n - 2 : n - 1;
@@ -148,26 +182,13 @@ std::vector<float> SplatNormals(const std::vector<Vec3>& points, const std::vect
       for (size_t k = 0; k < weights[2].size(); ++k) {
         for (size_t j = 0; j < weights[1].size(); ++j) {
           const double wjk = amount * weights[2][k] * weights[1][j];
-          const int64_t row = grid.Index(first[0], first[1] + int(j), first[2] + int(k));
-          for (size_t i = 0; i < weights[0].size(); ++i) field[a][row + i] += float(wjk * weights[0][i]);
+          float* row = b.data() + grid.Index(first[0], first[1] + int(j), first[2] + int(k));
+          for (size_t i = 0; i < weights[0].size(); ++i) {
+            const float v = float(wjk * weights[0][i]);
+            row[i] -= v;
+            row[i + stride[a]] += v;
+          }
         }
-      }
-    }
-  }
-  // b_i = Σ_a V_a(edge into i) − V_a(edge out of i): the right-hand side of the normal equations.
-  std::vector<float> b(int64_t(n) * n * n, 0.0f);
-  const int64_t stride[3] = {1, n, int64_t(n) * n};
-  int64_t at = 0;
-  for (int k = 0; k < n; ++k) {
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i, ++at) {
-        const int idx[3] = {i, j, k};
-        float sum = 0;
-        for (int a = 0; a < 3; ++a) {
-          if (idx[a] > 0) sum += field[a][at - stride[a]];
-          if (idx[a] + 1 < n) sum -= field[a][at];
-        }
-        b[at] = sum;
       }
     }
   }
@@ -206,6 +227,19 @@ double IsoValue(const std::vector<ScreeningSample>& samples, const std::vector<f
   return sum / double(samples.size());
 }
 
+void CloseAtBorder(const Grid& grid, float iso, std::vector<float>* chi) {
+  const int n = grid.n;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      const bool face = k == 0 || j == 0 || k == n - 1 || j == n - 1;
+      for (int i = 0; i < n; i += (face ? 1 : n - 1)) {
+        float& v = (*chi)[grid.Index(i, j, k)];
+        v = std::max(v, iso);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
@@ -214,31 +248,56 @@ PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vec
   PoissonResult result;
   PoissonStats& stats = result.stats;
 
+  // Stages 1–3, coarse to fine: a full solve on a grid of at most kFullSolveDepth, then each finer level
+  // corrected in a band around the samples only (RefineInBand): far from them χ is flat and the coarse grid
+  // already has it. Per level: grid, splat and samples (timed as "splat"), then the solve.
+  const Grid finest = MakeGrid(points, params);
+  stats.cell_size = finest.h;
   auto start = Clock::now();
-  const Grid grid = MakeGrid(points, params);
-  stats.cell_size = grid.h;
-  stats.sample_area = EstimateArea(points, grid) / double(points.size());
-  const std::vector<float> b = SplatNormals(points, normals, grid, stats.sample_area);
-  stats.ms_grid_splat = MsSince(start);
-
-  start = Clock::now();
-  // β = α a / h²: the screening of a patch does not depend on how densely it is sampled (Kazhdan & Hoppe, eq. 3).
-  const double sqrt_beta = std::sqrt(params.screening * stats.sample_area / (grid.h * grid.h));
+  stats.sample_area = EstimateArea(points, finest) / double(points.size());
+  stats.ms_grid_splat += MsSince(start);
+  std::vector<float> chi;
   std::vector<ScreeningSample> samples;
-  samples.reserve(points.size());
-  for (const Vec3& p : points) samples.push_back(Sample(p, grid, sqrt_beta));
-  std::vector<float> chi(b.size(), 0.0f);
-  const SolverReport report =
-      SolveScreenedPoisson(grid.depth, samples, b, params.tolerance, params.max_iterations, &chi);
-  stats.solver_iterations = report.iterations;
-  stats.solver_relative_residual = report.relative_residual;
-  stats.ms_solve = MsSince(start);
+  const int first = std::min(params.depth, kFullSolveDepth);
+  for (int depth = first; depth <= params.depth; ++depth) {
+    start = Clock::now();
+    const Grid grid = Coarsened(finest, depth);
+    int reach = 1;
+    const std::vector<float> b = SplatNormals(points, normals, grid, stats.sample_area, &reach);
+    // β = α a / h²: the screening of a patch does not depend on how densely it is sampled (Kazhdan & Hoppe,
+    // eq. 3), nor on the level (χ keeps its unit jump on every grid).
+    const double sqrt_beta = std::sqrt(params.screening * stats.sample_area / (grid.h * grid.h));
+    samples.clear();
+    samples.reserve(points.size());
+    for (const Vec3& p : points) samples.push_back(Sample(p, grid, sqrt_beta));
+    stats.ms_grid_splat += MsSince(start);
+
+    start = Clock::now();
+    SolverReport report;
+    if (depth == first) {
+      chi.assign(b.size(), 0.0f);
+      report = SolveScreenedPoisson(depth, samples, b, params.tolerance, params.max_iterations, &chi);
+    } else {
+      std::vector<float> coarse;
+      coarse.swap(chi);
+      ProlongTrilinear(depth - 1, coarse, &chi);
+      report = RefineInBand(depth, BandAround(samples, grid, reach + kBandMargin), samples, b, params.tolerance,
+                            params.max_iterations, &chi);
+    }
+    stats.solver_iterations += report.iterations;
+    stats.solver_relative_residual = report.relative_residual;
+    stats.ms_solve += MsSince(start);
+  }
+  const Grid& grid = finest;
 
   start = Clock::now();
   stats.iso_value = IsoValue(samples, chi, grid);
   stats.ms_iso = MsSince(start);
 
   start = Clock::now();
+  // The border counts as outside: where the indicator's inside reaches it (an open, one-sided cloud can leak
+  // there) the surface closes in the last cell instead of leaving a hole.
+  CloseAtBorder(grid, float(stats.iso_value), &chi);
   GridSamples view;
   view.nodes = Eigen::Vector3i::Constant(grid.n);
   view.origin = grid.origin;

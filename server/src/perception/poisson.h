@@ -12,8 +12,8 @@
 //               χ jumps by ≈ 1 across the surface, low inside.
 //   4. Iso:     the mean of χ at the samples.
 //   5. Extract: marching cubes at that iso-value (marching_cubes.h): triangles counter-clockwise from outside.
-// The grid's border lies (scale − 1)/2 of the extent beyond the cloud, where χ is flat, so the surface never
-// reaches it and the mesh is closed.
+// The grid's border lies (scale − 1)/2 of the extent beyond the cloud; it counts as outside for the extraction,
+// so even where a one-sided cloud's inside leaks to it the mesh is closed (clipped by the cube).
 #pragma once
 
 #include <vector>
@@ -28,7 +28,7 @@ struct PoissonParams {
   double screening = 4;     // α in (0, 1e4]: weight of χ = 0 at the samples against fitting the normals; it also
                             // fixes the constant the Neumann problem leaves free, so it cannot be 0
   double scale = 1.25;      // grid cube side / the cloud's largest extent, 1.05..4
-  double tolerance = 1e-4;  // conjugate gradients stop at this relative residual, (0, 0.1]
+  double tolerance = 1e-3;  // conjugate gradients stop at this relative residual, (0, 0.1]
   int max_iterations = 60;  // 1..1000
 };
 

@@ -34,4 +34,15 @@ SolverReport SolveScreenedPoisson(int depth, const std::vector<ScreeningSample>&
                                   const std::vector<float>& b, double tolerance, int max_iterations,
                                   std::vector<float>* x);
 
+// The cascadic step of the solve (an octree's economy on a regular grid): on a grid one level finer than the one
+// solved, χ is the coarse solution interpolated everywhere, and corrected only on a band of nodes near the samples,
+// where the fine detail is, holding the rest fixed (Dirichlet). Conjugate gradients with a Jacobi preconditioner on
+// the band's rows of L + S. `band`: N³ flags; every sample's cell and every node where b ≠ 0 must be in it.
+// The relative residual is over the band's rows.
+SolverReport RefineInBand(int depth, const std::vector<uint8_t>& band, const std::vector<ScreeningSample>& samples,
+                          const std::vector<float>& b, double tolerance, int max_iterations, std::vector<float>* x);
+
+// fine (2^(coarse_depth + 1) + 1 nodes per side) = the trilinear interpolation of coarse (2^coarse_depth + 1).
+void ProlongTrilinear(int coarse_depth, const std::vector<float>& coarse, std::vector<float>* fine);
+
 }  // namespace graspsim

@@ -120,6 +120,29 @@ TEST(PoissonTest, SparseSphereAtDepth5) {
   EXPECT_LT(d.Mean(), 0.3e-3);
 }
 
+// A cloud seen from one side only (the upper half of a sphere): Poisson still closes the surface — over the missing
+// half, where the fine grids are not refined, at the coarse grid's resolution — and the seen half stays accurate.
+TEST(PoissonTest, HalfSeenSphereStaysClosed) {
+  const double r = 0.05;
+  const OrientedCloud sphere = test_shapes::Sphere(r, 20000);
+  OrientedCloud half;
+  for (size_t i = 0; i < sphere.points.size(); ++i) {
+    if (sphere.points[i].z() > 0) {
+      half.points.push_back(sphere.points[i]);
+      half.normals.push_back(sphere.normals[i]);
+    }
+  }
+  const PoissonResult result = ReconstructSurface(half.points, half.normals, Depth(7));
+  ExpectClosed(result.mesh);
+  EXPECT_GT(EnclosedVolume(result.mesh), 0.0);
+  const MeshDistance to_mesh(result.mesh);
+  double seen = 0;
+  for (const Vec3& p : half.points) seen += to_mesh.Distance(p);
+  seen /= double(half.points.size());
+  std::cout << "half sphere d7: seen half to mesh " << seen * 1e3 << " mm\n";
+  EXPECT_LT(seen, 0.1e-3);
+}
+
 TEST(PoissonTest, SameInputGivesBitIdenticalMesh) {
   const OrientedCloud cloud = test_shapes::Box(Vec3(0.08, 0.05, 0.03), 0.002);
   const PoissonResult a = ReconstructSurface(cloud.points, cloud.normals, Depth(6));
