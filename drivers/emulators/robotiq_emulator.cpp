@@ -39,9 +39,9 @@ RobotiqEmulator::RobotiqEmulator(RobotiqModel::Options options) : model_(options
   if (mapping_ == nullptr) throw std::runtime_error("robotiq emulator: cannot allocate the register map");
 }
 
-std::unique_ptr<RobotiqEmulator> RobotiqEmulator::StartTcp(RobotiqModel::Options options) {
+std::unique_ptr<RobotiqEmulator> RobotiqEmulator::StartTcp(RobotiqModel::Options options, int port) {
   std::unique_ptr<RobotiqEmulator> emulator(new RobotiqEmulator(options));
-  emulator->ctx_ = modbus_new_tcp("127.0.0.1", 0);  // port 0: the kernel picks a free one
+  emulator->ctx_ = modbus_new_tcp("127.0.0.1", port);
   emulator->listen_fd_ = modbus_tcp_listen(emulator->ctx_, 1);
   if (emulator->listen_fd_ < 0) throw std::runtime_error("robotiq emulator: cannot listen on 127.0.0.1");
   sockaddr_in address{};

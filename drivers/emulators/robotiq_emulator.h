@@ -30,7 +30,8 @@ enum class ReplyFault { kNone, kNoReply, kException, kWrongCount, kBadCrc, kTrun
 
 class RobotiqEmulator {
  public:
-  static std::unique_ptr<RobotiqEmulator> StartTcp(RobotiqModel::Options options);
+  // port 0: a free port chosen by the kernel (see port()).
+  static std::unique_ptr<RobotiqEmulator> StartTcp(RobotiqModel::Options options, int port = 0);
   static std::unique_ptr<RobotiqEmulator> StartRtu(RobotiqModel::Options options);
   ~RobotiqEmulator();
 
