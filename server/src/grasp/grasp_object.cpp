@@ -14,8 +14,9 @@ namespace {
 // A vertex is sharp when two of its faces' normals differ by more than this: 20 deg. Below it, the hand's
 // surface samples (a few mm apart) cannot straddle a bump deep enough to matter.
 const double kSharpCos = std::cos(20.0 * 3.14159265358979 / 180);
-// At most this many sharp vertices are swept (a scanned mesh can have many noisy ones); beyond it, every k-th.
-constexpr size_t kMaxSharp = 2048;
+// At most this many sharp vertices are swept (a scanned mesh has many noisy ones, and each costs a test per link
+// and closing step); beyond it, every k-th, so the bound of simulate.h then holds only for the kept ones.
+constexpr size_t kMaxSharp = 512;
 
 }  // namespace
 
@@ -76,9 +77,23 @@ GraspObject::GraspObject(std::shared_ptr<const TriangleMesh> mesh, std::vector<O
       if (!face_normals_[f].isZero() && first[v].dot(face_normals_[f]) < kSharpCos) sharp[v] = true;
     }
   }
+  // Only convex sharp vertices can poke into a hand face: the vertex must stand out of the plane through its
+  // neighbours' centroid along its (area-weighted) normal. Concave creases are reached by the hand's samples.
+  std::vector<Vec3> normal_sum(m.vertices.size(), Vec3::Zero()), neighbour_sum(m.vertices.size(), Vec3::Zero());
+  std::vector<int> neighbours(m.vertices.size(), 0);
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    const auto& t = m.triangles[f];
+    for (int k = 0; k < 3; ++k) {
+      normal_sum[t[k]] += face_normals_[f];
+      neighbour_sum[t[k]] += m.vertices[t[(k + 1) % 3]].cast<double>() + m.vertices[t[(k + 2) % 3]].cast<double>();
+      neighbours[t[k]] += 2;
+    }
+  }
   std::vector<Vec3> all;
   for (size_t v = 0; v < m.vertices.size(); ++v) {
-    if (sharp[v]) all.push_back(m.vertices[v].cast<double>());
+    if (!sharp[v] || neighbours[v] == 0) continue;
+    const Vec3 p = m.vertices[v].cast<double>();
+    if ((p - neighbour_sum[v] / neighbours[v]).dot(normal_sum[v]) > 0) all.push_back(p);
   }
   const size_t stride = (all.size() + kMaxSharp - 1) / kMaxSharp;
   for (size_t i = 0; i < all.size(); i += std::max<size_t>(stride, 1)) sharp_.push_back(all[i]);

@@ -143,14 +143,15 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
     const Pose& a = w->poses[l];
     const Pose& b = w->next_poses[l];
     const double moved = (b.position - a.position).norm() + link.reach * a.orientation.angularDistance(b.orientation);
-    const double radius = link.reach + link.reach * a.orientation.angularDistance(b.orientation) + tol;
+    const double radius = link.reach + best * link.reach * a.orientation.angularDistance(b.orientation) + tol;
     if (!BallMeetsBox(a.position, radius + moved, lo, hi)) continue;
     const Pose ia = a.Inverse(), ib = b.Inverse();
     const Mat3 ra = a.orientation.toRotationMatrix();
     w->rays.Clear();
     w->ray_length.clear();
-    // A vertex can reach the link only if it lies within the link's reach of the path of the link's origin.
-    const Vec3 path = b.position - a.position;
+    // A vertex can reach the link only if it lies within the link's reach of the path of the link's origin, up
+    // to the first contact found so far.
+    const Vec3 path = best * (b.position - a.position);
     const double path2 = path.squaredNorm();
     for (const Vec3& v : object_.sharp_vertices()) {
       const double along = path2 > 0 ? std::clamp((v - a.position).dot(path) / path2, 0.0, 1.0) : 0.0;
