@@ -27,4 +27,12 @@ void CheckInRange(const std::string& field, double value, double low, double hig
   if (!(value >= low && value <= high)) ThrowOutOfRange(field, value, low, high);
 }
 
+void CheckAboveAtMost(const std::string& field, double value, double low, double high) {
+  if (!(value > low && value <= high)) {
+    std::ostringstream message;
+    message << field << ": " << value << " is outside (" << low << ", " << high << "]";
+    ThrowInvalidArgument(message.str());
+  }
+}
+
 }  // namespace graspsim::drivers

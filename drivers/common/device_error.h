@@ -34,5 +34,7 @@ class DeviceError : public Error {
 // A number of a limit check, e.g. "move.position_mm: 90 is outside [0, 85]".
 [[noreturn]] void ThrowOutOfRange(const std::string& field, double value, double low, double high);
 void CheckInRange(const std::string& field, double value, double low, double high);
+// low < value <= high, e.g. a speed that must not be 0: "move_position.velocity_mm_s: 0 is outside (0, 82]".
+void CheckAboveAtMost(const std::string& field, double value, double low, double high);
 
 }  // namespace graspsim::drivers

@@ -90,9 +90,10 @@ void Gripper::Reference() { ExpectOk(smp::Reference()); }
 double Gripper::MovePosition(double position_mm, double velocity_mm_s, double acceleration_mm_s2, double current_a) {
   const Limits& lim = config_.limits;
   CheckInRange("move_position.position_mm", position_mm, lim.min_position_mm, lim.max_position_mm);
-  CheckInRange("move_position.velocity_mm_s", velocity_mm_s, 0.0, lim.max_velocity_mm_s);
-  CheckInRange("move_position.acceleration_mm_s2", acceleration_mm_s2, 0.0, lim.max_acceleration_mm_s2);
-  CheckInRange("move_position.current_a", current_a, 0.0, lim.max_current_a);
+  // A zero velocity, acceleration or current would leave the module "moving" forever without getting anywhere.
+  CheckAboveAtMost("move_position.velocity_mm_s", velocity_mm_s, 0.0, lim.max_velocity_mm_s);
+  CheckAboveAtMost("move_position.acceleration_mm_s2", acceleration_mm_s2, 0.0, lim.max_acceleration_mm_s2);
+  CheckAboveAtMost("move_position.current_a", current_a, 0.0, lim.max_current_a);
   const smp::Message answer = Exchange(smp::MovePos(static_cast<float>(position_mm),
                                                     smp::Profile{static_cast<float>(velocity_mm_s),
                                                                  static_cast<float>(acceleration_mm_s2),
@@ -107,12 +108,13 @@ double Gripper::MovePosition(double position_mm, double velocity_mm_s, double ac
 void Gripper::MoveVelocity(double velocity_mm_s, double current_a) {
   const Limits& lim = config_.limits;
   CheckInRange("move_velocity.velocity_mm_s", velocity_mm_s, -lim.max_velocity_mm_s, lim.max_velocity_mm_s);
-  CheckInRange("move_velocity.current_a", current_a, 0.0, lim.max_current_a);
+  CheckAboveAtMost("move_velocity.current_a", current_a, 0.0, lim.max_current_a);
   ExpectOk(smp::MoveVel(static_cast<float>(velocity_mm_s), static_cast<float>(current_a)));
 }
 
 void Gripper::Grip(double current_a) {
   CheckInRange("grip.current_a", current_a, -config_.limits.max_current_a, config_.limits.max_current_a);
+  if (current_a == 0.0) ThrowInvalidArgument("grip.current_a: 0 has no direction (positive closes, negative opens)");
   ExpectOk(smp::MoveGrip(static_cast<float>(current_a)));
 }
 

@@ -126,10 +126,14 @@ TEST(Pg70Gripper, CommandsOutsideTheLimitsAreRejectedBeforeSending) {
   ExpectError([&] { rig.gripper->MovePosition(20.0, 50.0, 400.0, 1.0); }, ErrorCode::kInvalidArgument,
               {"move_position.acceleration_mm_s2", "400"});
   ExpectError([&] { rig.gripper->MovePosition(20.0, 50.0, 100.0, 5.0); }, ErrorCode::kInvalidArgument,
-              {"move_position.current_a", "5", "[0, 3.5]"});
+              {"move_position.current_a", "5", "(0, 3.5]"});
   ExpectError([&] { rig.gripper->MoveVelocity(-100.0, 1.0); }, ErrorCode::kInvalidArgument,
               {"move_velocity.velocity_mm_s", "-100"});
+  ExpectError([&] { rig.gripper->MovePosition(20.0, 0.0, 100.0, 1.0); }, ErrorCode::kInvalidArgument,
+              {"move_position.velocity_mm_s", "0 is outside (0, 82]"});
+  ExpectError([&] { rig.gripper->MoveVelocity(5.0, 0.0); }, ErrorCode::kInvalidArgument, {"move_velocity.current_a"});
   ExpectError([&] { rig.gripper->Grip(-4.0); }, ErrorCode::kInvalidArgument, {"grip.current_a", "-4"});
+  ExpectError([&] { rig.gripper->Grip(0.0); }, ErrorCode::kInvalidArgument, {"grip.current_a", "no direction"});
   ExpectError([&] { rig.gripper->Grip(std::nan("")); }, ErrorCode::kInvalidArgument, {"grip.current_a", "nan"});
   EXPECT_EQ(rig.emulator->requests_served(), served);
 }
