@@ -315,19 +315,22 @@ def run() -> dict:
     cycles = {name: work_cycle(config=name) for name in CONFIGS}
     holding = [c for c in cycles.values() if c["completed"] and c["slip_mm"] is not None and abs(c["slip_mm"]) < 1]
     best = max(holding, key=lambda c: c["realtime_factor"]) if holding else None
-    at_2ms = work_cycle(dt=2e-3)  # the time step graspsim's figures are also given at
+    # The time step graspsim's cycle is also timed at: every setting, and the fastest that holds the cube.
+    coarse = {name: work_cycle(dt=5e-3, config=name) for name in CONFIGS}
+    coarse_holding = [c for c in coarse.values() if c["completed"] and c["slip_mm"] is not None and abs(c["slip_mm"]) < 1]
+    coarse_best = max(coarse_holding, key=lambda c: c["realtime_factor"]) if coarse_holding else None
     covering = pressed_cells()
     small = pressed_cells(box=(0.02, 0.02, 0.02))
     return {"mujoco_version": mujoco.__version__, "mujoco_realtime_factor": cycles["default"]["realtime_factor"],
             "mujoco_default_holds_cube": cycles["default"] in holding,
             "mujoco_realtime_factor_holding": best["realtime_factor"] if best else None,
             "mujoco_holding_config": best["config"] if best else None,
-            "mujoco_realtime_factor_dt_2ms": at_2ms["realtime_factor"],
-            "mujoco_dt_2ms_holds_cube": bool(at_2ms["completed"] and at_2ms["slip_mm"] is not None
-                                             and abs(at_2ms["slip_mm"]) < 1),
+            "mujoco_realtime_factor_dt_5ms": coarse["default"]["realtime_factor"],
+            "mujoco_realtime_factor_dt_5ms_holding": coarse_best["realtime_factor"] if coarse_best else None,
+            "mujoco_dt_5ms_holding_config": coarse_best["config"] if coarse_best else None,
             "mujoco_cells_reporting": covering["cells_reporting"],
             "mujoco_cells_reporting_cube_2cm": small["cells_reporting"],
-            "mujoco_cycles": {**cycles, "default_dt_2ms": at_2ms}, "mujoco_pressed": {"covering": covering, "cube_2cm": small}}
+            "mujoco_cycles": {**cycles, **{f"{name}_dt_5ms": c for name, c in coarse.items()}}, "mujoco_pressed": {"covering": covering, "cube_2cm": small}}
 
 
 if __name__ == "__main__":

@@ -10,11 +10,11 @@
   (tests/stress/tactile_bench.cpp), in process. ms_per_step: the built-in PG70's pads squeezing the 5 cm cube,
   dt = 1 ms; rays_per_s: the pads' segments per second of the caster's own time (rays_per_s_of_step: per second
   of whole steps); static_load_rel_error: a 0.2 kg box on a 6 × 14 pad after 1 s at dt = 1 ms, one element per
-  texel (runtime_vs_error: dt ∈ {1e-4, 3e-4, 1e-3, 3e-3} × elements per texel edge ∈ {1, 2, 4}); cells_reporting:
+  texel (runtime_vs_error: dt ∈ {1e-4, 3e-4, 1e-3, 3e-3, 5e-3} × elements per texel edge ∈ {1, 2, 4}); cells_reporting:
   texels with a non-zero intensity under a 3 × 6 cm box covering the pad (cells_covered: texels under it).
 - inprocess_cycle: the same 45 s cycle in process (graspsim_tactile_bench "cycle": no gRPC, no frames sent) at
-  dt = 1 and 2 ms; realtime_factor_dt_2ms: the gRPC cycle above at a 2 ms time step (SetSimulationParams), with its
-  lift and slip.
+  dt = 1, 2 and 5 ms; realtime_factor_dt_5ms: the gRPC cycle above at a 5 ms time step (SetSimulationParams), with
+  its lift, slip and pad mismatch.
 - mujoco_realtime_factor, mujoco_cells_reporting: the same cycle and the same pressed box in MuJoCo with
   touch_grid pads (tests/bench/mujoco_tactile.py), in this process.
 - shape_iou: the shape-recognition experiment's IoU, read from its gtest (TactileShape*) when graspsim_tests has
@@ -40,6 +40,7 @@ CYCLE_S = 45.0            # the paper's cycle
 TABLE_TOP_Z, CUBE_EDGE, GRIPPER_BASE_Z = 0.75, 0.05, 1.05   # as clients/python/examples/tactile_cycle.py
 GRIPPER, CUBE = "cell", "cube"
 PAPER_REALTIME_FACTOR = 45 / 120
+COARSE_DT = 5e-3          # the time step the cycle is also timed at (same answers as 1 ms: docs/tactile.md)
 
 
 def inprocess() -> dict:
@@ -107,13 +108,16 @@ def work_cycle(client) -> dict:
     def num(x, digits=5):
         return None if math.isnan(x) else round(float(x), digits)
     log(f"work cycle: {simulated:.2f} s simulated in {wall:.2f} s, stages {' > '.join(result.stages())}")
-    # The same cycle at a 2 ms time step (the lift and slip say whether it still does the job).
-    at_2ms, wall_2ms = _cycle(client, hold_time=max(CYCLE_S - rest, 1.0), time_step=2e-3)
-    summary_2ms = at_2ms.summary()
-    log(f"work cycle at dt = 2 ms: {at_2ms.time[-1] - at_2ms.time[0]:.2f} s simulated in {wall_2ms:.2f} s")
+    # The same cycle at a 5 ms time step (the lift, slip and pad sums say whether it still does the job).
+    coarse, wall_coarse = _cycle(client, hold_time=max(CYCLE_S - rest, 1.0), time_step=COARSE_DT)
+    summary_coarse = coarse.summary()
+    log(f"work cycle at dt = {COARSE_DT * 1e3:g} ms: {coarse.time[-1] - coarse.time[0]:.2f} s simulated in "
+        f"{wall_coarse:.2f} s")
     return {"realtime_factor": round(simulated / wall, 3), "pad_sum_mismatch": mismatch, "work_cycle": "ran",
-            "realtime_factor_dt_2ms": round(float(at_2ms.time[-1] - at_2ms.time[0]) / wall_2ms, 3),
-            "cycle_dt_2ms_lift_mm": num(summary_2ms.lift * 1e3, 3), "cycle_dt_2ms_slip_mm": num(summary_2ms.slip * 1e3, 3),
+            "realtime_factor_dt_5ms": round(float(coarse.time[-1] - coarse.time[0]) / wall_coarse, 3),
+            "cycle_dt_5ms_lift_mm": num(summary_coarse.lift * 1e3, 3),
+            "cycle_dt_5ms_slip_mm": num(summary_coarse.slip * 1e3, 3),
+            "cycle_dt_5ms_hold_mismatch_max": num(summary_coarse.hold_mismatch),
             "cycle_simulated_s": round(simulated, 3), "cycle_wall_s": round(wall, 3), "cycle_frames": len(result),
             "cycle_stages": result.stages(), "cycle_hold_mismatch_max": num(summary.hold_mismatch),
             "cycle_lift_mm": num(summary.lift * 1e3, 3), "cycle_slip_mm": num(summary.slip * 1e3, 3),
@@ -156,11 +160,16 @@ def run():
         peer = {"mujoco_realtime_factor": None, "mujoco_cells_reporting": None, "mujoco_note": str(err)}
     figures.update(peer)
     ours = figures["realtime_factor"]
+    ours_coarse = figures.get("realtime_factor_dt_5ms")
     figures.update({
         "paper_realtime_factor": PAPER_REALTIME_FACTOR,
         "all_covered_cells_report": figures["cells_reporting"] == figures["cells_covered"],
         "beats_mujoco_realtime": None if ours is None or peer["mujoco_realtime_factor"] is None
         else ours > peer["mujoco_realtime_factor"],
+        # At the same 5 ms step, against MuJoCo's fastest setting that still holds the cube there.
+        "beats_mujoco_realtime_dt_5ms": None if ours_coarse is None or peer.get("mujoco_realtime_factor_dt_5ms_holding") is None
+        else ours_coarse > peer["mujoco_realtime_factor_dt_5ms_holding"],
+        "goal_100x_met_dt_5ms": None if ours_coarse is None else ours_coarse >= 100,
         "load_avg_1m": [load_before, round(os.getloadavg()[0], 2)],
     })
     return figures, server.exit_code

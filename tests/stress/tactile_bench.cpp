@@ -1,7 +1,7 @@
 // graspsim_tactile_bench: the in-process figures of `tests/bench/run tactile` as one JSON object (stdout; progress
 // on stderr). Wall times are reported, never judged.
 //
-//   "static_load": per time step dt ∈ {1e-4, 3e-4, 1e-3, 3e-3} s × pad subdivision s ∈ {1, 2, 4}: a 0.2 kg box
+//   "static_load": per time step dt ∈ {1e-4, 3e-4, 1e-3, 3e-3, 5e-3} s × pad subdivision s ∈ {1, 2, 4}: a 0.2 kg box
 //                  (3 × 6 cm, covering the whole pad) resting on a DSA 9205-like pad (6 × 14 texels, 3.4 mm
 //                  pitch, 4 mm foam) on a welded stand, as in tests/cpp/physics/tactile_contact_test.cpp; after
 //                  1 s of simulated time the relative error of the elements' normal-force sum against m g, and the
@@ -14,7 +14,7 @@
 //                  the Simulation's own caster is private).
 //   "cycle":       the work cycle (workcycle/work_cycle.h) in process, no gRPC: the built-in
 //                  schunk_pg70_on_z_axis over the table and the 5 cm, 0.1 kg cube, full coverage, 50 frames/s, a
-//                  hold that makes the cycle the paper's 45 s; per time step dt ∈ {1, 2} ms: wall time, realtime
+//                  hold that makes the cycle the paper's 45 s; per time step dt ∈ {1, 2, 5} ms: wall time, realtime
 //                  factor, lift and slip of the cube (hold), and the pads' sum mismatch over the hold.
 //   "cells":       the cells (texels) of the 6 × 14 pad that report a load (DSACON32 intensity > 0) with a box
 //                  pressed on it by its weight, against the texels whose centres lie under the box: the 3 × 6 cm
@@ -232,6 +232,14 @@ std::string Cycle(double dt, double coverage = 1, double setpoint = 60000) {
     error = e.what();
   }
   const double seconds = Since(start), simulated = state.time - start_time;
+  if (getenv("DEBUG_FRAMES")) {
+    for (const WorkCycleFrame& f : frames) {
+      if (f.stage == WorkCycleStage::kHold && f.time > 6) continue;
+      std::cerr << StageName(f.stage) << " t=" << f.time << " sums " << f.pads[0].intensity_sum << "/" << f.pads[1].intensity_sum
+                << " finger " << f.gripper.finger_distance << " cube z " << f.object_pose.position.z() << " axis " << f.axis_position
+                << " limit " << f.current_limit << " current " << f.gripper.motor_current << "\n";
+    }
+  }
   // Over the hold: the cube's height against the axis (slip), the pads' mismatch; lift from the grasp's end.
   double grasp_z = NAN, hold_first = NAN, hold_last = NAN, axis_first = NAN, axis_last = NAN, mismatch = 0;
   for (const WorkCycleFrame& frame : frames) {
@@ -271,14 +279,14 @@ int main(int argc, char** argv) {
   std::ostringstream out;
   out << "{\"static_load\":[";
   bool first = true;
-  for (double dt : {1e-4, 3e-4, 1e-3, 3e-3}) {
+  for (double dt : {1e-4, 3e-4, 1e-3, 3e-3, 5e-3}) {
     for (unsigned subdivision : {1u, 2u, 4u}) {
       out << (first ? "" : ",") << StaticLoad(dt, subdivision);
       first = false;
     }
   }
   out << "],\"grasp\":" << Grasp();
-  out << ",\"cycle\":[" << Cycle(1e-3) << "," << Cycle(2e-3) << "]";
+  out << ",\"cycle\":[" << Cycle(1e-3) << "," << Cycle(2e-3) << "," << Cycle(5e-3) << "]";
   out << ",\"cells\":[" << Cells("covering", Vec3(0.03, 0.06, 0.02), 0.2) << ","
       << Cells("cube_2cm", Vec3(0.02, 0.02, 0.02), 0.2) << "]}";
   std::cout << out.str() << std::endl;
