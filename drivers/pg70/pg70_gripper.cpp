@@ -25,7 +25,8 @@ std::string Gripper::Name() const {
 smp::Message Gripper::ExchangeOnce(const smp::Message& request) {
   const canid_t id = config_.module_id;
   for (const can_frame& frame : smp::EncodeFrames(smp::kToModule + id, request)) link_->Send(frame);
-  smp::Assembler assembler;
+  // One assembler per sender id: a CMD ERROR on 0x300 + id may arrive between the fragments of an answer.
+  smp::Assembler answers, errors;
   const auto deadline = std::chrono::steady_clock::now() + config_.timeout;
   for (;;) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
@@ -38,7 +39,7 @@ smp::Message Gripper::ExchangeOnce(const smp::Message& request) {
     if (from != smp::kFromModule + id && from != smp::kErrorFromModule + id) continue;  // another module's traffic
     std::optional<smp::Message> message;
     try {
-      message = assembler.Feed(*frame);
+      message = (from == smp::kFromModule + id ? answers : errors).Feed(*frame);
     } catch (const DeviceError& error) {
       throw DeviceError(error.failure(), Name() + ": " + error.what());
     }
