@@ -91,6 +91,7 @@ def plan(client, hand, mesh, **kwargs):
 def run():
     source, meshes_by_name = objects()
     figures = {"objects": source, "object_names": list(meshes_by_name)}
+    load_before = os.getloadavg()[0]  # wall-clock figures move with the machine's load: reported with them
     store = tempfile.mkdtemp(prefix="graspsim-bench-grasps-")
     with Server(f"--grasp-data-dir={store}") as server:
         with graspsim.connect(server.address, call_timeout=600) as client:
@@ -127,4 +128,5 @@ def run():
             figures["store_hit_ms"] = round((time.perf_counter() - start) * 1e3, 1)
             assert again.from_store and again.set_id == first.set_id
     shutil.rmtree(store, ignore_errors=True)
+    figures["load_avg_1m"] = [round(load_before, 2), round(os.getloadavg()[0], 2)]
     return figures, server.exit_code
