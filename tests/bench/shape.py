@@ -17,7 +17,9 @@ in the same run. No server is started.
   8 runs (2 shapes x 2 sizes x 2 depths); each run's figure is in runtime_vs_error.
 - ms_per_stage: ours at 39.4k points, depth 7: grid + splat, solve, iso-value, marching cubes; normals_ms: the
   plane-fit normals (k = 10) of the same cloud, the stage before (not included in ms_*).
-- runtime_vs_error: every run: shape, points, depth, ms, deviation, triangles, closed, and PCL's.
+- runtime_vs_error: every run: shape, points, depth, solved_depth (the finest level solved; finer ones are
+  interpolated when the samples are sparser than ~3 cells, PoissonParams::refine_limit), ms, deviation,
+  triangles, closed, and PCL's.
 Wall times are medians of 5 runs (PCL: of 2); the machine is shared, so load_avg_1m (before, after) goes with them.
 """
 import json
@@ -59,7 +61,8 @@ def run():
         "ms_per_stage": large7["ms_per_stage"], "solver_iterations_39k": large7["solver_iterations"],
         "normals_ms_39k": large7["normals_ms"], "normals_ms_2k": small5["normals_ms"],
         "all_closed": all(r["closed"] for r in runs), "pcl_all_closed": all(r["pcl_closed"] for r in runs),
-        "runtime_vs_error": [{"shape": r["shape"], "points": r["points"], "depth": r["depth"], "ms": r["ms"],
+        "runtime_vs_error": [{"shape": r["shape"], "points": r["points"], "depth": r["depth"],
+                              "solved_depth": r["solved_depth"], "ms": r["ms"],
                               "mean_dev_mm": r["mean_dev_mm"], "triangles": r["triangles"], "closed": r["closed"],
                               "pcl_ms": r["pcl_ms"], "pcl_mean_dev_mm": r["pcl_mean_dev_mm"],
                               "pcl_triangles": r["pcl_triangles"]} for r in runs],

@@ -145,6 +145,7 @@ int main(int argc, char** argv) {
               ", \"ms_per_stage\": {\"grid_splat\": " + Num(Median(stage[0])) + ", \"solve\": " + Num(Median(stage[1])) +
               ", \"iso\": " + Num(Median(stage[2])) + ", \"extract\": " + Num(Median(stage[3])) +
               "}, \"solver_iterations\": " + std::to_string(ours.stats.solver_iterations) +
+              ", \"solved_depth\": " + std::to_string(ours.stats.solved_depth) +
               ", \"mean_dev_mm\": " + Num(MeanDeviationMm(ours.mesh, shape)) +
               ", \"triangles\": " + std::to_string(ours.mesh.triangles.size()) +
               ", \"closed\": " + (edges.Closed() ? "true" : "false") +

@@ -42,6 +42,7 @@ void Validate(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
   CheckRange("screening", params.screening, 0, 1e4, true);
   CheckRange("scale", params.scale, 1.05, 4);
   CheckRange("tolerance", params.tolerance, 0, 0.1, true);
+  CheckRange("refine_limit", params.refine_limit, 0, 4);
   if (params.max_iterations < 1 || params.max_iterations > 1000) {
     ThrowInvalidArgument("max_iterations: " + std::to_string(params.max_iterations) + " is outside 1..1000");
   }
@@ -262,8 +263,11 @@ PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vec
   for (int depth = first; depth <= params.depth; ++depth) {
     start = Clock::now();
     const Grid grid = Coarsened(finest, depth);
+    // A level too fine for the samples is only interpolated: no right-hand side needed.
+    const bool too_fine = depth > first && grid.h < params.refine_limit * std::sqrt(stats.sample_area);
     int reach = 1;
-    const std::vector<float> b = SplatNormals(points, normals, grid, stats.sample_area, &reach);
+    const std::vector<float> b =
+        too_fine ? std::vector<float>() : SplatNormals(points, normals, grid, stats.sample_area, &reach);
     // β = α a / h²: the screening of a patch does not depend on how densely it is sampled (Kazhdan & Hoppe,
     // eq. 3), nor on the level (χ keeps its unit jump on every grid).
     const double sqrt_beta = std::sqrt(params.screening * stats.sample_area / (grid.h * grid.h));
@@ -274,7 +278,11 @@ PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vec
 
     start = Clock::now();
     SolverReport report;
-    if (depth == first) {
+    if (too_fine) {
+      std::vector<float> coarse;
+      coarse.swap(chi);
+      ProlongTrilinear(depth - 1, coarse, &chi);
+    } else if (depth == first) {
       chi.assign(b.size(), 0.0f);
       report = SolveScreenedPoisson(depth, samples, b, params.tolerance, params.max_iterations, &chi);
     } else {
@@ -284,8 +292,11 @@ PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vec
       report = RefineInBand(depth, BandAround(samples, grid, reach + kBandMargin), samples, b, params.tolerance,
                             params.max_iterations, &chi);
     }
-    stats.solver_iterations += report.iterations;
-    stats.solver_relative_residual = report.relative_residual;
+    if (!too_fine) {
+      stats.solved_depth = depth;
+      stats.solver_iterations += report.iterations;
+      stats.solver_relative_residual = report.relative_residual;
+    }
     stats.ms_solve += MsSince(start);
   }
   const Grid& grid = finest;

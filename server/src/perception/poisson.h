@@ -30,6 +30,12 @@ struct PoissonParams {
   double scale = 1.25;      // grid cube side / the cloud's largest extent, 1.05..4
   double tolerance = 1e-3;  // conjugate gradients stop at this relative residual, (0, 0.1]
   int max_iterations = 60;  // 1..1000
+  // Levels whose cell is below refine_limit × the sample spacing (√a) are interpolated from the coarser level, not
+  // solved: a sparse cloud has no detail there, and its band would be fat (an octree stops subdividing where a
+  // node holds too few samples; PCL's default samples_per_node is 1). 0.35: solve while the samples are at most
+  // about three cells apart (2.1k points on a 10 cm sphere: depth 6 solved, 7 interpolated; 0.012 mm deviation
+  // against 0.004 mm solving depth 7 too, in a fifth of the time). 0..4; 0 solves every level.
+  double refine_limit = 0.35;
 };
 
 struct PoissonStats {
@@ -39,6 +45,7 @@ struct PoissonStats {
   double iso_value = 0;
   double cell_size = 0;      // h, m
   double sample_area = 0;    // a, m² per sample
+  int solved_depth = 0;      // the finest level solved; finer ones up to depth interpolated (refine_limit)
 };
 
 struct PoissonResult {

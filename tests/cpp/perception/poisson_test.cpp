@@ -120,6 +120,19 @@ TEST(PoissonTest, SparseSphereAtDepth5) {
   EXPECT_LT(d.Mean(), 0.3e-3);
 }
 
+// 2.1k points at depth 7: samples ~3.9 mm apart, so depth 6 (1.95 mm cells) is the finest solved level and depth 7
+// is interpolated (refine_limit 0.35); the surface still follows the sphere within 0.05 mm.
+TEST(PoissonTest, SparseSphereAtDepth7SolvesToDepth6) {
+  const double r = 0.05;
+  const OrientedCloud cloud = test_shapes::Sphere(r, 2100);
+  const PoissonResult result = ReconstructSurface(cloud.points, cloud.normals, Depth(7));
+  ExpectClosed(result.mesh);
+  EXPECT_EQ(result.stats.solved_depth, 6);
+  const Deviation d = Measure(result.mesh, [r](const Vec3& p) { return test_shapes::SphereDistance(p, r); }, cloud.points);
+  std::cout << "sphere d7, 2.1k points: deviation " << d.mesh_to_shape * 1e3 << " / " << d.shape_to_mesh * 1e3 << " mm\n";
+  EXPECT_LT(d.Mean(), 0.05e-3);
+}
+
 // A cloud seen from one side only (the upper half of a sphere): Poisson still closes the surface — over the missing
 // half, where the fine grids are not refined, at the coarse grid's resolution — and the seen half stays accurate.
 TEST(PoissonTest, HalfSeenSphereStaysClosed) {
@@ -189,6 +202,10 @@ TEST(PoissonTest, BadInputThrowsNamingTheField) {
   params.screening = 0;
   ExpectError([&] { ReconstructSurface(cloud.points, cloud.normals, params); }, ErrorCode::kInvalidArgument,
               {"screening", "0"});
+  params = PoissonParams();
+  params.refine_limit = -0.5;
+  ExpectError([&] { ReconstructSurface(cloud.points, cloud.normals, params); }, ErrorCode::kInvalidArgument,
+              {"refine_limit", "-0.5"});
   params = PoissonParams();
   params.scale = 1;
   ExpectError([&] { ReconstructSurface(cloud.points, cloud.normals, params); }, ErrorCode::kInvalidArgument,
