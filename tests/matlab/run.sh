@@ -37,9 +37,12 @@ while [[ "$http_port" == "$grpc_port" ]]; do http_port="$(free_port)"; done
 url="http://127.0.0.1:$http_port"
 log="$(mktemp /tmp/graspsim-matlab-tests.XXXXXX.log)"
 
-"$server" --listen="127.0.0.1:$grpc_port" --http-listen="127.0.0.1:$http_port" >"$log" 2>&1 &
+grasp_dir=$(mktemp -d -t graspsim-matlab-grasps.XXXXXX)  # the tests' grasp sets, never the user's store
+"$server" --listen="127.0.0.1:$grpc_port" --http-listen="127.0.0.1:$http_port" --grasp-data-dir="$grasp_dir" \
+  >"$log" 2>&1 &
 server_pid=$!
-trap 'kill -KILL "$server_pid" 2>/dev/null' EXIT  # never leave a server behind (interrupted runs)
+# never leave a server behind (interrupted runs)
+trap 'kill -KILL "$server_pid" 2>/dev/null; rm -rf "$grasp_dir"' EXIT
 server_rc=""
 stop_server() {  # SIGTERM, then wait up to stop_timeout_s; sets server_rc to the exit code (or "timeout")
   kill -TERM "$server_pid" 2>/dev/null

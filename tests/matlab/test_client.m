@@ -27,7 +27,7 @@ tests = {@test_list_methods, @test_scene_lifecycle, @test_builtin_models, @test_
          @test_actuator_moves_fingers, @test_error_actuator, ...
          @test_tactile_sample_untouched, @test_tactile_image_png, @test_gripper_reading, ...
          @test_tactile_grasp_reading, @test_stream_sensors, @test_work_cycle_lifts_cube, @test_error_tactile, ...
-         @test_error_other_services_unimplemented, @test_error_client_side_arguments, @test_error_unreachable_server, ...
+         @test_plan_grasps, @test_error_other_services_unimplemented, @test_error_client_side_arguments, @test_error_unreachable_server, ...
          @test_demo_runs};
 c = graspsim.Client(url, 'Timeout', 30);
 passed = 0;
@@ -92,6 +92,24 @@ c.deleteScene(b.id);
 expectError(@() c.getScene(a.id), 'graspsim:NOT_FOUND', {a.id});
 after = c.listScenes();
 check(~any(strcmp({after.id}, a.id)), 'deleted scene still listed');
+end
+
+function test_plan_grasps(c, sid)
+c.addObject(sid, 'table', 'Builtin', 'table');
+c.addObject(sid, 'cube', 'Builtin', 'cube_5cm', 'Pose', [0 0 0.775 1 0 0 0]);
+r = c.planGrasps('schunk_pg70', 'SceneId', sid, 'BodyId', 'cube', 'Spacing', 0.02, 'MaxGrasps', 5, 'Timeout', 120);
+check(~r.fromStore && r.candidates > 0 && r.collisions > 0, 'planned: %d candidates, %d collisions', ...
+      r.candidates, r.collisions);
+check(numel(r.epsilon) >= 1 && numel(r.epsilon) <= 5 && all(r.epsilon > 0) && all(diff(r.epsilon) <= 0), ...
+      'epsilon best first');
+check(isequal(size(r.handPose), [numel(r.epsilon), 7]) && size(r.jointPositions, 2) == numel(r.jointIds), ...
+      'pose and joint arrays');
+check(all(ismember(r.contacts{1}.link, {'base_link', 'finger_left', 'finger_right'})), 'contact links');
+again = c.planGrasps('schunk_pg70', 'SceneId', sid, 'BodyId', 'cube', 'Spacing', 0.02, 'MaxGrasps', 5);
+check(again.fromStore && strcmp(again.setId, r.setId), 'second request from the store');
+expectError(@() c.planGrasps('ur5', 'SceneId', sid, 'BodyId', 'cube'), 'graspsim:INVALID_ARGUMENT', {'hand', 'ur5'});
+expectError(@() c.planGrasps('schunk_pg70', 'SceneId', sid, 'BodyId', 'cube', 'Friction', 0), ...
+            'graspsim:INVALID_ARGUMENT', {'friction'});
 end
 
 function test_builtin_models(c, ~)

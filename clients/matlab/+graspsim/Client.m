@@ -20,6 +20,7 @@ classdef Client < handle
   %   State:       setBodyPoses, getBodyPoses, setJointPositions, getJointPositions, watchScene
   %   Simulation:  stepSimulation, setSimulationParams, getSimulationParams, setActuator
   %   Sensors:     sampleSensor, tactileImage, streamSensors, runWorkCycle
+  %   Grasps:      planGrasps
   %   Anything:    call(service, method, request), listMethods
   %
   %   See also graspsim.Client/addObject, graspsim.Client/stepSimulation, graspsim.Client/call.
@@ -636,6 +637,43 @@ classdef Client < handle
       graspsim.internal.raiseIfError(envelope);
       frames = graspsim.internal.decode('WorkCycleProgress', field(envelope, 'responses', []));
       result = workCycleResult(frames, o);
+    end
+  end
+
+  methods
+    function result = planGrasps(obj, hand, varargin)
+      %PLANGRASPS result = c.planGrasps(hand, name, value, ...): the grasp set of an object for a built-in hand
+      %   ('schunk_pg70', 'barrett_bh8_282', 'schunk_sdh2'), planned by the server or found in its store
+      %   (result.fromStore). Options:
+      %     'SceneId', id, 'BodyId', id   the object: a body of a scene (the scene's other bodies are obstacles)
+      %     'Method', name                'bounding_box' (default), 'grasp_points', 'centroid_circles'
+      %     'Friction', mu                default 0.4 (must be > 0)
+      %     'Spacing', m                  bounding-box sampling (default 0.02)
+      %     'Rolls', n, 'Seed', n         default 4 and 1
+      %     'MaxGrasps', n                force-closure grasps kept (default 50)
+      %     'Recompute', true             plan again even when stored
+      %     'Timeout', s                  the deadline of the whole call (default the client's Timeout)
+      %   result: see graspsim.internal.decode('GraspSet', ...): epsilon, volume, preshape, approach, handPose
+      %   (object frame), jointPositions, contacts per grasp, best first. Bad input raises
+      %   graspsim:INVALID_ARGUMENT naming the field (hand, friction, ...).
+      defaults = struct('SceneId', '', 'BodyId', '', 'Method', 'bounding_box', 'Friction', [], 'Spacing', [], ...
+                        'Rolls', [], 'Seed', [], 'MaxGrasps', 0, 'Recompute', false, 'Timeout', obj.Timeout);
+      o = graspsim.internal.parseOptions(defaults, varargin, 'planGrasps');
+      request = struct('object', struct('scene_id', o.SceneId, 'body_id', o.BodyId), 'hand', hand, ...
+                       'method', o.Method, 'max_grasps', double(o.MaxGrasps), 'recompute', logical(o.Recompute));
+      optional = {'Friction', 'friction'; 'Spacing', 'spacing'; 'Rolls', 'rolls'; 'Seed', 'seed'};
+      for k = 1:size(optional, 1)
+        if ~isempty(o.(optional{k, 1}))
+          request.(optional{k, 2}) = double(o.(optional{k, 1}));
+        end
+      end
+      envelope = graspsim.internal.post(obj, 'GraspService', 'PlanGrasps', request, '', double(o.Timeout));
+      graspsim.internal.raiseIfError(envelope);
+      messages = items(field(envelope, 'responses', []));
+      if isempty(messages)
+        error('graspsim:INTERNAL', 'PlanGrasps ended without a grasp set');
+      end
+      result = graspsim.internal.decode('GraspSet', field(messages{end}, 'result', struct()));
     end
   end
 

@@ -3,7 +3,7 @@ function out = decode(type, value)
 %   numbers as double, poses 1-by-7, packed arrays as numeric arrays.
 %   type is the message name: 'SceneSummary', 'Body', 'Geometry', 'Joint', 'Robot', 'TactileArray',
 %   'FileInfo', 'BuiltinModel', 'BodyPose', 'JointPosition', 'SceneSnapshot', 'StepSimulationResponse',
-%   'SimulationParams', 'ContactDefaults', 'SensorReading' or 'WorkCycleProgress'. value is one decoded message
+%   'SimulationParams', 'ContactDefaults', 'SensorReading', 'WorkCycleProgress' or 'GraspSet'. value is one decoded message
 %   (struct) or a decoded JSON array of them (struct array, cell array, or [] when empty: 0-by-1 result).
 %   Absent fields take their protobuf defaults, so struct() gives the default message.
 convert = converter(type);
@@ -32,6 +32,7 @@ switch type
   case 'ContactDefaults', convert = @contactDefaults;
   case 'SensorReading', convert = @sensorReading;
   case 'WorkCycleProgress', convert = @workCycleProgress;
+  case 'GraspSet', convert = @graspSet;
   otherwise, error('graspsim:badArgument', 'decode: unknown message type %s', type);
 end
 end
@@ -262,6 +263,46 @@ out = struct('stage', field(msg, 'stage', ''), 'time', number(field(msg, 'time',
              'objectPose', pose(field(msg, 'object_pose', struct())), ...
              'axisPosition', number(field(msg, 'axis_position', 0)), ...
              'currentLimit', number(field(msg, 'current_limit', 0)));
+end
+
+function out = graspSet(msg)
+% A grasp set (GraspService.PlanGrasps / GetGraspSet), one row per grasp, best epsilon first, object frame:
+% epsilon, volume N-by-1, forceClosure N-by-1 logical, preshape N-by-1 cellstr, approach, target N-by-3,
+% handPose N-by-7, jointPositions N-by-J (J = numel(jointIds)), contacts N-by-1 cell of structs (point, normal
+% K-by-3, link K-by-1 cellstr); setId, hand, fromStore, candidates, collisions, simulated, forceClosureCount,
+% seconds (s, simulate + score).
+grasps = items(field(msg, 'grasps', []));
+jointIds = stringList(field(msg, 'joint_ids', []));
+n = numel(grasps);
+out = struct('setId', field(msg, 'set_id', ''), 'hand', field(msg, 'hand', ''), ...
+             'fromStore', logical(field(msg, 'from_store', false)), ...
+             'candidates', number(field(msg, 'candidates', 0)), 'collisions', number(field(msg, 'collisions', 0)), ...
+             'simulated', number(field(msg, 'simulated', 0)), ...
+             'forceClosureCount', number(field(msg, 'force_closure', 0)), 'seconds', number(field(msg, 'seconds', 0)), ...
+             'jointIds', {jointIds}, 'epsilon', zeros(n, 1), 'volume', zeros(n, 1), 'forceClosure', false(n, 1), ...
+             'preshape', {cell(n, 1)}, 'approach', zeros(n, 3), 'target', zeros(n, 3), 'handPose', zeros(n, 7), ...
+             'jointPositions', zeros(n, numel(jointIds)), 'contacts', {cell(n, 1)});
+for k = 1:n
+  g = grasps{k};
+  c = field(g, 'candidate', struct());
+  out.epsilon(k) = number(field(g, 'epsilon', 0));
+  out.volume(k) = number(field(g, 'volume', 0));
+  out.forceClosure(k) = logical(field(g, 'force_closure', false));
+  out.preshape{k} = field(c, 'preshape', '');
+  out.approach(k, :) = vec3(field(c, 'approach', []), [0 0 0]);
+  out.target(k, :) = vec3(field(c, 'target', []), [0 0 0]);
+  out.handPose(k, :) = pose(field(g, 'hand_pose', struct()));
+  q = field(g, 'joint_positions', []);
+  out.jointPositions(k, 1:numel(q)) = cellfun(@number, num2cell(q(:).'));
+  list = items(field(g, 'contacts', []));
+  contacts = struct('point', zeros(numel(list), 3), 'normal', zeros(numel(list), 3), 'link', {cell(numel(list), 1)});
+  for j = 1:numel(list)
+    contacts.point(j, :) = vec3(field(list{j}, 'point', []), [0 0 0]);
+    contacts.normal(j, :) = vec3(field(list{j}, 'normal', []), [0 0 0]);
+    contacts.link{j} = field(list{j}, 'link', '');
+  end
+  out.contacts{k} = contacts;
+end
 end
 
 % --- pieces -----------------------------------------------------------------------------------------------
