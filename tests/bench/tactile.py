@@ -12,6 +12,8 @@
   of whole steps); static_load_rel_error: a 0.2 kg box on a 6 × 14 pad after 1 s at dt = 1 ms, one element per
   texel (runtime_vs_error: dt ∈ {1e-4, 3e-4, 1e-3, 3e-3, 5e-3} × elements per texel edge ∈ {1, 2, 4}); cells_reporting:
   texels with a non-zero intensity under a 3 × 6 cm box covering the pad (cells_covered: texels under it).
+- cycle_vs_time_step: a 13 s cycle (10 s hold, 5 frames/s, set-point 30000) through gRPC at dt = 1..5 ms, at full
+  and at 0.15 coverage: real-time factor, lift and slip.
 - inprocess_cycle: the same 45 s cycle in process (graspsim_tactile_bench "cycle": no gRPC, no frames sent) at
   dt = 1, 2 and 5 ms; realtime_factor_dt_5ms: the gRPC cycle above at a 5 ms time step (SetSimulationParams), with
   its lift, slip and pad mismatch.
@@ -70,7 +72,7 @@ def inprocess() -> dict:
             "cells_covered_cube_2cm": cells["cube_2cm"]["cells_covered"]}
 
 
-def _cycle(client, hold_time: float, time_step: float = 1e-3):
+def _cycle(client, hold_time: float, time_step: float = 1e-3, **request):
     scene_id = client.create_scene("tactile bench").id
     try:
         client.set_simulation_params(scene_id, time_step=time_step)
@@ -78,7 +80,8 @@ def _cycle(client, hold_time: float, time_step: float = 1e-3):
         client.add_object(scene_id, CUBE, builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
         client.add_robot(scene_id, GRIPPER, builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, GRIPPER_BASE_Z, 1, 0, 0, 0])
         started = time.perf_counter()
-        result = client.run_work_cycle(scene_id, GRIPPER, CUBE, coverage=1.0, hold_time=hold_time, timeout=900)
+        request.setdefault("coverage", 1.0)
+        result = client.run_work_cycle(scene_id, GRIPPER, CUBE, hold_time=hold_time, timeout=900, **request)
         return result, time.perf_counter() - started
     finally:
         client.delete_scene(scene_id)
@@ -124,6 +127,22 @@ def work_cycle(client) -> dict:
             "cycle_rise_time_s": num(summary.rise_time, 4), "cycle_hold_cells_reporting": hold_cells}
 
 
+def time_steps(client) -> dict:
+    """Run time against error over the time step: a 13 s cycle (10 s hold, 5 frames/s, set-point 30000) at full
+    and at 0.15 coverage, dt 1..5 ms, through gRPC: real-time factor, lift and slip (docs/tactile.md's table)."""
+    rows = []
+    for dt in (1e-3, 2e-3, 3e-3, 4e-3, 5e-3):
+        for coverage in (1.0, 0.15):
+            result, wall = _cycle(client, hold_time=10.0, time_step=dt, coverage=coverage, frame_rate_hz=5,
+                                  tactile_setpoint=30000)
+            summary = result.summary()
+            rows.append({"dt": dt, "coverage": coverage,
+                         "realtime_factor": round(float(result.time[-1] - result.time[0]) / wall, 1),
+                         "lift_mm": round(summary.lift * 1e3, 3), "slip_mm": round(summary.slip * 1e3, 3)})
+            log(f"cycle at dt {dt * 1e3:g} ms, coverage {coverage}: {rows[-1]}")
+    return {"cycle_vs_time_step": rows}
+
+
 def shape() -> dict:
     """The shape experiment's IoU from its gtest, if it exists (written elsewhere; not duplicated here)."""
     tests = BIN / "graspsim_tests"
@@ -150,6 +169,7 @@ def run():
     figures = {}
     with Server() as server, graspsim.connect(server.address) as client:
         figures.update(work_cycle(client))
+        figures.update(time_steps(client))
     figures.update(inprocess())
     figures.update(shape())
     log("MuJoCo peer: the same cycle with touch_grid pads, and the pressed box")
