@@ -153,7 +153,7 @@ double EstimateArea(const std::vector<Vec3>& points, const Grid& grid) {
 std::vector<float> SplatNormals(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, const Grid& grid,
                                 double sample_area, int* reach_out) {
   const int n = grid.n;
-  const double half_width = std::clamp(std::sqrt(sample_area) / grid.h, 1.0, 16.0);  // cells
+  const double half_width = std::clamp(std::sqrt(sample_area) / grid.h, 2.0, 16.0);  // cells
   const int reach = int(std::ceil(half_width));
   *reach_out = reach;
   const double jump = sample_area / (grid.h * grid.h);  // edges a sample's patch crosses, per unit normal

@@ -6,10 +6,14 @@
 //               2^depth cells per side (spacing h).
 //   2. Splat:   each sample carries its normal times the surface area it stands for (a = A / N, the area A
 //               estimated from the cells the samples occupy) into the gradient field V on the grid's edges,
-//               spread by a tent kernel as wide as the sample spacing (√a, at least one cell), so sparse clouds
-//               leave no gaps.
+//               spread by a tent kernel of half-width max(2 cells, √a) — two cells at least, because a
+//               one-cell (trilinear) splat aliases the samples' positions in their cells into bumps of ~h/50;
+//               wider for sparse clouds, so they leave no gaps. Only b = Dᵀ V is stored.
 //   3. Solve:   the indicator χ minimising Σ_edges (∇χ − V)² + α (a / h²) Σ_p χ(p)² (screened_poisson_solver.h);
-//               χ jumps by ≈ 1 across the surface, low inside.
+//               χ jumps by ≈ 1 across the surface, low inside. Coarse to fine: the whole grid at depth ≤ 5
+//               (multigrid-preconditioned CG), then each finer level interpolated and corrected only in a band
+//               a few cells around the samples — far from them χ is flat, which is the economy of Kazhdan's
+//               octree on a regular grid. Levels finer than refine_limit × the sample spacing are interpolated.
 //   4. Iso:     the mean of χ at the samples.
 //   5. Extract: marching cubes at that iso-value (marching_cubes.h): triangles counter-clockwise from outside.
 // The grid's border lies (scale − 1)/2 of the extent beyond the cloud; it counts as outside for the extraction,

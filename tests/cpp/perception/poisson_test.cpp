@@ -2,13 +2,13 @@
 // the cell is h ≈ 1 mm (the grid's cube is 1.25 × the object). Tolerances, with the figures measured when they
 // were set (printed by each test) and the reasoning:
 //   - closed and consistently oriented: exact (a marching-cubes property; one crack or flipped triangle fails);
-//   - mean two-sided deviation < 0.05 mm = h / 20 at depth 7 with exact normals (measured 0.007–0.012 mm): the
+//   - mean two-sided deviation < 0.05 mm = h / 20 at depth 7 with exact normals (measured 0.005–0.016 mm): the
 //     screening pins χ = iso at the samples, so what is left is marching cubes' linear interpolation between
-//     nodes (O(h² · curvature)) and the rounding of the box's edges over about one cell; 0.05 mm is ~4× the worst
+//     nodes (O(h² · curvature)) and the rounding of the box's edges over about one cell; 0.05 mm is 3× the worst
 //     measured and still 20× tighter than the 1 mm, so a regression in the splat, the solver or the
 //     iso-value shows;
-//   - enclosed volume within 0.5 % (measured < 0.04 %);
-//   - depth 5 (h ≈ 4 mm) on 2.1k points, the paper's coarse setting: < 0.3 mm (measured 0.067 mm).
+//   - enclosed volume within 0.5 % (measured < 0.03 %);
+//   - depth 5 (h ≈ 4 mm) on 2.1k points, the paper's coarse setting: < 0.3 mm (measured 0.033 mm).
 #include <cmath>
 #include <cstring>
 #include <functional>
