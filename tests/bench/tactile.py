@@ -186,6 +186,10 @@ def run():
         "all_covered_cells_report": figures["cells_reporting"] == figures["cells_covered"],
         "beats_mujoco_realtime": None if ours is None or peer["mujoco_realtime_factor"] is None
         else ours > peer["mujoco_realtime_factor"],
+        # Ours at 5 ms (the 1 ms answers: cycle_vs_time_step) against the peer as the issue defines it (MuJoCo's
+        # defaults at 1 ms, which drop the cube).
+        "beats_mujoco_realtime_issue_peer": None if ours_coarse is None or peer["mujoco_realtime_factor"] is None
+        else ours_coarse > peer["mujoco_realtime_factor"],
         # At the same 5 ms step, against MuJoCo's fastest setting that still holds the cube there.
         "beats_mujoco_realtime_dt_5ms": None if ours_coarse is None or peer.get("mujoco_realtime_factor_dt_5ms_holding") is None
         else ours_coarse > peer["mujoco_realtime_factor_dt_5ms_holding"],
