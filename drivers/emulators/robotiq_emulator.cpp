@@ -153,15 +153,17 @@ void RobotiqEmulator::Handle(const uint8_t* query, int length) {
   const int count = U16(query + offset + 3);
 
   ReplyFault fault = ReplyFault::kNone;
+  uint8_t exception_code = 0;
   {
     std::lock_guard lock(mutex_);
     if (fault_count_ > 0) {
       fault = fault_;
+      exception_code = exception_code_;
       if (--fault_count_ == 0) fault_ = ReplyFault::kNone;
     }
   }
   if (fault == ReplyFault::kException) {
-    modbus_reply_exception(ctx_, query, exception_code_);
+    modbus_reply_exception(ctx_, query, exception_code);
     return;
   }
 

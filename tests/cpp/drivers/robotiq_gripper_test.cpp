@@ -175,7 +175,7 @@ TEST_P(RobotiqGripperTest, ModbusExceptionIsReportedAndTheGripperStopped) {
   EXPECT_FALSE(rig.emulator->moving());
 }
 
-TEST_P(RobotiqGripperTest, IllegalAddressAndFunctionAreClearErrors) {
+TEST_P(RobotiqGripperTest, IllegalAddressesAreClearErrors) {
   Rig rig = MakeRig(GetParam());
   uint16_t value[1];
   ExpectDeviceError([&] { rig.gripper->link().ReadRegisters(0x0100, value); }, DeviceFailure::kDeviceException,
