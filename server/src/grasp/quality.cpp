@@ -110,6 +110,14 @@ Quality FastQuality(const std::vector<Wrench>& wrenches) {
   Quality quality;
   quality.volume = -1;  // not computed
   if (wrenches.size() < 7) return quality;
+  // The forces alone can rule force closure out: if every force has a positive component along their sum, no
+  // positive combination of the wrenches has zero force, so the origin is outside W. One pass instead of a hull
+  // search, for the many candidates that touch from one side only.
+  Vec3 sum = Vec3::Zero();
+  for (const Wrench& w : wrenches) sum += Vec3(w[0], w[1], w[2]);
+  bool one_sided = true;
+  for (const Wrench& w : wrenches) one_sided = one_sided && Vec3(w[0], w[1], w[2]).dot(sum) > 0;
+  if (one_sided) return quality;
   const NearestFacetResult nearest = NearestFacet(wrenches);
   if (nearest.degenerate) return quality;
   if (!nearest.converged) {  // degenerate or stuck: qhull decides (and then the volume is known)

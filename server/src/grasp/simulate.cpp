@@ -24,6 +24,12 @@ bool SegmentMeetsBox(const Vec3& p, const Vec3& d, double length, const Vec3& lo
   return true;
 }
 
+// Does the segment p + t u, t in [0, length] (u unit), come within `radius` of `centre`?
+bool SegmentMeetsBall(const Vec3& p, const Vec3& u, double length, const Vec3& centre, double radius) {
+  const double t = std::clamp((centre - p).dot(u), 0.0, length);
+  return (p + t * u - centre).squaredNorm() <= radius * radius;
+}
+
 // Does the ball (centre, radius) meet the box [lo, hi]?
 bool BallMeetsBox(const Vec3& centre, double radius, const Vec3& lo, const Vec3& hi) {
   const Vec3 nearest = centre.cwiseMax(lo).cwiseMin(hi);
@@ -61,6 +67,8 @@ Quat GraspSimulator::HandOrientation(const Candidate& c) {
 double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) const {
   const double tol = params_.contact_tolerance;
   const Vec3 lo = object_.lo() - Vec3::Constant(tol), hi = object_.hi() + Vec3::Constant(tol);
+  const Vec3 centre = object_.centroid();
+  const double ball = object_.characteristic_length() + tol;  // every vertex lies within it
   double best = 1.0;
   bool any = false;
   auto record = [&](double t, double length, const Vec3& point, const Vec3& normal, int link) {
@@ -102,7 +110,8 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
       for (size_t i = 0; i < link.samples.size(); ++i) {
         if (link.normals[i].dot(local) <= 0) continue;
         const Vec3 p0 = a.position + ra * link.samples[i];
-        if (!SegmentMeetsBox(p0, u, reach, lo, hi)) continue;
+        // The box and the bounding ball cull different shapes: a long object, a round one.
+        if (!SegmentMeetsBox(p0, u, reach, lo, hi) || !SegmentMeetsBall(p0, u, reach, centre, ball)) continue;
         w->rays.Add(p0, u, reach, 0);
         w->ray_length.push_back(static_cast<float>(length));
       }
@@ -122,6 +131,7 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
         // The segment lies within `reach` of p0: a box test with no division culls nearly as well here, where
         // steps are a few millimetres.
         if ((p0.array() < lo.array() - reach).any() || (p0.array() > hi.array() + reach).any()) continue;
+        if ((p0 - centre).squaredNorm() > (ball + reach) * (ball + reach)) continue;
         w->rays.Add(p0, ra * (chord_local / length), reach, 0);
         w->ray_length.push_back(static_cast<float>(length));
       }
