@@ -4,7 +4,7 @@
 // spontaneous messages are skipped; a D-Len 2 answer (a refusal) or a CMD ERROR throws kDeviceException.
 // Limits are checked before anything is sent (kInvalidArgument naming the field and value). A timeout, a
 // malformed answer or an SMP error message throws DeviceError after a best-effort CMD_STOP, so the module is
-// left stopped.
+// left stopped. Not thread-safe: one caller at a time, since answers are matched to the one open request.
 #pragma once
 
 #include <chrono>

@@ -3,6 +3,7 @@
 // limits before anything is sent; a bad value throws kInvalidArgument naming the field and the value. Any link
 // failure during a command or a status read throws DeviceError after a best-effort stop (rGTO = 0), so a gripper
 // whose master lost track of it is left stopped, never still moving toward a stale request.
+// Not thread-safe: one caller at a time (the gateway's device thread), as a Modbus master link allows anyway.
 #pragma once
 
 #include <chrono>

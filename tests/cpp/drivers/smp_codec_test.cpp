@@ -93,6 +93,14 @@ TEST(Pg70Smp, LongMovePosIsFragmentedWithDLenCountingDown) {
   EXPECT_TRUE(assembler.idle());
 }
 
+TEST(Pg70Smp, MoveVelWithCurrentIsTwoFragments) {
+  // 9 bytes: B5, velocity 11.1 mm/s (0x4131999A, the documentation's MOVE VEL example), current 1 A.
+  const auto frames = EncodeFrames(kToModule + 12, MoveVel(11.1f, 1.0f));
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(Data(frames[0]), (Bytes{0x09, 0x84, 0xB5, 0x9A, 0x99, 0x31, 0x41, 0x00}));
+  EXPECT_EQ(Data(frames[1]), (Bytes{0x03, 0x86, 0x00, 0x80, 0x3F}));
+}
+
 TEST(Pg70Smp, FragmentBoundaries) {
   const Message seven{0xB5, 1, 2, 3, 4, 5, 6};
   EXPECT_EQ(EncodeFrames(kToModule, seven).size(), 1u);
