@@ -20,8 +20,9 @@ using Clock = std::chrono::steady_clock;
 
 // Grids up to 33³ nodes are solved whole (multigrid CG: a few ms); finer ones only near the samples.
 constexpr int kFullSolveDepth = 5;
-// Band half-width beyond the splat's reach, cells: enough for the indicator's transition at this level.
-constexpr int kBandMargin = 2;
+// Band half-width beyond the splat's reach (cells): b is zero past the reach, and one more cell leaves the
+// deviation unchanged (0.0050 mm on the 39k sphere at depth 7, against 0.0049 mm with 3) for fewer iterations.
+constexpr int kBandMargin = 1;
 
 double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
