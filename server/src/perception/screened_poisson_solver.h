@@ -8,8 +8,9 @@
 // gradient fits the splatted normal field V, and the screening pulls χ to 0 at the samples, which also fixes the
 // constant the Neumann Laplacian leaves free. Solved by conjugate gradients preconditioned with one multigrid
 // V-cycle (damped Jacobi with the lumped diagonal, full weighting, trilinear prolongation, coarse operators
-// L_c/4 + lumped restricted screening, a dense Cholesky solve at 5³ nodes). Single-threaded and in a fixed order:
-// the same input gives the same bits.
+// L_c/4 + lumped restricted screening, a dense Cholesky solve at 5³ nodes; screened_poisson_solver.cpp), and on the
+// finer levels only near the samples (RefineInBand; band_solver.cpp). Single-threaded and in a fixed order: the
+// same input gives the same bits.
 #pragma once
 
 #include <array>
