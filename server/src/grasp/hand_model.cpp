@@ -239,8 +239,17 @@ HandModel::HandModel(const HandSpec& spec, RTCDevice device, double sample_spaci
     for (const auto& [j, rate] : finger.joint_rates) {
       if (joints_[j].type == JointType::kRevolute || joints_[j].type == JointType::kContinuous) turn_rate += std::abs(rate);
     }
-    // Distance of any moving sample from any joint axis of the chain is below the finger's total extent.
-    for (int l : finger.links) reach += links_[l].reach + joints_[links_[l].parent_joint].origin.position.norm();
+    // The sagitta bound needs each moving sample's distance from the axes it turns about: at most its distance
+    // from the finger's first joint, over the pre-shapes (the finger's links keep their shape otherwise).
+    std::vector<Pose> poses(links_.size());
+    const HandJoint& first = joints_[finger.joint_rates.front().first];
+    for (const std::vector<double>& q : preshapes_) {
+      LinkPoses(Pose(), q, &poses);
+      const Vec3 pivot = poses[first.parent_link] * first.origin.position;
+      for (int l : finger.links) {
+        for (const Vec3& sample : links_[l].samples) reach = std::max(reach, (poses[l] * sample - pivot).norm());
+      }
+    }
     finger.straight = turn_rate == 0;
     finger.max_step = finger.straight ? std::numeric_limits<double>::infinity()
                                       : std::sqrt(8 * kChordSagitta / std::max(reach, 1e-3)) / turn_rate;
