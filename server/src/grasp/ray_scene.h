@@ -25,9 +25,10 @@ class RayDevice {
   RTCDevice device_ = nullptr;
 };
 
-// A batch of rays and their answers. Fill org/dir/tfar (count = org.size()), call RayScene::Intersect; hit_t is
-// the distance along the unit direction to the first surface in (0, tfar], or +inf when none; hit_triangle
-// indexes the mesh's triangles. The vectors are reused between calls, so a warm batch allocates nothing.
+// A batch of rays and their answers. Add rays (origin, unit direction, length tfar), call RayScene::Intersect;
+// then Hit(i) tells whether ray i met a surface within (0, tfar], T(i) the distance to the first one (only
+// meaningful when Hit(i)) and Triangle(i) its index in the mesh. The vector is reused between calls, so a warm
+// batch allocates nothing.
 struct RayBatch {
   std::vector<RTCRayHit> rays;
   void Clear() { rays.clear(); }
