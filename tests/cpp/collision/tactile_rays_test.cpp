@@ -403,7 +403,9 @@ TEST(TactileRaysTest, CurvedFingertipElementsLieOnTheCylinderAndSenseAlongItsRad
       EXPECT_LT(angle, kPitch / (2 * R) + 1e-9) << i;
       if (!faces) {
         const uint32_t r = i / kCols, c = i % kCols;
-        if (r > 0 && r + 1 < kRows && c > 0 && c + 1 < kCols) EXPECT_LT(angle, 1e-7) << i;
+        if (r > 0 && r + 1 < kRows && c > 0 && c + 1 < kCols) {
+          EXPECT_LT(angle, 1e-7) << i;
+        }
         const double arc = (c + 0.5) * kPitch - kCols * kPitch / 2;
         EXPECT_NEAR(std::atan2(radial.x(), radial.z()), arc / R, 1e-12) << i;
       }
