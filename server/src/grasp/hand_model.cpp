@@ -9,6 +9,7 @@
 
 #include "collision/tessellation.h"
 #include "core/error.h"
+#include "world/state.h"
 
 namespace graspsim::grasp {
 namespace {
@@ -142,19 +143,6 @@ void AddGeometry(const Geometry& g, double spacing, collision::LocalMesh* surfac
   link->boxes.push_back(box);
 }
 
-Pose Motion(const HandJoint& joint, double q) {
-  switch (joint.type) {
-    case JointType::kRevolute:
-    case JointType::kContinuous:
-      return {Vec3::Zero(), Quat(Eigen::AngleAxisd(q, joint.axis))};
-    case JointType::kPrismatic:
-      return {joint.axis * q, Quat::Identity()};
-    case JointType::kFixed:
-      break;
-  }
-  return {};
-}
-
 }  // namespace
 
 HandModel::HandModel(const HandSpec& spec, RTCDevice device, double sample_spacing)
@@ -271,7 +259,7 @@ void HandModel::LinkPoses(const Pose& base, const std::vector<double>& q, std::v
   (*poses)[0] = base;
   for (size_t j = 0; j < joints_.size(); ++j) {
     const HandJoint& joint = joints_[j];
-    (*poses)[joint.child_link] = (*poses)[joint.parent_link] * joint.origin * Motion(joint, q[j]);
+    (*poses)[joint.child_link] = (*poses)[joint.parent_link] * joint.origin * JointMotion(joint.type, joint.axis, q[j]);
   }
 }
 

@@ -10,18 +10,20 @@ Vec3 FindBristle(const SceneState& state, const ContactKey& key) {
   return found != state.bristles.end() && found->first == key ? found->second : Vec3::Zero();
 }
 
-Pose JointMotion(const JointSpec& joint, double q) {
-  switch (joint.type) {
+Pose JointMotion(JointType type, const Vec3& axis, double q) {
+  switch (type) {
     case JointType::kRevolute:
     case JointType::kContinuous:
-      return {Vec3::Zero(), Quat(Eigen::AngleAxisd(q, joint.axis))};
+      return {Vec3::Zero(), Quat(Eigen::AngleAxisd(q, axis))};
     case JointType::kPrismatic:
-      return {joint.axis * q, Quat::Identity()};
+      return {axis * q, Quat::Identity()};
     case JointType::kFixed:
       break;
   }
   return {};
 }
+
+Pose JointMotion(const JointSpec& joint, double q) { return JointMotion(joint.type, joint.axis, q); }
 
 void UpdateRobotLinkPoses(const SceneModel& model, size_t robot, SceneState* state) {
   // Joints in topological order, so every parent is placed before its child; indices from Reindex (per step,

@@ -59,5 +59,7 @@ void UpdateRobotLinkPoses(const SceneModel& model, size_t robot, SceneState* sta
 
 // Transform of a joint's child frame relative to its joint frame at position q (rad or m).
 Pose JointMotion(const JointSpec& joint, double q);
+// The same for a joint given by its type and unit axis (hand models that keep their own joint records).
+Pose JointMotion(JointType type, const Vec3& axis, double q);
 
 }  // namespace graspsim
