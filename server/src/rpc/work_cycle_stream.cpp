@@ -141,12 +141,7 @@ void WorkCycleRun::PumpLocked() {
     message_ = std::move(pending_.front());
     pending_.pop_front();
     writing_ = true;
-    // More frames queued behind this one: let gRPC buffer it rather than flush each frame on its own (a flush
-    // per frame cost ~0.2 ms, more than the simulation of a frame's 20 ms at 5 ms steps). The last queued frame
-    // is written without the hint, which flushes everything before it.
-    grpc::WriteOptions options;
-    if (!pending_.empty()) options.set_buffer_hint();
-    reactor_->StartWrite(&message_, options);
+    reactor_->StartWrite(&message_);
   }
   if (!writing_ && pending_.empty() && end_) {
     // A pool job still in flight finds finished_ and drops its chunk.
