@@ -10,18 +10,18 @@
 #include "rpc/call.h"
 #include "rpc/failed_call.h"
 #include "rpc/grasp_service.h"
+#include "rpc/run_reactor.h"
 
 namespace graspsim::rpc {
 namespace {
 
 constexpr char kMethod[] = "GraspService/PlanGrasps";
 
-class PlanGraspsReactor;
 
 // Shared by the reactor and the pool job; the job may outlive the reactor and then only finds it gone.
 class PlanRun {
  public:
-  PlanRun(PlanGraspsReactor* reactor, grpc::CallbackServerContext* context)
+  PlanRun(grpc::ServerWriteReactor<v1::PlanGraspsProgress>* reactor, grpc::CallbackServerContext* context)
       : reactor_(reactor), context_(context), start_(std::chrono::steady_clock::now()) {}
 
   // From the job: newest-only progress. Returns false once the call is cancelled.
@@ -40,7 +40,7 @@ class PlanRun {
   void PumpLocked();
 
   std::mutex mutex_;
-  PlanGraspsReactor* reactor_;
+  grpc::ServerWriteReactor<v1::PlanGraspsProgress>* reactor_;
   grpc::CallbackServerContext* const context_;
   const std::chrono::steady_clock::time_point start_;
   std::atomic<bool> cancelled_{false};
@@ -48,21 +48,6 @@ class PlanRun {
   std::optional<grpc::Status> end_;
   v1::PlanGraspsProgress writing_message_;
   bool writing_ = false, finished_ = false;
-};
-
-class PlanGraspsReactor : public grpc::ServerWriteReactor<v1::PlanGraspsProgress> {
- public:
-  explicit PlanGraspsReactor(grpc::CallbackServerContext* context) : run_(std::make_shared<PlanRun>(this, context)) {}
-  std::shared_ptr<PlanRun> run() { return run_; }
-  void OnWriteDone(bool ok) override { run_->OnWriteDone(ok); }
-  void OnCancel() override { run_->OnCancel(); }
-  void OnDone() override {
-    run_->Detach();
-    delete this;
-  }
-
- private:
-  std::shared_ptr<PlanRun> run_;
 };
 
 bool PlanRun::Progress(size_t done, size_t total) {
@@ -187,7 +172,7 @@ grpc::ServerWriteReactor<v1::PlanGraspsProgress>* StartPlanGraspsStream(const v1
                                                                        std::shared_ptr<grasp::GraspStore> store,
                                                                        WorkerPool* pool,
                                                                        grpc::CallbackServerContext* context) {
-  auto* reactor = new PlanGraspsReactor(context);
+  auto* reactor = new RunReactor<v1::PlanGraspsProgress, PlanRun>(context);
   pool->Post([request, registry, store = std::move(store), run = reactor->run()] { RunPlan(request, registry, store, run); });
   return reactor;
 }

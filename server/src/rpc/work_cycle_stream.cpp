@@ -9,6 +9,7 @@
 
 #include "rpc/call.h"
 #include "rpc/convert.h"
+#include "rpc/run_reactor.h"
 #include "rpc/sensor_readings.h"
 
 namespace graspsim::rpc {
@@ -46,15 +47,13 @@ void FrameToProto(const WorkCycle& cycle, const WorkCycleFrame& frame, v1::WorkC
   out->set_current_limit(frame.current_limit);
 }
 
-class WorkCycleReactor;
-
 // The run's state, shared with the scene's hub and the pool job; it outlives the reactor when one of them
 // arrives late, and then does nothing: every use of the reactor checks reactor_ under the mutex.
 // Lock order: the hub notifies under the scene's lock, so the scene's lock (View, Update) is never taken while
 // holding mutex_.
 class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this<WorkCycleRun> {
  public:
-  WorkCycleRun(WorkCycleReactor* reactor, grpc::CallbackServerContext* context, std::shared_ptr<Scene> scene,
+  WorkCycleRun(grpc::ServerWriteReactor<v1::WorkCycleProgress>* reactor, grpc::CallbackServerContext* context, std::shared_ptr<Scene> scene,
                WorkCycleRequest request, SimulationCache* simulations, WorkerPool* pool)
       : reactor_(reactor), context_(context), scene_(std::move(scene)), request_(std::move(request)),
         simulations_(simulations), pool_(pool), start_(std::chrono::steady_clock::now()) {}
@@ -102,7 +101,7 @@ class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this
   }
 
   std::mutex mutex_;
-  WorkCycleReactor* reactor_;
+  grpc::ServerWriteReactor<v1::WorkCycleProgress>* reactor_;
   grpc::CallbackServerContext* const context_;  // valid while reactor_ is set
   const std::shared_ptr<Scene> scene_;
   const WorkCycleRequest request_;
@@ -114,25 +113,6 @@ class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this
   v1::WorkCycleProgress message_;     // the frame being written; untouched until its write completes
   bool writing_ = false, simulating_ = false, finished_ = false;
   std::unique_ptr<grpc::Status> end_;  // set when no chunk follows: finish with it once pending_ is written
-};
-
-class WorkCycleReactor : public grpc::ServerWriteReactor<v1::WorkCycleProgress> {
- public:
-  WorkCycleReactor(grpc::CallbackServerContext* context, std::shared_ptr<Scene> scene, WorkCycleRequest request,
-                   SimulationCache* simulations, WorkerPool* pool)
-      : run_(std::make_shared<WorkCycleRun>(this, context, std::move(scene), std::move(request), simulations,
-                                            pool)) {
-    run_->Start();
-  }
-  void OnWriteDone(bool ok) override { run_->OnWriteDone(ok); }
-  void OnCancel() override { run_->OnCancel(); }
-  void OnDone() override {
-    run_->Detach();
-    delete this;
-  }
-
- private:
-  std::shared_ptr<WorkCycleRun> run_;
 };
 
 void WorkCycleRun::PumpLocked() {
@@ -217,7 +197,10 @@ grpc::ServerWriteReactor<v1::WorkCycleProgress>* StartWorkCycleStream(std::share
                                                                       WorkCycleRequest request,
                                                                       SimulationCache* simulations, WorkerPool* pool,
                                                                       grpc::CallbackServerContext* context) {
-  return new WorkCycleReactor(context, std::move(scene), std::move(request), simulations, pool);
+  auto* reactor = new RunReactor<v1::WorkCycleProgress, WorkCycleRun>(context, std::move(scene), std::move(request),
+                                                                      simulations, pool);
+  reactor->run()->Start();
+  return reactor;
 }
 
 }  // namespace graspsim::rpc
