@@ -1,10 +1,11 @@
 // The test set-up of the tactile experiments (tests/cpp/physics, tests/stress/tactile_bench.cpp): a welded
 // "sensor stand" — a robot with one link, no joints and no collision geometry, so only its pad touches anything —
-// carrying a pad facing up at the origin, and free boxes to lay on it.
+// carrying a pad facing up at the origin; boxes to lay on it are test_objects::UniformBox (test_bodies.h).
 #pragma once
 
 #include <string>
 
+#include "cpp/test_bodies.h"
 #include "world/model.h"
 
 namespace graspsim::test_objects {
@@ -33,20 +34,6 @@ inline void AddPadStand(SceneModel* model, const TactileArraySpec& pad) {
   model->bodies.push_back(stand);
   model->tactile_arrays.push_back(pad);
   model->robots.push_back(RobotSpec{"stand", "test", "stand/base", {"stand/base"}, {}, {pad.id}});
-}
-
-// A free box of uniform density: inertia m (b² + c²) / 12 about each axis.
-inline BodySpec UniformBox(const std::string& id, const Vec3& size, double mass) {
-  BodySpec box;
-  box.id = id;
-  box.motion = BodyMotion::kFree;
-  Geometry geometry;
-  geometry.box_size = size;
-  box.collision.push_back(geometry);
-  box.inertial.mass = mass;
-  const Vec3 s2 = size.cwiseProduct(size);
-  box.inertial.inertia = Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() * (mass / 12);
-  return box;
 }
 
 }  // namespace graspsim::test_objects

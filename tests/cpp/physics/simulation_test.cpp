@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "stress/sweep.h"
+#include "test_bodies.h"
 #include "test_util.h"
 
 namespace graspsim {
@@ -27,18 +28,7 @@ BodySpec Sphere(const std::string& id, double radius, double mass) {
   return body;
 }
 
-BodySpec Box(const std::string& id, const Vec3& size, double mass, BodyMotion motion = BodyMotion::kFree) {
-  BodySpec body;
-  body.id = id;
-  body.motion = motion;
-  Geometry box;
-  box.box_size = size;
-  body.collision.push_back(box);
-  body.inertial.mass = mass;
-  const Vec3 s2 = size.cwiseProduct(size);
-  body.inertial.inertia = Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() * (mass / 12);
-  return body;
-}
+using test_objects::UniformBox;
 
 // A floor: the stress sweep's static 10 × 10 × 1 m slab (top at z = 0 in its frame, a closed 12-triangle mesh).
 // As a mesh it is sampled at its 8 corners only, so every contact is a sample of the body resting on it: the
@@ -117,7 +107,7 @@ TEST(SimulationTest, BoxSettlesWithItsWeightSharedByItsContacts) {
   world.model->simulation.sleep_time = 0;
   world.Add(Floor(), Vec3::Zero());
   const double m = 0.1, a = 0.05;
-  world.Add(Box("cube", Vec3(a, a, a), m), Vec3(0, 0, a / 2));
+  world.Add(UniformBox("cube", Vec3(a, a, a), m), Vec3(0, 0, a / 2));
   Simulation simulation = world.Start();
   simulation.Step(&world.state, 3000);
   const size_t n = simulation.contacts().size();
@@ -173,7 +163,7 @@ TEST(SimulationTest, PushBelowStictionBarelyMoves) {
   world.model->simulation.sleep_time = 0;
   world.Add(Floor(), Vec3::Zero());
   const double m = 0.1, a = 0.05;
-  const size_t cube = world.Add(Box("cube", Vec3(a, a, a), m), Vec3(0, 0, a / 2));
+  const size_t cube = world.Add(UniformBox("cube", Vec3(a, a, a), m), Vec3(0, 0, a / 2));
   Simulation simulation = world.Start();
   simulation.Step(&world.state, 1000);  // settle
   const double x0 = world.state.body_poses[cube].position.x();
@@ -188,7 +178,7 @@ TEST(SimulationTest, PendulumEnergyDriftsLessThanATenthOfAPercent) {
   // A robot with one revolute joint: a 1 kg bob 0.5 m below the pivot, released at 60°, no contacts.
   World world;
   world.model->simulation.integrator = Integrator::kVelocityVerlet;
-  BodySpec base = Box("pendulum/base", Vec3(0.01, 0.01, 0.01), 1, BodyMotion::kArticulated);
+  BodySpec base = UniformBox("pendulum/base", Vec3(0.01, 0.01, 0.01), 1, BodyMotion::kArticulated);
   base.collision.clear();
   base.robot_id = "pendulum";
   BodySpec bob = Sphere("pendulum/bob", 0.02, 1.0);
@@ -227,7 +217,7 @@ TEST(SimulationTest, TwoBodyContactConservesMomentum) {
   world.model->simulation.gravity = Vec3::Zero();
   world.model->simulation.sleep_time = 0;
   const size_t a = world.Add(Sphere("a", 0.05, 0.2), Vec3(0, 0, 0));
-  const size_t b = world.Add(Box("b", Vec3(0.1, 0.1, 0.1), 1.5), Vec3(0.2, 0.01, 0));
+  const size_t b = world.Add(UniformBox("b", Vec3(0.1, 0.1, 0.1), 1.5), Vec3(0.2, 0.01, 0));
   Simulation simulation = world.Start();
   world.state.body_velocities[a].linear = Vec3(1, 0, 0);
   auto momentum = [&] {
@@ -272,7 +262,7 @@ TEST(SimulationTest, RestingBodyFallsAsleepAndSameInputsGiveSameOutputs) {
     World world;
     world.model->simulation.sleep_time = 0.2;
     world.Add(Floor(), Vec3::Zero());
-    world.Add(Box("cube", Vec3(0.05, 0.05, 0.05), 0.1), Vec3(0, 0, 0.03));
+    world.Add(UniformBox("cube", Vec3(0.05, 0.05, 0.05), 0.1), Vec3(0, 0, 0.03));
     Simulation simulation = world.Start();
     simulation.Step(&world.state, 3000);
     return world.state;
@@ -294,7 +284,7 @@ TEST(SimulationTest, FrictionlessContactsKeepNoBristleState) {
     World world;
     world.model->simulation.sleep_time = 0;
     BodySpec floor = Floor();
-    BodySpec cube = Box("cube", Vec3(0.05, 0.05, 0.05), 0.1);
+    BodySpec cube = UniformBox("cube", Vec3(0.05, 0.05, 0.05), 0.1);
     for (BodySpec* body : {&floor, &cube}) body->material.static_friction = body->material.dynamic_friction = friction;
     world.Add(floor, Vec3::Zero());
     world.Add(cube, Vec3(0, 0, 0.025));

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "test_bodies.h"
 #include "test_util.h"
 #include "world/loaders.h"
 #include "world/scene.h"
@@ -23,18 +24,7 @@ constexpr double kSupportTop = 0.75;  // m
 constexpr double kCube = 0.05;        // m
 constexpr double kBaseZ = 1.04;       // m: the axis base; at z_axis 0 the fingertips are 8.3 cm above the cube
 
-BodySpec Box(const std::string& id, BodyMotion motion, const Vec3& size, double mass) {
-  BodySpec body;
-  body.id = id;
-  body.motion = motion;
-  Geometry box;
-  box.box_size = size;
-  body.collision.push_back(box);
-  body.inertial.mass = mass;
-  const Vec3 s2 = size.cwiseProduct(size);
-  body.inertial.inertia = Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()).asDiagonal() * (mass / 12);
-  return body;
-}
+using test_objects::UniformBox;
 
 Pose At(double x, double y, double z) { return {Vec3(x, y, z), Quat::Identity()}; }
 
@@ -44,8 +34,9 @@ RobotDescription Cell() { return LoadUrdf(BuiltinModelUrdf("schunk_pg70_on_z_axi
 // gripper cell "cell" (built-in schunk_pg70_on_z_axis, axis base at kBaseZ).
 std::unique_ptr<Scene> MakeScene(double cube_x = 0, double base_z = kBaseZ) {
   auto scene = std::make_unique<Scene>("cycle", "work cycle", Limits());
-  scene->AddObject(Box("support", BodyMotion::kStatic, Vec3(0.2, 0.2, 0.04), 1), At(0, 0, kSupportTop - 0.02));
-  scene->AddObject(Box("cube", BodyMotion::kFree, Vec3::Constant(kCube), 0.2), At(cube_x, 0, kSupportTop + kCube / 2));
+  scene->AddObject(UniformBox("support", Vec3(0.2, 0.2, 0.04), 1, BodyMotion::kStatic), At(0, 0, kSupportTop - 0.02));
+  scene->AddObject(UniformBox("cube", Vec3::Constant(kCube), 0.2),
+                   At(cube_x, 0, kSupportTop + kCube / 2));
   scene->AddRobot("cell", "builtin:schunk_pg70_on_z_axis", Cell(), At(0, 0, base_z));
   return scene;
 }
@@ -334,7 +325,7 @@ TEST(WorkCycleTest, StopsWhenTheFingersCloseOnNothingOrTheModelChanges) {
 
   // A simulation of another model (the scene was edited between chunks).
   WorkCycle second(view.model, view.state, Request());
-  scene->AddObject(Box("other", BodyMotion::kFree, Vec3::Constant(0.01), 0.01), At(0.5, 0, 0.8));
+  scene->AddObject(UniformBox("other", Vec3::Constant(0.01), 0.01), At(0.5, 0, 0.8));
   Simulation edited(scene->View().model);
   SceneState edited_state = scene->View().state;
   ExpectError([&] { second.Advance(&edited, &edited_state, 10, &frames); }, ErrorCode::kFailedPrecondition,
