@@ -1,4 +1,5 @@
-"""Shared helpers of the end-to-end tests: rejected-request checks, raw uploads, small URDFs and meshes."""
+"""Shared helpers of the end-to-end tests: rejected-request and error checks, raw uploads, small URDFs and meshes."""
+import contextlib
 import hashlib
 from typing import Callable, Iterable
 
@@ -17,6 +18,16 @@ UNIT_INERTIA = np.eye(3) * 1e-3  # kg m^2, a valid tensor for tests that give it
 def scene_bytes(client, scene_id: str) -> bytes:
     """The whole scene (with geometry), serialized deterministically, for before/after comparisons."""
     return client.get_scene(scene_id, include_geometry=True).SerializeToString(deterministic=True)
+
+
+@contextlib.contextmanager
+def expect_error(code, *parts):
+    """A GraspsimError with `code` whose message holds every part."""
+    with pytest.raises(graspsim.GraspsimError) as info:
+        yield
+    assert info.value.code == code, info.value
+    for part in parts:
+        assert part in info.value.message, info.value.message
 
 
 def assert_rejected(client, scene_id: str, code: grpc.StatusCode, fragments: Iterable[str],

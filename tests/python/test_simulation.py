@@ -2,7 +2,6 @@
 
 The engine's accuracy against analytic answers is tested in C++ (tests/cpp/physics); here the RPCs around it.
 """
-import contextlib
 import json
 import urllib.request
 
@@ -13,6 +12,8 @@ import pytest
 import graspsim
 from graspsim.v1 import scene_pb2
 
+from _support import expect_error
+
 TABLE_TOP = 0.75          # m, built-in table
 CUBE = 0.05               # m, built-in cube_5cm edge
 DOWN = graspsim.quaternion_about_axis([1, 0, 0], np.pi)  # gripper approach (its +z) along world -z
@@ -21,16 +22,6 @@ LEFT = "pg70/finger_left_joint"
 
 def body(client, scene_id, body_id):
     return next(b for b in client.get_scene(scene_id).bodies if b.id == body_id)
-
-
-@contextlib.contextmanager
-def expect_error(code, *parts):
-    """A GraspsimError with `code` whose message holds every part."""
-    with pytest.raises(graspsim.GraspsimError) as info:
-        yield
-    assert info.value.code == code, info.value
-    for part in parts:
-        assert part in info.value.message, info.value.message
 
 
 @pytest.fixture

@@ -1,6 +1,5 @@
 """TactileService through the real server: the PG70's pads and gripper state, images, streams, errors."""
 import base64
-import contextlib
 import json
 import struct
 import threading
@@ -14,7 +13,7 @@ import pytest
 import graspsim
 from graspsim.v1 import tactile_pb2, tactile_pb2_grpc
 
-from _support import IA, assert_rejected, two_link_urdf
+from _support import IA, assert_rejected, expect_error, two_link_urdf
 
 TABLE_TOP = 0.75          # m, built-in table
 CUBE = 0.05               # m, built-in cube_5cm edge
@@ -27,16 +26,6 @@ PADS = ("pg70/pad_left", "pg70/pad_right")
 def pg70(client, scene_id):
     client.add_robot(scene_id, "pg70", builtin="schunk_pg70")
     return scene_id
-
-
-@contextlib.contextmanager
-def expect_error(code, *parts):
-    """A GraspsimError with `code` whose message holds every part."""
-    with pytest.raises(graspsim.GraspsimError) as info:
-        yield
-    assert info.value.code == code, info.value
-    for part in parts:
-        assert part in info.value.message, info.value.message
 
 
 def png_size(png: bytes):
