@@ -69,6 +69,18 @@ def _touch_grid(name: str, site: str) -> str:
             f'<config key="fov" value="{FOV_X:.9f} {FOV_Y:.9f}"/><config key="gamma" value="0"/></plugin>')
 
 
+def _finger(side: str, sign: int, pad_y: float, site_y: float) -> str:
+    """One finger of gripper_mjcf on its slide joint, the right one the left one mirrored in y (sign -1)."""
+    return f"""      <body name="finger_{side}" pos="0 0 -0.097">
+        <joint name="finger_{side}" type="slide" axis="0 {sign} 0" range="0 0.035" limited="true"/>
+        <geom name="jaw_{side}" type="box" size="0.012 0.005 0.030" pos="0 {sign * 0.010} -0.030" mass="0.05"/>
+        <geom name="pad_{side}" type="box" size="{PAD_W / 2} {FOAM / 2} {PAD_L / 2}" pos="0 {sign * pad_y} -0.034"
+              mass="0.001" friction="0.9"/>
+        <site name="pad_{side}" pos="0 {sign * site_y} -0.034" xyaxes="{sign} 0 0 0 0 -1"/>
+      </body>
+"""
+
+
 def gripper_mjcf(dt: float = 1e-3, options: str = "") -> str:
     """The PG70-like gripper on a z axis over a table with the cube (see the module's docstring); `options`: more
     attributes of <option> (CONFIGS)."""
@@ -90,21 +102,7 @@ def gripper_mjcf(dt: float = 1e-3, options: str = "") -> str:
       <joint name="z" type="slide" axis="0 0 1" range="-0.3 0" limited="true"/>
       <inertial pos="0 0 0.015" mass="1.0" diaginertia="6.1e-4 6.1e-4 1.07e-3"/>
       <geom name="housing" type="box" size="0.032 0.045 0.048" pos="0 0 -0.048" mass="1.4"/>
-      <body name="finger_left" pos="0 0 -0.097">
-        <joint name="finger_left" type="slide" axis="0 1 0" range="0 0.035" limited="true"/>
-        <geom name="jaw_left" type="box" size="0.012 0.005 0.030" pos="0 0.010 -0.030" mass="0.05"/>
-        <geom name="pad_left" type="box" size="{PAD_W / 2} {FOAM / 2} {PAD_L / 2}" pos="0 {pad_y} -0.034"
-              mass="0.001" friction="0.9"/>
-        <site name="pad_left" pos="0 {site_y} -0.034" xyaxes="1 0 0 0 0 -1"/>
-      </body>
-      <body name="finger_right" pos="0 0 -0.097">
-        <joint name="finger_right" type="slide" axis="0 -1 0" range="0 0.035" limited="true"/>
-        <geom name="jaw_right" type="box" size="0.012 0.005 0.030" pos="0 -0.010 -0.030" mass="0.05"/>
-        <geom name="pad_right" type="box" size="{PAD_W / 2} {FOAM / 2} {PAD_L / 2}" pos="0 {-pad_y} -0.034"
-              mass="0.001" friction="0.9"/>
-        <site name="pad_right" pos="0 {-site_y} -0.034" xyaxes="-1 0 0 0 0 -1"/>
-      </body>
-    </body>
+{_finger("left", 1, pad_y, site_y)}{_finger("right", -1, pad_y, site_y)}    </body>
   </worldbody>
   <contact>
     <exclude body1="carriage" body2="finger_left"/>
