@@ -6,6 +6,15 @@
 #include "physics/simulation.h"
 
 namespace graspsim {
+namespace {
+
+// The drive's free (unlimited) force at the step's new velocity v⁺, by the linearisation the solve used:
+// f + D (v⁺ − v) + K h v⁺.
+double FreeForceAt(const ActuatorOutput& out, double v, double v_next, double h) {
+  return out.free_force + out.free_damping * (v_next - v) + out.free_stiffness * h * v_next;
+}
+
+}  // namespace
 
 void Simulation::ActuatorForces(SceneState* state, double h, Forces* forces) {
   // Each motor's force on its joint; the motors' electrical state advances once per sub-step. The state before
@@ -28,15 +37,14 @@ void Simulation::ActuatorForces(SceneState* state, double h, Forces* forces) {
 
 bool Simulation::LimitCurrents(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h, SceneState* state,
                                Forces* forces) {
-  // The current limit is decided at the step's new velocity, not its start: the free (unlimited) drive force
-  // there, by the linearisation the solve used, is f + D (v⁺ − v) + K h v⁺. A drive whose decision changes is
+  // The current limit is decided at the step's new velocity, not its start (FreeForceAt). A drive whose decision changes is
   // stepped again from its state before the step with the other law, and its force and derivatives in *forces
   // are replaced. Returns whether any changed (the caller solves again).
   bool changed = false;
   for (Drive& drive : drives_) {
     const ActuatorOutput& out = drive.output;
     const int o = drive.offset;
-    const double free_force = out.free_force + out.free_damping * (v_next[o] - v[o]) + out.free_stiffness * h * v_next[o];
+    const double free_force = FreeForceAt(out, v[o], v_next[o], h);
     // force = clamp(free force) is a monotone (falling) law of the new velocity, so the step's solution is
     // unique; it is found like an active set: a drive at a limit whose free force at the new velocity is not
     // beyond that limit goes free, a free drive whose free force is beyond a limit goes to it. Never from one
@@ -76,9 +84,7 @@ void Simulation::RecordDriveOutputs(const Eigen::VectorXd& v, const Eigen::Vecto
     const ActuatorOutput& out = drive.output;
     if (out.limited || out.force_limit <= 0) continue;
     const int o = drive.offset;
-    const double force = std::clamp(out.free_force + out.free_damping * (v_next[o] - v[o]) +
-                                        out.free_stiffness * h * v_next[o],
-                                    -out.force_limit, out.force_limit);
+    const double force = std::clamp(FreeForceAt(out, v[o], v_next[o], h), -out.force_limit, out.force_limit);
     JointActuator& actuator = state->actuators.at(drive.joint);
     const DcMotorParams& motor = actuator.motor;
     actuator.state.current = force / (motor.ratio * motor.efficiency * motor.torque_constant);  // > 0: force_limit > 0
