@@ -1,14 +1,6 @@
 #include "world/state.h"
 
-#include <algorithm>
-
 namespace graspsim {
-
-Vec3 FindBristle(const SceneState& state, const ContactKey& key) {
-  const auto found = std::lower_bound(state.bristles.begin(), state.bristles.end(), key,
-                                      [](const auto& entry, const ContactKey& k) { return entry.first < k; });
-  return found != state.bristles.end() && found->first == key ? found->second : Vec3::Zero();
-}
 
 Pose JointMotion(JointType type, const Vec3& axis, double q) {
   switch (type) {

@@ -36,7 +36,8 @@ struct SceneState {
   std::vector<bool> sleeping;                 // per body: a free body at rest, skipped until touched
   std::vector<double> rest_time;              // per body: s spent below the sleep speed
   // LuGre bristle deflection z per persistent contact, m, world; sorted by key, the order the contact finder
-  // reports contacts in, so a step rebuilds it in order and looks keys up by binary search.
+  // reports contacts in, so a step rebuilds it in order and finds each contact's bristle where the last lookup
+  // ended (physics/simulation_contacts.cpp).
   std::vector<std::pair<ContactKey, Vec3>> bristles;
   std::map<size_t, JointActuator> actuators;  // by joint index: driven joints
   // Per tactile array, per sensing element (collision/tactile_rays.h order): the force the touching object
@@ -49,9 +50,6 @@ struct SceneState {
   // The force/torque sensor reading (sensors/readings.h). Sized by the simulation; zero before the first step.
   std::vector<std::array<Vec3, 2>> joint_wrenches;
 };
-
-// The bristle deflection of a contact, or zero for a new one.
-Vec3 FindBristle(const SceneState& state, const ContactKey& key);
 
 // Places every link of robot number `robot` (index into model.robots) from its base pose and joint positions
 // (parents before children). The model must be Reindex()ed.
