@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "physics/simulation.h"
+#include "test_bodies.h"
 
 namespace graspsim {
 namespace {
@@ -31,16 +32,8 @@ struct Slider {
       model->bodies.push_back(body);
       state.body_poses.push_back(Pose());
     }
-    JointSpec joint;
-    joint.id = "slider/z";
-    joint.robot_id = "slider";
-    joint.type = JointType::kPrismatic;
-    joint.parent_body = "slider/base";
-    joint.child_body = "slider/carriage";
-    joint.axis = Vec3::UnitZ();
-    joint.lower = -1;
-    joint.upper = 1;
-    model->joints.push_back(joint);
+    model->joints.push_back(test_objects::RobotJoint("slider/z", JointType::kPrismatic, "slider/base",
+                                                     "slider/carriage", Pose(), Vec3::UnitZ()));
     model->robots.push_back(
         RobotSpec{"slider", "test", "slider/base", {"slider/base", "slider/carriage"}, {"slider/z"}, {}});
     model->simulation.time_step = time_step;

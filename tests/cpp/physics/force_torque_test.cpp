@@ -7,6 +7,7 @@
 
 #include "physics/simulation.h"
 #include "sensors/readings.h"
+#include "test_bodies.h"
 
 namespace graspsim {
 namespace {
@@ -25,20 +26,7 @@ BodySpec Link(const std::string& id, double mass, const Vec3& com, const Vec3& i
   return body;
 }
 
-JointSpec Joint(const std::string& id, JointType type, const std::string& parent, const std::string& child,
-                const Pose& origin, const Vec3& axis) {
-  JointSpec joint;
-  joint.id = id;
-  joint.robot_id = id.substr(0, id.find('/'));
-  joint.type = type;
-  joint.parent_body = parent;
-  joint.child_body = child;
-  joint.origin = origin;
-  joint.axis = axis;
-  joint.lower = -10;
-  joint.upper = 10;
-  return joint;
-}
+using test_objects::RobotJoint;
 
 void ExpectNearVec(const Vec3& actual, const Vec3& expected, double tolerance, const std::string& what) {
   EXPECT_LE((actual - expected).norm(), tolerance) << what << ": " << actual.transpose() << " vs "
@@ -58,8 +46,8 @@ TEST(ForceTorqueTest, WeldedArmAtRestCarriesTheWeightOfItsSubtree) {
   model->bodies = {Link("arm/base", 3, Vec3::Zero(), Vec3(0.01, 0.01, 0.01)),
                    Link("arm/upper", 2, Vec3(0.15, 0.05, -0.02), Vec3(0.02, 0.03, 0.01)),
                    Link("arm/hand", 0.7, Vec3(0.02, -0.03, 0.08), Vec3(0.002, 0.003, 0.001))};
-  model->joints = {Joint("arm/shoulder", JointType::kRevolute, "arm/base", "arm/upper", shoulder_origin, axis),
-                   Joint("arm/flange", JointType::kFixed, "arm/upper", "arm/hand", flange_origin, Vec3::UnitX())};
+  model->joints = {RobotJoint("arm/shoulder", JointType::kRevolute, "arm/base", "arm/upper", shoulder_origin, axis),
+                   RobotJoint("arm/flange", JointType::kFixed, "arm/upper", "arm/hand", flange_origin, Vec3::UnitX())};
   model->robots = {RobotSpec{"arm", "test", "arm/base", {"arm/base", "arm/upper", "arm/hand"},
                              {"arm/shoulder", "arm/flange"}, {}}};
   model->simulation.gravity = kGravity;
@@ -116,7 +104,7 @@ TEST(ForceTorqueTest, AFlangeCarriesTheLoadRestingOnItsPad) {
     box.inertial.inertia = Vec3(0.004, 0.0013, 0.0045).asDiagonal() * (0.2 / 12);
     model->bodies.push_back(box);
     // A revolute flange turns about the vertical: the load does not turn it.
-    model->joints = {Joint("stand/flange", type, "stand/base", "stand/plate", Pose(), Vec3::UnitZ())};
+    model->joints = {RobotJoint("stand/flange", type, "stand/base", "stand/plate", Pose(), Vec3::UnitZ())};
     TactileArraySpec pad;
     pad.id = "stand/pad";
     pad.body_id = "stand/plate";
@@ -158,7 +146,7 @@ TEST(ForceTorqueTest, SwingingPendulumMatchesTheClosedForm) {
   auto model = std::make_shared<SceneModel>();
   model->bodies = {Link("p/base", 1, Vec3::Zero(), Vec3(1, 1, 1)),
                    Link("p/bob", m, Vec3(0, 0, -l), Vec3(0.01, inertia, 0.015))};
-  model->joints = {Joint("p/hinge", JointType::kRevolute, "p/base", "p/bob", Pose(), Vec3::UnitY())};
+  model->joints = {RobotJoint("p/hinge", JointType::kRevolute, "p/base", "p/bob", Pose(), Vec3::UnitY())};
   model->robots = {RobotSpec{"p", "test", "p/base", {"p/base", "p/bob"}, {"p/hinge"}, {}}};
   model->simulation.gravity = kGravity;
   model->simulation.time_step = 1e-4;

@@ -12,6 +12,8 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
+#include "test_bodies.h"
+
 namespace graspsim {
 namespace {
 
@@ -45,19 +47,7 @@ BodySpec Body(const std::string& id, BodyMotion motion, double mass, const Vec3&
   return body;
 }
 
-JointSpec Joint(const std::string& id, JointType type, const std::string& parent, const std::string& child,
-                const Pose& origin, const Vec3& axis, std::optional<MimicSpec> mimic = std::nullopt) {
-  JointSpec joint;
-  joint.id = id;
-  joint.robot_id = id.substr(0, id.find('/'));
-  joint.type = type;
-  joint.parent_body = parent;
-  joint.child_body = child;
-  joint.origin = origin;
-  joint.axis = axis.normalized();
-  joint.mimic = std::move(mimic);
-  return joint;
-}
+using test_objects::RobotJoint;
 
 // Followers from their leaders by the mimic rule, then the links by forward kinematics.
 void PlaceLinks(const SceneModel& model, SceneState* state) {
@@ -178,19 +168,19 @@ class MultibodyTest : public ::testing::Test {
              QuatFromRpy(0.5, -0.7, 0.2)),
     };
     model.joints = {
-        Joint("arm/j1", JointType::kRevolute, "arm/base", "arm/l1", {Vec3(0.1, -0.05, 0.2), QuatFromRpy(0.3, -0.2, 0.5)},
+        RobotJoint("arm/j1", JointType::kRevolute, "arm/base", "arm/l1", {Vec3(0.1, -0.05, 0.2), QuatFromRpy(0.3, -0.2, 0.5)},
               Vec3(1, 2, 3)),
-        Joint("arm/j2", JointType::kPrismatic, "arm/l1", "arm/l2", {Vec3(0, 0.05, 0.3), QuatFromRpy(0.1, 0.2, 0)},
+        RobotJoint("arm/j2", JointType::kPrismatic, "arm/l1", "arm/l2", {Vec3(0, 0.05, 0.3), QuatFromRpy(0.1, 0.2, 0)},
               Vec3(0.2, 1, -0.4)),
-        Joint("arm/j3", JointType::kRevolute, "arm/l2", "arm/l3", {Vec3(0.02, 0, 0.25), QuatFromRpy(-0.5, 0.3, 0.2)},
+        RobotJoint("arm/j3", JointType::kRevolute, "arm/l2", "arm/l3", {Vec3(0.02, 0, 0.25), QuatFromRpy(-0.5, 0.3, 0.2)},
               Vec3(0, -1, 1)),
-        Joint("arm/j4", JointType::kFixed, "arm/base", "arm/l4", {Vec3(-0.1, 0.1, 0.05), QuatFromRpy(0.6, 0, -0.4)},
+        RobotJoint("arm/j4", JointType::kFixed, "arm/base", "arm/l4", {Vec3(-0.1, 0.1, 0.05), QuatFromRpy(0.6, 0, -0.4)},
               Vec3::UnitX()),
-        Joint("arm/j5", JointType::kRevolute, "arm/l4", "arm/l5", {Vec3(0.05, 0, 0.15), QuatFromRpy(0.2, -0.1, 0)},
+        RobotJoint("arm/j5", JointType::kRevolute, "arm/l4", "arm/l5", {Vec3(0.05, 0, 0.15), QuatFromRpy(0.2, -0.1, 0)},
               Vec3(-1, 0.5, 0.2), MimicSpec{"arm/j1", -0.7, 0.1}),
-        Joint("arm/j6", JointType::kContinuous, "arm/l3", "arm/l6", {Vec3(0, 0.1, 0.05), QuatFromRpy(0, 0.5, -0.3)},
+        RobotJoint("arm/j6", JointType::kContinuous, "arm/l3", "arm/l6", {Vec3(0, 0.1, 0.05), QuatFromRpy(0, 0.5, -0.3)},
               Vec3(1, 0, 1), MimicSpec{"arm/j1", 1.3, -0.2}),
-        Joint("arm/j7", JointType::kFixed, "arm/l2", "arm/l7", {Vec3(0.04, -0.03, 0.1), QuatFromRpy(0.2, 0.5, -0.1)},
+        RobotJoint("arm/j7", JointType::kFixed, "arm/l2", "arm/l7", {Vec3(0.04, -0.03, 0.1), QuatFromRpy(0.2, 0.5, -0.1)},
               Vec3::UnitX()),
     };
     model.robots = {RobotSpec{"arm", "test", "arm/base",
@@ -370,7 +360,7 @@ TEST(MultibodyPendulumTest, MatchesClosedForm) {
   model.bodies = {Body("p/base", BodyMotion::kArticulated, 1, Vec3::Zero(), Vec3(1, 1, 1), Quat::Identity()),
                   Body("p/bob", BodyMotion::kArticulated, m, Vec3(0, 0, -l), Vec3(0.01, 0.02, 0.015),
                        QuatFromRpy(0.3, 0.4, 0.5))};
-  model.joints = {Joint("p/hinge", JointType::kRevolute, "p/base", "p/bob", Pose{}, Vec3::UnitX())};
+  model.joints = {RobotJoint("p/hinge", JointType::kRevolute, "p/base", "p/bob", Pose{}, Vec3::UnitX())};
   model.robots = {RobotSpec{"p", "test", "p/base", {"p/base", "p/bob"}, {"p/hinge"}, {}}};
   model.Reindex();
   SceneState state;
