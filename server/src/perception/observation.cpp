@@ -1,0 +1,156 @@
+#include "perception/observation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/validate.h"
+#include "perception/neighbor_grid.h"
+
+namespace graspsim {
+namespace {
+
+constexpr float kNoReturn = std::numeric_limits<float>::infinity();
+// Derived camera (unorganized input): a pixel covers this many sample spacings, so neighbouring points fall into
+// neighbouring pixels and a 3 × 3 closing fills what falls between.
+constexpr double kPixelsPerSpacing = 1.0 / 1.5;
+constexpr int kDerivedMargin = 8;  // pixels around the projection
+constexpr int kMaxDerivedSide = 2048;
+
+std::string Count(size_t n) { return std::to_string(n); }
+
+// The median distance from a point to its nearest neighbour, over up to 256 points spread through the cloud.
+double MedianSpacing(const std::vector<Vec3>& points) {
+  if (points.size() < 2) return 1e-3;
+  const NeighborGrid grid(points, NeighborGrid::SuggestCellSize(points, 2));
+  const size_t stride = std::max<size_t>(1, points.size() / 256);
+  std::vector<double> gaps;
+  std::vector<uint32_t> nearest;
+  for (size_t i = 0; i < points.size(); i += stride) {
+    grid.Nearest(points[i], 2, &nearest);
+    gaps.push_back((points[nearest.back()] - points[i]).norm());
+  }
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  return gaps[gaps.size() / 2] > 0 ? gaps[gaps.size() / 2] : 1e-3;
+}
+
+void CheckLimit(const std::string& field, size_t count, const char* what, size_t max_points) {
+  if (count > max_points) {
+    ThrowResourceExhausted(field + ": " + Count(count) + " " + what + " exceed the limit of " + Count(max_points) +
+                           " (--max-cloud-points)");
+  }
+}
+
+void CheckIntrinsics(const CameraIntrinsics& k) {
+  const std::string f = "depth_image.intrinsics.";
+  if (k.width <= 0 || k.height <= 0) {
+    ThrowInvalidArgument(f + "width/height: " + std::to_string(k.width) + " x " + std::to_string(k.height) +
+                         " pixels; both must be positive");
+  }
+  for (auto [name, value] : {std::pair{"fx", k.fx}, {"fy", k.fy}}) {
+    CheckFinite(f + name, value);
+    if (value <= 0) ThrowInvalidArgument(f + name + ": " + FormatNumber(value) + " pixels; must be positive");
+  }
+  CheckFinite(f + "cx", k.cx);
+  CheckFinite(f + "cy", k.cy);
+}
+
+Observation FromImage(const DepthImage& image, const Pose& camera_pose, size_t max_points) {
+  const CameraIntrinsics& k = image.intrinsics;
+  CheckIntrinsics(k);
+  const size_t pixels = size_t(k.width) * size_t(k.height);
+  CheckLimit("depth_image", pixels, "pixels", max_points);
+  const std::string size = " for a " + std::to_string(k.width) + " x " + std::to_string(k.height) + " image (" +
+                           Count(pixels) + " expected)";
+  if (image.depth.size() != pixels) {
+    ThrowInvalidArgument("depth_image.depth: " + Count(image.depth.size()) + " values" + size);
+  }
+  if (!image.mask.empty() && image.mask.size() != pixels) {
+    ThrowInvalidArgument("depth_image.mask: " + Count(image.mask.size()) + " bytes" + size);
+  }
+  Observation obs;
+  obs.camera_pose = camera_pose;
+  obs.intrinsics = k;
+  obs.depth.resize(pixels);
+  obs.mask.assign(pixels, 0);
+  for (size_t i = 0; i < pixels; ++i) {
+    const float z = image.depth[i];
+    const bool valid = std::isfinite(z) && z > 0;
+    obs.depth[i] = valid ? z : kNoReturn;
+    obs.mask[i] = image.mask.empty() ? valid : image.mask[i] != 0;
+    if (!valid || !obs.mask[i]) continue;
+    const int u = int(i % size_t(k.width)), v = int(i / size_t(k.width));
+    obs.points.push_back(camera_pose * Vec3((u - k.cx) * z / k.fx, (v - k.cy) * z / k.fy, z));
+  }
+  if (obs.points.empty()) {
+    ThrowInvalidArgument(std::string("depth_image.depth: no pixel") + (image.mask.empty() ? "" : " inside the mask") +
+                         " has a finite, positive depth");
+  }
+  return obs;
+}
+
+// The virtual camera of unorganized input (see observation.h).
+Observation FromPoints(const std::vector<Vec3>& points, const Pose& camera_pose, size_t max_points) {
+  if (points.empty()) ThrowInvalidArgument("cloud.points: the cloud is empty");
+  CheckLimit("cloud.points", points.size(), "points", max_points);
+  const Pose world_to_camera = camera_pose.Inverse();
+  std::vector<Vec3> local(points.size());
+  std::vector<double> depths(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    CheckFinite("cloud.points[" + Count(i) + "]", points[i]);
+    local[i] = world_to_camera * points[i];
+    if (local[i].z() <= 0) {
+      ThrowInvalidArgument("cloud.points[" + Count(i) + "]: behind the camera (z = " + FormatNumber(local[i].z()) +
+                           " m in the camera frame; camera_pose must be the pose the cloud was seen from)");
+    }
+    depths[i] = local[i].z();
+  }
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  const double median_depth = depths[depths.size() / 2];
+  double f = median_depth / MedianSpacing(points) * kPixelsPerSpacing;
+  double umin = 1e300, umax = -1e300, vmin = 1e300, vmax = -1e300;
+  for (const Vec3& p : local) {
+    umin = std::min(umin, p.x() / p.z());
+    umax = std::max(umax, p.x() / p.z());
+    vmin = std::min(vmin, p.y() / p.z());
+    vmax = std::max(vmax, p.y() / p.z());
+  }
+  const double extent = std::max(umax - umin, vmax - vmin);
+  f = std::min(f, (kMaxDerivedSide - 2 * kDerivedMargin - 2) / std::max(extent, 1e-12));
+  Observation obs;
+  obs.camera_pose = camera_pose;
+  obs.derived_camera = true;
+  obs.points = points;
+  CameraIntrinsics& k = obs.intrinsics;
+  k.fx = k.fy = f;
+  k.cx = kDerivedMargin - f * umin;
+  k.cy = kDerivedMargin - f * vmin;
+  k.width = int(std::ceil(f * (umax - umin))) + 2 * kDerivedMargin + 1;
+  k.height = int(std::ceil(f * (vmax - vmin))) + 2 * kDerivedMargin + 1;
+  obs.depth.assign(size_t(k.width) * k.height, kNoReturn);
+  cv::Mat hit(k.height, k.width, CV_8U, cv::Scalar(0));
+  for (const Vec3& p : local) {
+    const int u = int(std::lround(f * p.x() / p.z() + k.cx)), v = int(std::lround(f * p.y() / p.z() + k.cy));
+    float& d = obs.depth[size_t(v) * k.width + u];
+    d = std::min(d, float(p.z()));
+    hit.at<uint8_t>(v, u) = 1;
+  }
+  cv::morphologyEx(hit, hit, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+  obs.mask.assign(hit.datastart, hit.dataend);
+  return obs;
+}
+
+}  // namespace
+
+Observation Observe(const PartialView& view, size_t max_points) {
+  Pose pose = view.camera_pose;
+  CheckPose("camera_pose", &pose);
+  return view.image ? FromImage(*view.image, pose, max_points) : FromPoints(view.points, pose, max_points);
+}
+
+}  // namespace graspsim

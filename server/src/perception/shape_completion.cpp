@@ -1,0 +1,114 @@
+#include "perception/shape_completion.h"
+
+#include <chrono>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/error.h"
+#include "perception/cloud_filters.h"
+#include "perception/normals.h"
+
+namespace graspsim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// The stages need a surface: at least 10 points that span a plane, not a line.
+void CheckSpread(const std::vector<Vec3>& points, size_t input_points) {
+  const std::string what = std::to_string(points.size()) + " of " + std::to_string(input_points) + " points";
+  if (points.size() < 10) ThrowInvalidArgument("points: " + what + " left after the outlier filter; need 10");
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : points) mean += p;
+  mean /= double(points.size());
+  Mat3 covariance = Mat3::Zero();
+  for (const Vec3& p : points) covariance += (p - mean) * (p - mean).transpose();
+  const Vec3 spread = Eigen::SelfAdjointEigenSolver<Mat3>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
+  if (!(spread(1) > 1e-12 * spread(2))) ThrowInvalidArgument("points: all " + what + " lie on one line");
+}
+
+// Filter: statistical outliers, then optional voxels.
+std::vector<Vec3> FilterCloud(const std::vector<Vec3>& points, const CompletionOptions& options) {
+  std::vector<Vec3> kept =
+      options.outlier_std > 0 ? RemoveStatisticalOutliers(points, options.outlier_k, options.outlier_std) : points;
+  if (options.voxel_size > 0) kept = VoxelDownsample(kept, options.voxel_size);
+  return kept;
+}
+
+// Normals: the seen points' towards the camera; each mirrored point takes its source's normal reflected.
+void OrientedSurfacePoints(const std::vector<Vec3>& seen, const std::optional<SymmetryPlane>& plane,
+                           const Vec3& camera, int k, std::vector<Vec3>* points, std::vector<Vec3>* normals) {
+  NormalEstimationParams params;
+  params.k = k;
+  params.viewpoint = camera;
+  *normals = EstimateNormals(seen, params);
+  *points = seen;
+  if (!plane) return;
+  points->reserve(2 * seen.size());
+  normals->reserve(2 * seen.size());
+  for (size_t i = 0; i < seen.size(); ++i) {
+    points->push_back(MirrorPoint(*plane, seen[i]));
+    normals->push_back(MirrorDirection(*plane, (*normals)[i]));
+  }
+}
+
+}  // namespace
+
+std::optional<CompletionResult> CompleteShape(const PartialView& view, const CompletionOptions& options,
+                                              const CompletionProgress& progress) {
+  const auto report = [&](const char* stage, double fraction) { return !progress || progress(stage, fraction); };
+  const Clock::time_point start = Clock::now();
+  ValidateSymmetryParams(options.symmetry);
+  if (!(options.outlier_std >= 0)) ThrowInvalidArgument("outlier_std: must be ≥ 0 (0 = off)");
+  if (!(options.voxel_size >= 0)) ThrowInvalidArgument("voxel_size: must be ≥ 0 m (0 = off)");
+  CompletionResult result;
+
+  Clock::time_point t = Clock::now();
+  const Observation observation = Observe(view, options.max_points);
+  result.input_points = observation.points.size();
+  result.ms.observe_ms = MsSince(t);
+  if (!report("filter", 0.05)) return std::nullopt;
+
+  t = Clock::now();
+  const std::vector<Vec3> seen = FilterCloud(observation.points, options);
+  CheckSpread(seen, observation.points.size());
+  result.filtered_points = seen.size();
+  result.ms.filter_ms = MsSince(t);
+
+  if (options.method == CompletionMethod::kDelaunay) {
+    if (!report("surface", 0.5)) return std::nullopt;
+    t = Clock::now();
+    result.mesh = DelaunayBaseline(seen, observation.camera_pose, options.delaunay);
+    result.surface_points = std::min<size_t>(seen.size(), size_t(options.delaunay.samples));
+    result.ms.surface_ms = MsSince(t);
+    result.ms.total_ms = MsSince(start);
+    return result;
+  }
+
+  if (!report("symmetry", 0.15)) return std::nullopt;
+  t = Clock::now();
+  result.plane = SymmetrySearch(observation).Find(seen, options.symmetry);
+  result.ms.symmetry_ms = MsSince(t);
+
+  if (!report("normals", 0.4)) return std::nullopt;
+  t = Clock::now();
+  std::vector<Vec3> points, normals;
+  OrientedSurfacePoints(seen, result.plane, observation.CameraCentre(), options.normal_k, &points, &normals);
+  result.surface_points = points.size();
+  result.ms.normals_ms = MsSince(t);
+
+  if (!report("surface", 0.55)) return std::nullopt;
+  t = Clock::now();
+  PoissonResult surface = ReconstructSurface(points, normals, options.poisson);
+  result.mesh = std::move(surface.mesh);
+  result.poisson = surface.stats;
+  result.ms.surface_ms = MsSince(t);
+  result.ms.total_ms = MsSince(start);
+  return result;
+}
+
+}  // namespace graspsim

@@ -1,0 +1,61 @@
+// Shape completion of a partially seen object (Bohg et al., ICRA 2011; PAPERS.md part C), one function per stage:
+//
+//   Observe  → the object's points and the camera's picture of them (observation.h)
+//   Filter   → statistical outlier removal, optional voxel down-sampling (cloud_filters.h)
+//   Symmetry → the best mirror plane perpendicular to the table by the visibility score (symmetry_search.h)
+//   Normals  → plane fits over k neighbours, towards the camera; mirrored points take reflected normals (normals.h)
+//   Surface  → screened Poisson on seen + mirrored points (poisson.h): a closed mesh
+//
+// or, for the paper's baseline, Observe → Filter → Delaunay sheet of 500 samples (delaunay_baseline.h).
+// Single-threaded and deterministic: the same input gives the same mesh bit for bit.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "core/math.h"
+#include "core/mesh.h"
+#include "perception/delaunay_baseline.h"
+#include "perception/observation.h"
+#include "perception/poisson.h"
+#include "perception/symmetry_search.h"
+
+namespace graspsim {
+
+enum class CompletionMethod { kMirror, kDelaunay };
+
+struct CompletionOptions {
+  CompletionMethod method = CompletionMethod::kMirror;
+  int outlier_k = 8;            // statistical outlier removal: neighbours, 1..100
+  double outlier_std = 2;       // and the cut in standard deviations; 0 = no outlier removal
+  double voxel_size = 0;        // m; 0 = no down-sampling
+  SymmetryParams symmetry;      // table_normal: world up unless the caller knows the table
+  int normal_k = 10;            // neighbours per normal, 3..100
+  PoissonParams poisson = [] { PoissonParams p; p.depth = 6; return p; }();
+  DelaunayParams delaunay;
+  size_t max_points = 2'000'000;  // points or pixels of the input (Limits::max_cloud_points)
+};
+
+struct StageTimings {
+  double observe_ms = 0, filter_ms = 0, symmetry_ms = 0, normals_ms = 0, surface_ms = 0, total_ms = 0;
+};
+
+struct CompletionResult {
+  TriangleMesh mesh;           // closed, counter-clockwise from outside, world frame, m
+  std::optional<SymmetryPlane> plane;  // kMirror only
+  size_t input_points = 0, filtered_points = 0, surface_points = 0;  // surface: seen + mirrored
+  StageTimings ms;
+  PoissonStats poisson;        // kMirror only
+};
+
+// Called between stages with the stage just started ("filter", "symmetry", "normals", "surface") and the
+// fraction of the work done; returning false cancels (CompleteShape then returns nullopt).
+using CompletionProgress = std::function<bool(const std::string& stage, double fraction)>;
+
+// Throws graspsim::Error naming the field for bad input (observation.h, cloud_filters.h, the stages' params),
+// kInvalidArgument when too few points survive the filter or they lie on a line.
+std::optional<CompletionResult> CompleteShape(const PartialView& view, const CompletionOptions& options,
+                                              const CompletionProgress& progress = {});
+
+}  // namespace graspsim

@@ -1,0 +1,188 @@
+#include "perception/symmetry_search.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/validate.h"
+
+namespace graspsim {
+namespace {
+
+constexpr double kDegree = M_PI / 180;
+// A later hypothesis replaces the best only when it is lower by more than this fraction (see the header, 2.).
+constexpr double kTieTolerance = 1e-9;
+
+void CheckCount(const std::string& field, int value, int lo, int hi) {
+  if (value < lo || value > hi) {
+    ThrowInvalidArgument(field + ": " + std::to_string(value) + " is outside " + std::to_string(lo) + ".." +
+                         std::to_string(hi));
+  }
+}
+
+void CheckRange(const std::string& field, double value, double lo, double hi) {
+  CheckFinite(field, value);
+  if (value < lo || value > hi) {
+    ThrowInvalidArgument(field + ": " + FormatNumber(value) + " is outside " + FormatNumber(lo) + ".." +
+                         FormatNumber(hi));
+  }
+}
+
+// Values lo + i (hi − lo) / (count − 1), or the middle for one.
+std::vector<double> Steps(double lo, double hi, int count) {
+  std::vector<double> out;
+  for (int i = 0; i < count; ++i) out.push_back(count == 1 ? 0.5 * (lo + hi) : lo + (hi - lo) * i / (count - 1));
+  return out;
+}
+
+// Orientations nearest the window's centre first (positive before negative), so a tie keeps the nearer one.
+std::vector<double> AnglesByDistance(double centre, double half, int count) {
+  std::vector<double> out = Steps(centre - half, centre + half, count);
+  std::stable_sort(out.begin(), out.end(), [centre](double a, double b) {
+    const double da = std::abs(a - centre), db = std::abs(b - centre);
+    if (std::abs(da - db) > 1e-12) return da < db;
+    return a > b;
+  });
+  return out;
+}
+
+}  // namespace
+
+void ValidateSymmetryParams(const SymmetryParams& p) {
+  CheckFinite("table_normal", p.table_normal);
+  if (p.table_normal.norm() < 1e-9) ThrowInvalidArgument("table_normal: zero length");
+  CheckCount("orientations", p.orientations, 1, 50);
+  CheckCount("shifts", p.shifts, 1, 50);
+  CheckCount("refinements", p.refinements, 0, 5);
+  CheckRange("max_angle_deg", p.max_angle_deg, 0, 90);
+  CheckRange("shift_range", p.shift_range, 0, 4);
+  CheckRange("depth_tolerance", p.depth_tolerance, 0, 1);
+}
+
+Vec3 MirrorPoint(const SymmetryPlane& plane, const Vec3& p) {
+  return p - 2 * (p - plane.point).dot(plane.normal) * plane.normal;
+}
+
+Vec3 MirrorDirection(const SymmetryPlane& plane, const Vec3& d) { return d - 2 * d.dot(plane.normal) * plane.normal; }
+
+SymmetrySearch::SymmetrySearch(const Observation& observation) : observation_(observation) {
+  const CameraIntrinsics& k = observation.intrinsics;
+  cv::Mat outside(k.height, k.width, CV_8U);
+  for (size_t i = 0; i < observation.mask.size(); ++i) outside.data[i] = observation.mask[i] ? 0 : 255;
+  cv::Mat distance;
+  cv::distanceTransform(outside, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  outside_sq_.resize(observation.mask.size());
+  for (size_t i = 0; i < outside_sq_.size(); ++i) {
+    const float d = distance.ptr<float>()[i];
+    outside_sq_[i] = d * d;
+  }
+}
+
+double SymmetrySearch::Score(const std::vector<Vec3>& points, const SymmetryPlane& plane,
+                             double depth_tolerance) const {
+  const Observation& obs = observation_;
+  const CameraIntrinsics& k = obs.intrinsics;
+  // Mirror then world → camera as one affine map: c = A p + b.
+  const Pose to_camera = obs.camera_pose.Inverse();
+  const Mat3 rotation = to_camera.orientation.toRotationMatrix();
+  const Mat3 householder = Mat3::Identity() - 2 * plane.normal * plane.normal.transpose();
+  const Mat3 a = rotation * householder;
+  const Vec3 b = rotation * (2 * plane.point.dot(plane.normal) * plane.normal) + to_camera.position;
+  const double beyond = double(k.width) * k.width + double(k.height) * k.height;  // behind the camera
+  double sum_out = 0, sum_in = 0;
+  size_t n_out = 0, n_in = 0;
+  for (const Vec3& p : points) {
+    const Vec3 c = a * p + b;
+    if (c.z() <= 1e-9) {
+      sum_out += beyond;
+      ++n_out;
+      continue;
+    }
+    const double u = k.fx * c.x() / c.z() + k.cx, v = k.fy * c.y() / c.z() + k.cy;
+    const double ur = std::round(u), vr = std::round(v);
+    const double uc = std::clamp(ur, 0.0, double(k.width - 1)), vc = std::clamp(vr, 0.0, double(k.height - 1));
+    const size_t pixel = size_t(vc) * size_t(k.width) + size_t(uc);
+    const double overshoot = (ur - uc) * (ur - uc) + (vr - vc) * (vr - vc);
+    if (overshoot == 0 && obs.mask[pixel]) {
+      ++n_in;
+      const double in_front = double(obs.depth[pixel]) - c.z() - depth_tolerance;
+      if (in_front > 0) sum_in += in_front * k.fx / c.z();
+    } else {
+      ++n_out;
+      sum_out += outside_sq_[pixel] + overshoot;
+    }
+  }
+  return (n_out ? sum_out / double(n_out) : 0) + (n_in ? sum_in / double(n_in) : 0);
+}
+
+SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const SymmetryParams& params) const {
+  ValidateSymmetryParams(params);
+  if (points.size() < 3) ThrowInvalidArgument("points: " + std::to_string(points.size()) + " points; need 3");
+  const Vec3 up = params.table_normal.normalized();
+  const Vec3 ax = (std::abs(up.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(up).normalized();
+  const Vec3 ay = up.cross(ax);
+
+  // 1. The table-projected cloud: centroid and eigenvectors.
+  Vec3 centroid = Vec3::Zero();
+  for (const Vec3& p : points) centroid += p;
+  centroid /= double(points.size());
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  for (const Vec3& p : points) {
+    const Eigen::Vector2d q((p - centroid).dot(ax), (p - centroid).dot(ay));
+    covariance += q * q.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
+  const Eigen::Vector2d minor = eigen.eigenvectors().col(0), major = eigen.eigenvectors().col(1);
+  const Vec3 e_minor = minor.x() * ax + minor.y() * ay, e_major = major.x() * ax + major.y() * ay;
+  Vec3 view = centroid - observation_.CameraCentre();
+  view -= view.dot(up) * up;
+  // The plane's normal is the eigenvector most parallel to the view (the axis the one most perpendicular to it);
+  // seen from straight above, the minor one (the plane along the object's length).
+  Vec3 n0 = view.norm() > 1e-9 && std::abs(e_major.dot(view)) > std::abs(e_minor.dot(view)) ? e_major : e_minor;
+  if (n0.dot(view) < 0) n0 = -n0;
+
+  // 2. Shifts up to shift_range × the farthest seen point behind the centroid.
+  double reach = 0;
+  for (const Vec3& p : points) reach = std::max(reach, (p - centroid).dot(n0));
+  const double max_shift = params.shift_range * reach;
+
+  const auto plane_at = [&](double alpha, double shift) {
+    SymmetryPlane plane;
+    plane.normal = std::cos(alpha) * n0 + std::sin(alpha) * up.cross(n0);
+    plane.point = centroid + shift * plane.normal;
+    plane.angle_deg = alpha / kDegree;
+    plane.shift = shift;
+    return plane;
+  };
+  double angle_half = params.max_angle_deg * kDegree, angle_centre = 0;
+  double shift_lo = 0, shift_hi = max_shift;
+  SymmetryPlane best;
+  best.score = INFINITY;
+  int hypotheses = 0;
+  for (int pass = 0; pass <= params.refinements; ++pass) {
+    for (double alpha : AnglesByDistance(angle_centre, angle_half, params.orientations)) {
+      for (double shift : Steps(shift_lo, shift_hi, params.shifts)) {
+        SymmetryPlane plane = plane_at(alpha, shift);
+        plane.score = Score(points, plane, params.depth_tolerance);  // 3. and 4.
+        ++hypotheses;
+        if (plane.score < best.score * (1 - kTieTolerance) - 1e-300 || !std::isfinite(best.score)) best = plane;
+      }
+    }
+    // 5. The next pass spans ± one step of this one around the best.
+    const double angle_step = params.orientations > 1 ? 2 * angle_half / (params.orientations - 1) : angle_half;
+    const double shift_step = params.shifts > 1 ? (shift_hi - shift_lo) / (params.shifts - 1) : 0.5 * (shift_hi - shift_lo);
+    angle_centre = best.angle_deg * kDegree;
+    angle_half = angle_step;
+    shift_lo = best.shift - shift_step;
+    shift_hi = best.shift + shift_step;
+  }
+  best.hypotheses = hypotheses;
+  return best;
+}
+
+}  // namespace graspsim

@@ -1,0 +1,72 @@
+// The symmetry search of Bohg et al. (PAPERS.md part C, "Shape prediction by planar symmetry"): the object's
+// symmetry plane, assumed perpendicular to the table, found by generate-and-test.
+//
+//   1. Project the cloud onto the table plane; its centroid c and the two eigenvectors of its 2D covariance.
+//      The initial plane contains the eigenvector most perpendicular to the viewing direction v (camera → c), so
+//      its normal n₀ points roughly away from the camera and mirroring moves the seen side to the back.
+//   2. Hypotheses: n orientations α in [−max_angle, max_angle] about the table normal × m shifts d along the
+//      rotated plane normal n_α, d in [0, shift_range × max_p (p − c)·n_α] (0: the plane through the centroid;
+//      the far end: the plane through the farthest seen point). Orientations are tried by |α| ascending, shifts
+//      ascending, and a later hypothesis wins only when its score is lower by more than 1e-9 relative: the
+//      visibility score cannot see a plane placed too far back (its mirrored points all hide behind the seen
+//      surface), so among equal scores the nearest plane is the plausible one.
+//   3. Mirror: Q = P − 2 ((P − o) · n) n, o = c + d n_α (the paper's Q = R⁻¹(−R(P + d − c)) + c).
+//   4. Score (lower is better): each Q projected into the camera image.
+//        outside the mask:                    δ1 = squared distance to the nearest mask pixel (px², OpenCV's
+//                                             distance transform; beyond the image, plus the squared overshoot)
+//        inside, in front of the observed depth by more than depth_tolerance:
+//                                             δ2 = the depth difference in pixels (m × f / z, so both terms are in
+//                                             image units)
+//      score = E_{Q∉mask}[δ1] + E_{Q∈mask}[δ2] (δ2 = 0 for points behind), the paper's eq. 3.
+//   5. Optional refinements (not in the paper): the grid again, n × m, spanning ± one step around the best
+//      hypothesis, so the plane is found to a fraction of a coarse step.
+#pragma once
+
+#include <vector>
+
+#include "core/math.h"
+#include "perception/observation.h"
+
+namespace graspsim {
+
+struct SymmetryParams {
+  Vec3 table_normal = Vec3::UnitZ();  // world, unit: the plane's normal is perpendicular to it
+  int orientations = 7;               // n, 1..50 (7 × 5 = the paper's 35 hypotheses)
+  int shifts = 5;                     // m, 1..50
+  double max_angle_deg = 20;          // the orientations span ± this, 0..90
+  double shift_range = 1.25;          // see 2., 0..4
+  double depth_tolerance = 0.002;     // m: sensor noise; a mirrored point this close in front is not penalised
+  int refinements = 0;                // finer passes around the best hypothesis, 0..5
+};
+
+struct SymmetryPlane {
+  Vec3 point = Vec3::Zero();    // on the plane, world, m
+  Vec3 normal = Vec3::UnitX();  // unit, world, horizontal, pointing away from the camera
+  double score = 0;             // the best hypothesis's score (px² + px)
+  double angle_deg = 0;         // α of the best hypothesis relative to the initial plane
+  double shift = 0;             // d of the best hypothesis, m
+  int hypotheses = 0;           // hypotheses scored
+};
+
+// Reflection of points and directions across a plane.
+Vec3 MirrorPoint(const SymmetryPlane& plane, const Vec3& p);
+Vec3 MirrorDirection(const SymmetryPlane& plane, const Vec3& d);
+
+// Scores hypotheses against one observation (holds the mask's distance transform).
+class SymmetrySearch {
+ public:
+  explicit SymmetrySearch(const Observation& observation);
+  // The score of mirroring `points` across `plane` (step 4); depth_tolerance in m.
+  double Score(const std::vector<Vec3>& points, const SymmetryPlane& plane, double depth_tolerance) const;
+  // Steps 1–5 over `points` (a filtered subset of the observation's, ≥ 3, not all on a vertical line).
+  SymmetryPlane Find(const std::vector<Vec3>& points, const SymmetryParams& params) const;
+
+ private:
+  const Observation& observation_;
+  std::vector<float> outside_sq_;  // per pixel: squared distance to the nearest mask pixel (0 inside), px²
+};
+
+// Range checks of the parameters (kInvalidArgument naming the field).
+void ValidateSymmetryParams(const SymmetryParams& params);
+
+}  // namespace graspsim
