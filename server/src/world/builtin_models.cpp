@@ -1,6 +1,8 @@
 // The built-in model library: URDF files of server/models, compiled into the binary by
 // server/cmake/EmbedModels.cmake (which generates graspsim::embedded::ModelFiles()).
 #include <algorithm>
+#include <array>
+#include <utility>
 #include <map>
 #include <string>
 #include <vector>
@@ -13,6 +15,56 @@ namespace embedded {
 // File name ("table.urdf") → contents; defined in the build's generated builtin_models_data.cpp.
 const std::map<std::string, std::string>& ModelFiles();
 }  // namespace embedded
+
+namespace {
+
+// A hand on an arm's flange: a built-in made from two others by joining their URDFs with a fixed joint. Every
+// hand's root frame is its mounting face with +z the approach (server/models/README.md), so the joint is the
+// identity: the hand's approach is the flange's +z.
+struct ArmHandMount {
+  std::string name, arm, hand, hand_root;
+};
+
+const std::vector<ArmHandMount>& ArmHandMounts() {
+  static const std::vector<ArmHandMount> mounts = [] {
+    std::vector<ArmHandMount> out;
+    const std::pair<const char*, const char*> arms[] = {{"kuka_kr5_sixx_r850", "kuka_kr5_sixx_r850"},
+                                                         {"mitsubishi_pa10", "mitsubishi_pa10"}};
+    const std::array<std::array<const char*, 3>, 3> hands = {{{"barrett", "barrett_bh8_282", "palm"},
+                                                              {"sdh2", "schunk_sdh2", "palm"},
+                                                              {"pg70", "schunk_pg70", "base_link"}}};
+    for (const auto& [prefix, arm] : arms) {
+      for (const auto& [suffix, hand, root] : hands) {
+        out.push_back({std::string(prefix) + "_" + suffix, arm, hand, root});
+      }
+    }
+    return out;
+  }();
+  return mounts;
+}
+
+// The text between a URDF's <robot ...> tag and its </robot>.
+std::string RobotBody(const std::string& urdf, const std::string& name) {
+  const size_t open = urdf.find("<robot");
+  const size_t body = open == std::string::npos ? open : urdf.find('>', open);
+  const size_t close = urdf.rfind("</robot>");
+  if (body == std::string::npos || close == std::string::npos || close < body) {
+    throw Error(ErrorCode::kInternal, "builtin model '" + name + "' has no <robot> element");
+  }
+  return urdf.substr(body + 1, close - body - 1);
+}
+
+std::string MountedUrdf(const ArmHandMount& mount, const std::map<std::string, std::string>& files) {
+  const std::string& arm = files.at(mount.arm + ".urdf");
+  const std::string& hand = files.at(mount.hand + ".urdf");
+  return "<?xml version=\"1.0\"?>\n<!-- " + mount.arm + " with " + mount.hand +
+         " on its flange (built by server/src/world/builtin_models.cpp; sources in both files) -->\n<robot name=\"" +
+         mount.name + "\">" + RobotBody(arm, mount.arm) + RobotBody(hand, mount.hand) +
+         "  <joint name=\"flange_to_hand\" type=\"fixed\">\n    <parent link=\"flange\"/>\n    <child link=\"" +
+         mount.hand_root + "\"/>\n    <origin xyz=\"0 0 0\"/>\n  </joint>\n</robot>\n";
+}
+
+}  // namespace
 
 const std::vector<BuiltinModelInfo>& BuiltinModels() {
   static const std::vector<BuiltinModelInfo> models = {
@@ -32,8 +84,24 @@ const std::vector<BuiltinModelInfo>& BuiltinModels() {
       {"schunk_sdh2", "robot", false,
        "SCHUNK SDH 2.0 dexterous hand: three fingers, seven joints (coupled rotation of fingers 1 and 3, "
        "proximal and distal flex joints -90..90 deg, phalanges 86.5 and 68.5 mm); SCHUNK SDH 2.0 data sheet"},
+      {"kuka_kr5_sixx_r850", "robot", false,
+       "KUKA KR 5 sixx R850: six-axis arm with a spherical wrist, 850 mm reach, tool frame `flange`; "
+       "KUKA KR 5 sixx specification"},
+      {"mitsubishi_pa10", "robot", false,
+       "Mitsubishi PA10-7C: seven-axis redundant arm (d1 317, d3 450, d5 480, d7 70 mm), tool frame `flange`; "
+       "MHI PA10 catalogue, D-H lengths from Bompos et al. 2007"},
   };
-  return models;
+  // Every arm with every hand on its flange: "<arm>_<hand>".
+  static const std::vector<BuiltinModelInfo> all = [] {
+    std::vector<BuiltinModelInfo> out = models;
+    for (const ArmHandMount& mount : ArmHandMounts()) {
+      out.push_back({mount.name, "robot", false,
+                     "The " + mount.arm + " with the " + mount.hand + " on its flange (fixed joint flange_to_hand, "
+                     "the hand's +z along the flange's +z)"});
+    }
+    return out;
+  }();
+  return all;
 }
 
 const std::string& BuiltinModelUrdf(const std::string& name) {
@@ -48,6 +116,12 @@ const std::string& BuiltinModelUrdf(const std::string& name) {
     ThrowNotFound("builtin model '" + name + "' is not known; known: " + list);
   }
   const auto& files = embedded::ModelFiles();
+  static const std::map<std::string, std::string> mounted = [&] {
+    std::map<std::string, std::string> out;
+    for (const ArmHandMount& mount : ArmHandMounts()) out[mount.name] = MountedUrdf(mount, files);
+    return out;
+  }();
+  if (const auto it = mounted.find(name); it != mounted.end()) return it->second;
   const auto file = files.find(name + ".urdf");
   if (file == files.end()) {  // the build did not embed server/models/<name>.urdf
     throw Error(ErrorCode::kInternal, "builtin model '" + name + "' has no embedded " + name + ".urdf");

@@ -34,9 +34,9 @@ Mat3 BoxInertia(double mass, const Vec3& size) {
   return (mass / 12 * Vec3(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
 }
 
-TEST(BuiltinModelsTest, ListsTheSixModels) {
+TEST(BuiltinModelsTest, ListsTheModels) {
   const std::vector<BuiltinModelInfo>& models = BuiltinModels();
-  ASSERT_EQ(models.size(), 6u);
+  ASSERT_EQ(models.size(), 14u);  // 6 hands and objects, 2 arms, 2 x 3 arms with a hand
   EXPECT_EQ(models[0].name, "schunk_pg70");
   EXPECT_EQ(models[0].kind, "robot");
   EXPECT_EQ(models[1].name, "table");
@@ -49,6 +49,10 @@ TEST(BuiltinModelsTest, ListsTheSixModels) {
   EXPECT_EQ(models[3].kind, "robot");
   EXPECT_EQ(models[4].name, "barrett_bh8_282");  // the grasp hands: tests/cpp/grasp checks their kinematics
   EXPECT_EQ(models[5].name, "schunk_sdh2");
+  EXPECT_EQ(models[6].name, "kuka_kr5_sixx_r850");  // the arms: tests/cpp/motion checks their kinematics
+  EXPECT_EQ(models[7].name, "mitsubishi_pa10");
+  EXPECT_EQ(models[8].name, "kuka_kr5_sixx_r850_barrett");
+  EXPECT_EQ(models[13].name, "mitsubishi_pa10_pg70");
   for (const BuiltinModelInfo& model : models) {
     EXPECT_FALSE(model.description.empty());
     const RobotDescription robot = LoadBuiltin(model.name);
@@ -62,7 +66,10 @@ TEST(BuiltinModelsTest, UnknownNameIsNotFound) {
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kNotFound);
-    EXPECT_STREQ(e.what(), "builtin model 'ur5' is not known; known: barrett_bh8_282, cube_5cm, schunk_pg70, schunk_pg70_on_z_axis, schunk_sdh2, table");
+    EXPECT_STREQ(e.what(), "builtin model 'ur5' is not known; known: barrett_bh8_282, cube_5cm, kuka_kr5_sixx_r850, "
+                           "kuka_kr5_sixx_r850_barrett, kuka_kr5_sixx_r850_pg70, kuka_kr5_sixx_r850_sdh2, "
+                           "mitsubishi_pa10, mitsubishi_pa10_barrett, mitsubishi_pa10_pg70, mitsubishi_pa10_sdh2, "
+                           "schunk_pg70, schunk_pg70_on_z_axis, schunk_sdh2, table");
   }
 }
 
