@@ -106,3 +106,35 @@ def test_bad_requests_name_the_field(client, cell):
     with pytest.raises(graspsim.GraspsimError) as info:
         client.run_work_cycle("no-such-scene", "cell", "cube", timeout=30)
     assert info.value.code == grpc.StatusCode.NOT_FOUND and "scene_id" in info.value.message, info.value
+
+
+def test_batched_frames_equal_one_frame_per_message(client, cell):
+    """max_frames_per_message only changes how frames travel: the raw stream with one frame per message and the
+    client's batched one (up to 64 per message) carry the same frames, bit for bit (the cycle is deterministic),
+    on two scenes built alike."""
+    from graspsim.v1 import tactile_pb2
+    twin = client.create_scene("test_work_cycle twin").id
+    try:
+        client.add_object(twin, "table", builtin="table")
+        client.add_object(twin, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + CUBE / 2, 1, 0, 0, 0])
+        client.add_robot(twin, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, BASE_Z, 1, 0, 0, 0])
+        # A frame every 1 ms step: each 1/60 s chunk the server simulates at once yields ~17 frames, so batches form
+        # however fast this reader is.
+        request = dict(gripper_id="cell", object_id="cube", hold_time=0.2, lift_height=LIFT, frame_rate_hz=1000)
+        singles = list(client.tactile_stub.RunWorkCycle(
+            tactile_pb2.RunWorkCycleRequest(scene_id=cell, **request), timeout=120))
+        assert all(len(m.following) == 0 for m in singles), "0 means one frame per message"
+        with pytest.raises(grpc.RpcError) as info:
+            list(client.tactile_stub.RunWorkCycle(
+                tactile_pb2.RunWorkCycleRequest(scene_id=twin, max_frames_per_message=65, **request), timeout=30))
+        assert info.value.code() == IA and "max_frames_per_message: 65" in info.value.details(), info.value
+        batched = list(client.tactile_stub.RunWorkCycle(
+            tactile_pb2.RunWorkCycleRequest(scene_id=twin, max_frames_per_message=64, **request), timeout=120))
+    finally:
+        client.delete_scene(twin)
+    assert any(len(m.following) > 0 for m in batched), "frames simulated together travel together"
+    flat = [part for m in batched for part in (m, *m.following)]
+    for m in batched:
+        m.ClearField("following")  # the leading frame of each message, on its own
+    assert len(flat) == len(singles) > 20
+    assert [m.SerializeToString() for m in flat] == [m.SerializeToString() for m in singles]

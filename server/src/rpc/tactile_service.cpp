@@ -105,8 +105,14 @@ grpc::ServerWriteReactor<v1::WorkCycleProgress>* TactileServiceImpl::RunWorkCycl
   cycle.coverage = or_default(request->coverage(), defaults.coverage);
   cycle.frame_rate_hz = or_default(request->frame_rate_hz(), defaults.frame_rate_hz);
   cycle.hold_time = or_default(request->hold_time(), defaults.hold_time);
+  const size_t frames_per_message = std::max<uint32_t>(request->max_frames_per_message(), 1);
   std::shared_ptr<Scene> scene;
   try {
+    if (frames_per_message > kMaxFramesPerMessage) {
+      throw Error(ErrorCode::kInvalidArgument, "max_frames_per_message: " +
+                                                   std::to_string(request->max_frames_per_message()) +
+                                                   " is above " + std::to_string(kMaxFramesPerMessage));
+    }
     scene = registry_->Get(request->scene_id());
   } catch (const Error& error) {
     // Logged here only when refused: a started run logs once, when it finishes.
@@ -114,7 +120,7 @@ grpc::ServerWriteReactor<v1::WorkCycleProgress>* TactileServiceImpl::RunWorkCycl
     LogRequest("TactileService/RunWorkCycle", *context, status, {});
     return new FailedWriter<v1::WorkCycleProgress>(status);
   }
-  return StartWorkCycleStream(std::move(scene), std::move(cycle), simulations_, pool_, context);
+  return StartWorkCycleStream(std::move(scene), std::move(cycle), frames_per_message, simulations_, pool_, context);
 }
 
 }  // namespace graspsim::rpc

@@ -18,7 +18,7 @@ namespace {
 constexpr char kMethod[] = "TactileService/RunWorkCycle";
 // Frames simulated ahead of the writer before the simulation pauses: 64 frames are ~150 kB, and a chunk adds
 // at most one frame per step (17 at 1 ms steps and 1 kHz frames).
-constexpr size_t kMaxBuffered = 64;
+constexpr size_t kMaxBuffered = kMaxFramesPerMessage;
 // Wall time one scene update may run chunks for: viewers still get a commit every few milliseconds.
 constexpr auto kChunkWallTime = std::chrono::milliseconds(4);
 
@@ -54,9 +54,10 @@ void FrameToProto(const WorkCycle& cycle, const WorkCycleFrame& frame, v1::WorkC
 class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this<WorkCycleRun> {
  public:
   WorkCycleRun(grpc::ServerWriteReactor<v1::WorkCycleProgress>* reactor, grpc::CallbackServerContext* context, std::shared_ptr<Scene> scene,
-               WorkCycleRequest request, SimulationCache* simulations, WorkerPool* pool)
+               WorkCycleRequest request, size_t frames_per_message, SimulationCache* simulations, WorkerPool* pool)
       : reactor_(reactor), context_(context), scene_(std::move(scene)), request_(std::move(request)),
-        simulations_(simulations), pool_(pool), start_(std::chrono::steady_clock::now()) {}
+        frames_per_message_(frames_per_message), simulations_(simulations), pool_(pool),
+        start_(std::chrono::steady_clock::now()) {}
 
   void Start() {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -105,6 +106,7 @@ class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this
   grpc::CallbackServerContext* const context_;  // valid while reactor_ is set
   const std::shared_ptr<Scene> scene_;
   const WorkCycleRequest request_;
+  const size_t frames_per_message_;
   SimulationCache* const simulations_;
   WorkerPool* const pool_;
   const std::chrono::steady_clock::time_point start_;
@@ -120,6 +122,12 @@ void WorkCycleRun::PumpLocked() {
   if (!writing_ && !pending_.empty()) {
     message_ = std::move(pending_.front());
     pending_.pop_front();
+    // The frames that waited meanwhile ride along (a reader slower than the simulation pays one message's
+    // overhead for several frames); none is held back for a fuller message.
+    while (!pending_.empty() && static_cast<size_t>(message_.following_size()) + 1 < frames_per_message_) {
+      *message_.add_following() = std::move(pending_.front());
+      pending_.pop_front();
+    }
     writing_ = true;
     reactor_->StartWrite(&message_);
   }
@@ -195,10 +203,11 @@ void WorkCycleRun::Simulate() {
 
 grpc::ServerWriteReactor<v1::WorkCycleProgress>* StartWorkCycleStream(std::shared_ptr<Scene> scene,
                                                                       WorkCycleRequest request,
+                                                                      size_t frames_per_message,
                                                                       SimulationCache* simulations, WorkerPool* pool,
                                                                       grpc::CallbackServerContext* context) {
   auto* reactor = new RunReactor<v1::WorkCycleProgress, WorkCycleRun>(context, std::move(scene), std::move(request),
-                                                                      simulations, pool);
+                                                                      frames_per_message, simulations, pool);
   reactor->run()->Start();
   return reactor;
 }

@@ -25,8 +25,12 @@ namespace graspsim::rpc {
 // changed) ends it with FAILED_PRECONDITION after the frames before it; the scene keeps the state of the last
 // step. Ends with UNAVAILABLE when the scene is deleted or the server stops, CANCELLED when the reader
 // cancels; the scene then keeps the state of the last chunk, its drives as the cycle left them.
+// A write carries up to frames_per_message (1..kMaxFramesPerMessage) of the frames waiting, the first as the
+// message and the rest in its `following`.
+constexpr size_t kMaxFramesPerMessage = 64;
 grpc::ServerWriteReactor<v1::WorkCycleProgress>* StartWorkCycleStream(std::shared_ptr<Scene> scene,
                                                                       WorkCycleRequest request,
+                                                                      size_t frames_per_message,
                                                                       SimulationCache* simulations, WorkerPool* pool,
                                                                       grpc::CallbackServerContext* context);
 

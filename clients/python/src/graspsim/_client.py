@@ -283,15 +283,19 @@ class Client:
         """
         request = tactile_pb2.RunWorkCycleRequest(
             scene_id=scene_id, gripper_id=gripper_id, object_id=object_id, tactile_setpoint=tactile_setpoint,
-            lift_height=lift_height, coverage=coverage, frame_rate_hz=frame_rate_hz, hold_time=hold_time)
+            lift_height=lift_height, coverage=coverage, frame_rate_hz=frame_rate_hz, hold_time=hold_time,
+            # A message may carry the frames that waited while this reader was busy: a fast cycle's frames then
+            # cost one message per batch rather than one each.
+            max_frames_per_message=64)
         call = self.tactile_stub.RunWorkCycle(request, timeout=timeout)
         frames: List[WorkCycleFrame] = []
         try:
             for message in call:
-                frame = WorkCycleFrame.from_proto(message)
-                frames.append(frame)
-                if on_frame is not None:
-                    on_frame(frame)
+                for part in (message, *message.following):
+                    frame = WorkCycleFrame.from_proto(part)
+                    frames.append(frame)
+                    if on_frame is not None:
+                        on_frame(frame)
         except grpc.RpcError as err:
             raise from_rpc_error(err) from None
         finally:
