@@ -6,6 +6,8 @@
 #include <mutex>
 #include <thread>
 
+#include <time.h>
+
 #include "core/error.h"
 #include "core/format.h"
 
@@ -19,6 +21,12 @@ constexpr size_t kChunk = 64;
 constexpr size_t kMaxVolumes = 64;
 // Hand samples closer than this would make millions of rays per candidate for no gain in accuracy.
 constexpr double kMinSampleSpacing = 5e-4;
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 void CheckRange(const std::string& field, double value, double lo, double hi, const char* unit) {
   if (!std::isfinite(value) || value < lo || value > hi) {
@@ -143,11 +151,13 @@ std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candida
   std::vector<Outcome> outcomes(total, Outcome::kMissed);
   std::vector<std::vector<PlannedGrasp>> found(workers);
 
+  std::vector<double> cpu(workers, 0.0);
   auto work = [&](int worker) {
+    const double cpu0 = ThreadCpuSeconds();
     SimulationWork scratch;
     for (;;) {
       const size_t begin = next.fetch_add(kChunk);
-      if (begin >= total || cancelled.load(std::memory_order_relaxed)) return;
+      if (begin >= total || cancelled.load(std::memory_order_relaxed)) break;
       const size_t end = std::min(total, begin + kChunk);
       for (size_t i = begin; i < end; ++i) {
         outcomes[i] = simulator_->Simulate(candidates[i], &scratch);
@@ -158,6 +168,7 @@ std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candida
       }
       done.fetch_add(end - begin);
     }
+    cpu[worker] = ThreadCpuSeconds() - cpu0;
   };
   std::vector<std::thread> pool;
   for (int t = 0; t < workers; ++t) pool.emplace_back(work, t);
@@ -190,6 +201,7 @@ std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candida
   if (max_grasps > 0 && set.grasps.size() > max_grasps) set.grasps.resize(max_grasps);
   const auto scored = std::chrono::steady_clock::now();
   set.seconds = std::chrono::duration<double>(scored - start).count();
+  for (double c : cpu) set.cpu_seconds += c;
   AddVolumes(&set.grasps, workers);
   set.volume_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - scored).count();
   return set;

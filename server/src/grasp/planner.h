@@ -33,6 +33,7 @@ struct GraspSet {
   std::vector<std::string> preshape_names, link_names, joint_names;
   uint64_t candidates = 0, missed = 0, collisions = 0, simulated = 0, force_closure = 0;
   double seconds = 0;               // wall time of simulating and scoring every candidate, s
+  double cpu_seconds = 0;           // CPU time of the threads over the same work, s (per core: candidates / it)
   double volume_seconds = 0;        // wall time of the qhull volumes of the kept grasps, s
   std::vector<PlannedGrasp> grasps; // the best force-closure grasps, best ε first (ties: candidate order)
 };
