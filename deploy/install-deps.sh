@@ -10,6 +10,7 @@ DEBIAN_PACKAGES=(
   liburdfdom-dev libassimp-dev libqhull-dev libompl-dev libsqlite3-dev
   libcpp-httplib-dev libgtest-dev libgmock-dev libbenchmark-dev octave
   libssl-dev python3 python3-venv python3-pip
+  nodejs chromium chromium-driver
 )
 
 missing=()
@@ -18,6 +19,10 @@ for pkg in "${DEBIAN_PACKAGES[@]}"; do
     missing+=("$pkg")
   fi
 done
+
+# The browser viewer is bundled with npm. Debian ships npm as its own package, but a nodejs from elsewhere
+# (nodesource) bundles npm and conflicts with Debian's: ask for the package only when the command is missing.
+if ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
 
 if ((${#missing[@]})); then
   echo "install-deps: installing ${#missing[@]} Debian packages: ${missing[*]}"

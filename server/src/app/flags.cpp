@@ -63,6 +63,9 @@ const std::vector<FlagSpec>& Specs() {
        [](const std::string& v, ServerFlags* f) {
          f->server.http.threads = static_cast<int>(std::min<uint64_t>(ParseCount("http-threads", v, 1), 4096));
        }},
+      {"viewer-dir", "files of the browser viewer served under /view (empty = share/graspsim/viewer beside bin/)",
+       [](const ServerFlags& f) { return f.server.http.viewer_dir; },
+       [](const std::string& v, ServerFlags* f) { f->server.http.viewer_dir = v; }},
       {"http-max-body-bytes", "largest HTTP request body, bytes",
        [](const ServerFlags& f) { return std::to_string(f.server.http.max_body_bytes); },
        [](const std::string& v, ServerFlags* f) { f->server.http.max_body_bytes = ParseCount("http-max-body-bytes", v, 1); }},

@@ -14,6 +14,7 @@
 #include "core/log.h"
 #include "rpc/call.h"
 #include "rpc/http_json.h"
+#include "rpc/http_viewer.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -110,7 +111,7 @@ std::string SseEvent(const char* event, const std::string& json) {
 }  // namespace
 
 struct HttpGateway::Impl {
-  Impl(std::shared_ptr<grpc::Channel> channel, const HttpGatewayOptions& options) : stub(std::move(channel)) {
+  Impl(std::shared_ptr<grpc::Channel> channel, const HttpGatewayOptions& options) : stub(channel) {
     server.new_task_queue = [threads = options.threads] { return new httplib::ThreadPool(threads); };
     server.set_payload_max_length(options.max_body_bytes);
     server.Get("/v1", [](const httplib::Request&, httplib::Response& res) {
@@ -128,6 +129,7 @@ struct HttpGateway::Impl {
                   });
                   HandleCall(req, body, res);
                 });
+    AddViewerRoutes(&server, std::move(channel), options.viewer_dir);
   }
 
   void HandleCall(const httplib::Request& req, const std::string& body, httplib::Response& res);

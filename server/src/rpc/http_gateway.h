@@ -23,8 +23,10 @@ namespace graspsim::rpc {
 
 struct HttpGatewayOptions {
   std::string listen = "127.0.0.1:8080";  // host:port; port 0 = any free port
-  int threads = 32;                       // concurrent HTTP requests (each open event stream holds one)
+  int threads = 128;                      // concurrent HTTP requests (each open event stream holds one; a viewer
+                                          // page holds two)
   size_t max_body_bytes = 64 << 20;
+  std::string viewer_dir;                 // the browser viewer's files (rpc/http_viewer.h); empty = beside the binary
 };
 
 class HttpGateway {

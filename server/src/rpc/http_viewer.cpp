@@ -1,0 +1,334 @@
+#include "rpc/http_viewer.h"
+
+#include <unistd.h>
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include <google/protobuf/util/json_util.h>
+#include <httplib.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "graspsim/v1/grasp.grpc.pb.h"
+#include "graspsim/v1/scene.grpc.pb.h"
+#include "graspsim/v1/tactile.grpc.pb.h"
+#include "rpc/call.h"
+#include "rpc/http_json.h"
+
+namespace graspsim::rpc {
+namespace {
+
+constexpr char kScenePattern[] = "([A-Za-z0-9_.-]+)";
+constexpr double kDefaultPoseRateHz = 30, kDefaultTactileRateHz = 10, kDefaultStreamSeconds = 300;
+
+std::string JsonString(const std::string& text) {
+  std::string out = "\"";
+  for (const unsigned char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
+      out += escaped;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out + "\"";
+}
+
+std::string JsonNumber(double value) {
+  if (!std::isfinite(value)) return "null";  // never expected (the engine stops on NaN), but keep the JSON valid
+  char text[32];
+  std::snprintf(text, sizeof text, "%.7g", value);
+  return text;
+}
+
+std::string HtmlEscape(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string MessageJson(const google::protobuf::Message& message) {
+  google::protobuf::util::JsonPrintOptions options;
+  options.preserve_proto_field_names = true;
+  options.always_print_primitive_fields = true;
+  std::string json;
+  (void)google::protobuf::util::MessageToJsonString(message, &json, options);
+  return json;
+}
+
+void ReplyError(const grpc::Status& status, httplib::Response& res) {
+  res.status = HttpStatusFor(status.error_code());
+  res.set_content(StatusJson(status), "application/json");
+}
+
+std::string SseEvent(const char* event, const std::string& json) {
+  return std::string("event: ") + event + "\ndata: " + json + "\n\n";
+}
+
+// A query parameter as a positive number, or `fallback` when absent. Error(kInvalidArgument) naming it.
+double PositiveParam(const httplib::Request& req, const std::string& name, double fallback) {
+  if (!req.has_param(name)) return fallback;
+  const std::string text = req.get_param_value(name);
+  double value = NAN;
+  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (result.ec != std::errc() || result.ptr != text.data() + text.size() || !std::isfinite(value) || value <= 0) {
+    ThrowInvalidArgument(name + ": '" + text.substr(0, 40) + "' is not a positive number");
+  }
+  return value;
+}
+
+std::unique_ptr<grpc::ClientContext> ContextFor(const httplib::Request& req, double seconds) {
+  auto context = std::make_unique<grpc::ClientContext>();
+  if (req.has_header("Authorization")) context->AddMetadata("authorization", req.get_header_value("Authorization"));
+  if (seconds > 0) {
+    context->set_deadline(std::chrono::system_clock::now() +
+                          std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                              std::chrono::duration<double>(seconds)));
+  }
+  return context;
+}
+
+// One server stream relayed as Server-Sent Events on the HTTP thread that owns it. The first message is read
+// before answering, so a request that fails at once gets a plain error with its HTTP status. While the
+// browser does not read, this thread blocks in the socket write and stops reading the gRPC stream; the
+// server-side stream (rpc/snapshot_stream.h) then skips snapshots rather than queueing them, so the scene and
+// the other viewers go on at their pace. A browser that went away ends the gRPC stream.
+template <typename Message>
+struct EventRelay {
+  std::unique_ptr<grpc::ClientContext> context;
+  std::unique_ptr<grpc::ClientReader<Message>> reader;
+  std::function<std::string(const Message&)> encode;  // one "event: ...\ndata: ...\n\n"
+  Message first;
+
+  static void Start(std::shared_ptr<EventRelay> relay, httplib::Response& res) {
+    if (!relay->reader->Read(&relay->first)) return ReplyError(relay->reader->Finish(), res);
+    res.set_header("Cache-Control", "no-cache");
+    res.set_chunked_content_provider("text/event-stream", [relay](size_t, httplib::DataSink& sink) {
+      auto write = [&sink](const std::string& text) { return sink.write(text.data(), text.size()); };
+      bool open = write("retry: 2000\n\n" + relay->encode(relay->first));
+      Message next;
+      while (open && relay->reader->Read(&next)) open = write(relay->encode(next));
+      if (!open) {
+        relay->context->TryCancel();
+        relay->reader->Finish();
+        return false;
+      }
+      grpc::Status status = relay->reader->Finish();
+      if (status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) status = grpc::Status(grpc::StatusCode::OK, "max_seconds reached");
+      write(SseEvent("status", StatusJson(status)));
+      sink.done();
+      return true;
+    });
+  }
+};
+
+// Per connection: the body id list goes out with the first snapshot and again only when it changes.
+std::function<std::string(const v1::SceneSnapshot&)> SnapshotEncoder() {
+  auto last_ids = std::make_shared<std::vector<std::string>>();
+  return [last_ids](const v1::SceneSnapshot& snapshot) {
+    std::string json = "{\"sequence\":" + std::to_string(snapshot.sequence()) +
+                       ",\"revision\":" + std::to_string(snapshot.revision()) + ",\"time\":" + JsonNumber(snapshot.time());
+    const std::vector<std::string> ids(snapshot.body_ids().begin(), snapshot.body_ids().end());
+    if (ids != *last_ids) {
+      json += ",\"body_ids\":[";
+      for (size_t i = 0; i < ids.size(); ++i) json += (i ? "," : "") + JsonString(ids[i]);
+      json += "]";
+      *last_ids = ids;
+    }
+    const std::string& bytes = snapshot.body_poses();
+    std::vector<double> poses(bytes.size() / sizeof(double));
+    std::memcpy(poses.data(), bytes.data(), poses.size() * sizeof(double));
+    json += ",\"poses\":[";
+    for (size_t i = 0; i < poses.size(); ++i) json += (i ? "," : "") + JsonNumber(poses[i]);
+    return SseEvent("snapshot", json + "]}");
+  };
+}
+
+std::string TactileEvent(const v1::SensorReading& reading) {
+  const v1::TactileReading& tactile = reading.tactile();
+  std::string json = "{\"sensor_id\":" + JsonString(reading.sensor_id()) + ",\"time\":" + JsonNumber(reading.time()) +
+                     ",\"rows\":" + std::to_string(tactile.rows()) + ",\"cols\":" + std::to_string(tactile.cols()) +
+                     ",\"intensity_sum\":" + std::to_string(tactile.intensity_sum()) + ",\"intensities\":[";
+  const std::string& bytes = tactile.intensities();
+  for (size_t i = 0; i + 1 < bytes.size(); i += 2) {
+    const unsigned value = static_cast<unsigned char>(bytes[i]) | (static_cast<unsigned char>(bytes[i + 1]) << 8);
+    json += (i ? "," : "") + std::to_string(value);
+  }
+  return SseEvent("reading", json + "]}");
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+class ViewerRoutes {
+ public:
+  ViewerRoutes(std::shared_ptr<grpc::Channel> channel, std::string dir)
+      : scenes_(v1::SceneService::NewStub(channel)),
+        tactile_(v1::TactileService::NewStub(channel)),
+        grasps_(v1::GraspService::NewStub(channel)),
+        dir_(std::move(dir)) {}
+
+  static void Add(httplib::Server* server, const std::shared_ptr<ViewerRoutes>& self) {
+    const std::string& dir_ = self->dir_;
+    if (std::filesystem::exists(std::filesystem::path(dir_) / "index.html")) {
+      server->set_mount_point("/view/assets", dir_);
+    } else {
+      Log(LogLevel::kWarn, "viewer files not found; /view pages answer 503", {{"viewer_dir", dir_}});
+    }
+    server->Get("/view/?", [self](const httplib::Request& req, httplib::Response& res) { self->SceneList(req, res); });
+    const std::string scene = std::string("/view/") + kScenePattern;
+    server->Get(scene, [self](const httplib::Request& req, httplib::Response& res) { self->Page(req, res); });
+    server->Get(scene + "/scene.json", [self](const httplib::Request& req, httplib::Response& res) { self->SceneJson(req, res); });
+    server->Get(scene + "/poses", [self](const httplib::Request& req, httplib::Response& res) { self->Guard(req, res, &ViewerRoutes::Poses); });
+    server->Get(scene + "/tactile", [self](const httplib::Request& req, httplib::Response& res) { self->Guard(req, res, &ViewerRoutes::Tactile); });
+    server->Get(scene + "/grasps", [self](const httplib::Request& req, httplib::Response& res) { self->Guard(req, res, &ViewerRoutes::Grasps); });
+  }
+
+ private:
+  using Handler = void (ViewerRoutes::*)(const httplib::Request&, httplib::Response&);
+  void Guard(const httplib::Request& req, httplib::Response& res, Handler handler) {
+    try {
+      (this->*handler)(req, res);
+    } catch (const Error& error) {
+      ReplyError(ToStatus(error), res);
+    }
+  }
+
+  grpc::Status GetScene(const httplib::Request& req, bool geometry, v1::Scene* scene) {
+    v1::GetSceneRequest request;
+    request.set_scene_id(req.matches[1]);
+    request.set_include_geometry(geometry);
+    return scenes_->GetScene(ContextFor(req, 30).get(), request, scene);
+  }
+
+  // The page itself is only the shell: everything else it fetches from the routes below.
+  bool PageFile(const std::string& name, httplib::Response& res, std::string* text) {
+    *text = ReadFile(std::filesystem::path(dir_) / name);
+    if (!text->empty()) return true;
+    res.status = 503;
+    res.set_content("viewer files not found in '" + dir_ + "': build the graspsim-viewer target (make build)\n", "text/plain");
+    return false;
+  }
+
+  void SceneList(const httplib::Request& req, httplib::Response& res) {
+    v1::ListScenesResponse list;
+    const grpc::Status status = scenes_->ListScenes(ContextFor(req, 30).get(), v1::ListScenesRequest(), &list);
+    if (!status.ok()) return ReplyError(status, res);
+    std::string rows;
+    for (const auto& scene : list.scenes()) {
+      const std::string id = HtmlEscape(scene.id());
+      rows += "<tr><td><a href=\"/view/" + id + "\">" + id + "</a></td><td>" + HtmlEscape(scene.name()) + "</td><td>" +
+              std::to_string(scene.body_count()) + "</td><td>" + std::to_string(scene.robot_count()) + "</td><td>" +
+              JsonNumber(scene.time()) + "</td></tr>\n";
+    }
+    if (rows.empty()) rows = "<tr><td colspan=\"5\">no scenes yet: create one with SceneService.CreateScene</td></tr>\n";
+    res.set_content("<!doctype html><html><head><meta charset=\"utf-8\"><title>graspsim scenes</title>"
+                    "<link rel=\"stylesheet\" href=\"/view/assets/viewer.css\"></head><body class=\"list\">"
+                    "<h1>graspsim scenes</h1><table id=\"scenes\"><tr><th>scene</th><th>name</th><th>bodies</th>"
+                    "<th>robots</th><th>time (s)</th></tr>\n" + rows + "</table></body></html>\n",
+                    "text/html; charset=utf-8");
+  }
+
+  void Page(const httplib::Request& req, httplib::Response& res) {
+    v1::Scene scene;
+    const grpc::Status status = GetScene(req, false, &scene);
+    if (!status.ok()) return ReplyError(status, res);
+    std::string page;
+    if (PageFile("index.html", res, &page)) res.set_content(page, "text/html; charset=utf-8");
+  }
+
+  void SceneJson(const httplib::Request& req, httplib::Response& res) {
+    v1::Scene scene;
+    const grpc::Status status = GetScene(req, true, &scene);
+    if (!status.ok()) return ReplyError(status, res);
+    res.set_header("Cache-Control", "no-cache");
+    res.set_content(MessageJson(scene), "application/json");
+  }
+
+  void Poses(const httplib::Request& req, httplib::Response& res) {
+    auto relay = std::make_shared<EventRelay<v1::SceneSnapshot>>();
+    v1::WatchSceneRequest request;
+    request.set_scene_id(req.matches[1]);
+    request.set_max_rate_hz(PositiveParam(req, "max_rate_hz", kDefaultPoseRateHz));
+    relay->context = ContextFor(req, PositiveParam(req, "max_seconds", kDefaultStreamSeconds));
+    relay->reader = scenes_->WatchScene(relay->context.get(), request);
+    relay->encode = SnapshotEncoder();
+    EventRelay<v1::SceneSnapshot>::Start(relay, res);
+  }
+
+  void Tactile(const httplib::Request& req, httplib::Response& res) {
+    v1::Scene scene;
+    const grpc::Status status = GetScene(req, false, &scene);
+    if (!status.ok()) return ReplyError(status, res);
+    if (scene.tactile_arrays().empty()) {
+      return ReplyError(grpc::Status(grpc::StatusCode::NOT_FOUND,
+                                     "scene '" + scene.summary().id() + "' has no tactile arrays"), res);
+    }
+    v1::StreamRequest request;
+    request.set_scene_id(req.matches[1]);
+    for (const auto& array : scene.tactile_arrays()) request.add_sensor_ids(array.id());
+    request.set_rate_hz(PositiveParam(req, "rate_hz", kDefaultTactileRateHz));
+    auto relay = std::make_shared<EventRelay<v1::SensorReading>>();
+    relay->context = ContextFor(req, PositiveParam(req, "max_seconds", kDefaultStreamSeconds));
+    relay->reader = tactile_->Stream(relay->context.get(), request);
+    relay->encode = TactileEvent;
+    EventRelay<v1::SensorReading>::Start(relay, res);
+  }
+
+  void Grasps(const httplib::Request& req, httplib::Response& res) {
+    if (!req.has_param("set_id")) {
+      return ReplyError(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                                     "set_id: missing; give the set_id PlanGrasps answered"), res);
+    }
+    v1::GetGraspSetRequest request;
+    request.set_set_id(req.get_param_value("set_id"));
+    v1::GraspSet set;
+    const grpc::Status status = grasps_->GetGraspSet(ContextFor(req, 30).get(), request, &set);
+    if (!status.ok()) return ReplyError(status, res);
+    res.set_content(MessageJson(set), "application/json");
+  }
+
+  std::unique_ptr<v1::SceneService::Stub> scenes_;
+  std::unique_ptr<v1::TactileService::Stub> tactile_;
+  std::unique_ptr<v1::GraspService::Stub> grasps_;
+  const std::string dir_;
+};
+
+}  // namespace
+
+void AddViewerRoutes(httplib::Server* server, std::shared_ptr<grpc::Channel> channel, const std::string& viewer_dir) {
+  ViewerRoutes::Add(server, std::make_shared<ViewerRoutes>(std::move(channel), viewer_dir.empty() ? DefaultViewerDir() : viewer_dir));
+}
+
+std::string DefaultViewerDir() {
+  std::error_code error;
+  const std::filesystem::path binary = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) return "share/graspsim/viewer";
+  return (binary.parent_path().parent_path() / "share" / "graspsim" / "viewer").string();
+}
+
+}  // namespace graspsim::rpc
