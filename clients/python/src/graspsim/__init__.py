@@ -8,18 +8,19 @@
 Units are SI (m, kg, s, rad); quaternions are (w, x, y, z). The generated messages live in graspsim.v1.
 Matplotlib helpers (optional extra "plot") live in graspsim.plot, imported only when asked for.
 """
-from graspsim import inertia, meshes
+from graspsim import inertia, meshes, viewer
 from graspsim._client import Client, connect
 from graspsim._errors import GraspsimError
 from graspsim._grasp import GraspSetResult
 from graspsim._pose import Pose, as_pose, quaternion_about_axis, quaternion_to_matrix
 from graspsim._sensors import ForceTorqueState, GripperState, SensorStream, TactileFrame
 from graspsim._watch import SceneWatch, Snapshot
+from graspsim.viewer import viewer_url
 from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult, WorkCycleSummary
 from graspsim.v1 import common_pb2, scene_pb2, tactile_pb2
 
 __all__ = ["Client", "ForceTorqueState", "GraspSetResult", "GraspsimError", "GripperState", "Pose", "SceneWatch", "SensorStream",
            "Snapshot", "TactileFrame", "WorkCycleFrame", "WorkCycleResult", "WorkCycleSummary", "as_pose",
            "common_pb2", "connect", "inertia", "meshes", "quaternion_about_axis", "quaternion_to_matrix",
-           "scene_pb2", "tactile_pb2"]
+           "scene_pb2", "tactile_pb2", "viewer", "viewer_url"]
 __version__ = "0.1.0"
