@@ -1,0 +1,142 @@
+"""The browser viewer in a real browser: Debian's headless Chromium (WebGL through SwiftShader, on the CPU)
+driven by selenium opens /view/<scene> on the real server and we look at the pixels it drew.
+
+Chromium and chromedriver come from deploy/install-deps.sh (chromium, chromium-driver); selenium from the
+client's test extra. Waits are generous: SwiftShader on a loaded 2-core machine draws a frame in tens of ms
+to seconds, and the first start of Chromium takes several seconds.
+"""
+import io
+import shutil
+import threading
+import time
+
+import pytest
+
+import graspsim
+
+CHROMIUM, CHROMEDRIVER = "/usr/bin/chromium", "/usr/bin/chromedriver"
+WAIT_S = 60.0
+CUBE = 0.05        # m
+TABLE_TOP = 0.75   # m, built-in table
+BASE_Z = 1.05      # m, the PG70 cell's axis base (as tests/python/test_work_cycle.py)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    webdriver = pytest.importorskip("selenium.webdriver")
+    from selenium.webdriver.chrome.service import Service
+
+    for path in (CHROMIUM, CHROMEDRIVER):
+        if not shutil.which(path):
+            pytest.fail(f"{path} missing: run deploy/install-deps.sh (Debian packages chromium, chromium-driver)",
+                        pytrace=False)
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for arg in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--use-angle=swiftshader",
+                "--enable-unsafe-swiftshader", "--window-size=1000,700", "--force-device-scale-factor=1"):
+        options.add_argument(arg)
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    driver.set_page_load_timeout(WAIT_S)
+    yield driver
+    driver.quit()
+
+
+def wait_for(driver, script: str, what: str, timeout: float = WAIT_S):
+    """Polls a JavaScript expression until it is truthy; returns its value."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = driver.execute_script(f"return {script}")
+        if value:
+            return value
+        time.sleep(0.1)
+    state = driver.execute_script("return window.graspsimViewer && window.graspsimViewer.state")
+    pytest.fail(f"timed out after {timeout} s waiting for {what}; viewer state: {state}", pytrace=False)
+
+
+def open_viewer(driver, server, scene_id: str):
+    driver.get(graspsim.viewer_url(scene_id, server.http_url))
+    wait_for(driver, "window.graspsimViewer && window.graspsimViewer.state.ready && window.graspsimViewer.state.snapshots > 0",
+             "the viewer to load the scene and its first snapshot")
+    error = driver.execute_script("return window.graspsimViewer.state.error")
+    assert error is None, error
+
+
+def pixel(driver, x: float, y: float):
+    from PIL import Image
+
+    image = Image.open(io.BytesIO(driver.get_screenshot_as_png())).convert("RGB")
+    return image.getpixel((int(round(x)), int(round(y))))
+
+
+def is_cube_orange(rgb) -> bool:
+    """The page draws free bodies orange (0xe0913a, shaded): red well above green and blue. The background
+    (0x1d2024), the grid's greys and the static bodies' grey are not."""
+    r, g, b = rgb
+    return r > g + 25 and r > b + 50
+
+
+def test_canvas_draws_the_cube_and_follows_a_pose_change(browser, server, client, scene_id):
+    client.add_object(scene_id, "cube", box=(CUBE, CUBE, CUBE), mass=0.1, pose=[0, 0, CUBE / 2, 1, 0, 0, 0])
+    open_viewer(browser, server, scene_id)
+    where = browser.execute_script("return window.graspsimViewer.bodyScreenPosition('cube')")
+    # Let a few frames draw, then look where the cube's centre projects.
+    time.sleep(1.0)
+    before = pixel(browser, where["x"], where["y"])
+    assert is_cube_orange(before), f"pixel {before} at the cube's centre {where} is not the cube's colour"
+    corner = pixel(browser, 5, browser.execute_script("return window.innerHeight") - 5)  # far from the cube
+    assert not is_cube_orange(corner)
+
+    revision = client.set_body_pose(scene_id, "cube", [-0.08, 0, CUBE / 2, 1, 0, 0, 0])
+    wait_for(browser, f"window.graspsimViewer.state.lastSnapshot.revision >= {revision}", "the moved pose")
+    moved = browser.execute_script("return window.graspsimViewer.bodyScreenPosition('cube')")
+    assert abs(moved["x"] - where["x"]) + abs(moved["y"] - where["y"]) > 20, (where, moved)
+    time.sleep(1.0)
+    at_new, at_old = pixel(browser, moved["x"], moved["y"]), pixel(browser, where["x"], where["y"])
+    assert is_cube_orange(at_new), f"pixel {at_new} at the moved cube {moved}"
+    assert not is_cube_orange(at_old), f"pixel {at_old} where the cube was {where} still shows it"
+    # Geometry came once; only poses followed.
+    state = browser.execute_script("return window.graspsimViewer.state")
+    assert state["sceneFetches"] == 1 and state["snapshots"] >= 2
+
+
+def test_a_new_body_is_fetched_and_drawn(browser, server, client, scene_id):
+    client.add_object(scene_id, "cube", box=(CUBE, CUBE, CUBE), mass=0.1, pose=[0, 0, CUBE / 2, 1, 0, 0, 0])
+    open_viewer(browser, server, scene_id)
+    client.add_object(scene_id, "ball", sphere=0.02, mass=0.1, pose=[0.06, 0.06, 0.02, 1, 0, 0, 0])
+    wait_for(browser, "window.graspsimViewer.state.bodyIds.includes('ball')", "the new body's geometry")
+    assert browser.execute_script("return window.graspsimViewer.state.sceneFetches") == 2
+    where = wait_for(browser, "window.graspsimViewer.bodyScreenPosition('ball')", "the ball on screen")
+    time.sleep(1.0)
+    assert is_cube_orange(pixel(browser, where["x"], where["y"]))
+
+
+def test_tactile_heat_map_appears_during_a_work_cycle(browser, server, client, scene_id):
+    client.add_object(scene_id, "table", builtin="table")
+    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + CUBE / 2, 1, 0, 0, 0])
+    client.add_robot(scene_id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, BASE_Z, 1, 0, 0, 0])
+    pads = [a.id for a in client.get_scene(scene_id).tactile_arrays]
+    open_viewer(browser, server, scene_id)
+    before = browser.execute_script("return window.graspsimViewer.state.pads.stats()")
+    assert sorted(before) == sorted(pads) and all(p["maxIntensity"] == 0 for p in before.values())  # open pads
+
+    result = {}
+    cycle = threading.Thread(target=lambda: result.update(
+        r=client.run_work_cycle(scene_id, "cell", "cube", hold_time=3.0, timeout=300)))
+    cycle.start()
+    try:
+        # While the cycle runs, each pad's panel shows a heat map with pressure on it.
+        seen = wait_for(browser, "(() => { const s = window.graspsimViewer.state.pads.stats();"
+                                 " return Object.values(s).every((p) => p.maxIntensity > 0) && s; })()",
+                        "pressure on both pads", timeout=240)
+        during = cycle.is_alive()
+        # The panel's canvas pixels are the heat map: some texel is not black.
+        brightest = browser.execute_script(
+            "const c = document.querySelector(`canvas[data-sensor='${arguments[0]}']`);"
+            "const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;"
+            "let m = 0; for (let i = 0; i < d.length; i += 4) m = Math.max(m, d[i]); return m;", pads[0])
+    finally:
+        cycle.join()
+    assert set(seen) == set(pads)
+    assert during, "the pads showed pressure only after the work cycle had ended"
+    assert brightest > 0
+    assert "r" in result  # the cycle itself succeeded
