@@ -1,13 +1,10 @@
-"""Declared but not yet implemented: the three other services answer UNIMPLEMENTED, with a message."""
+"""Declared but not yet implemented: these methods answer UNIMPLEMENTED, with a message."""
 import grpc
 import pytest
 
-from graspsim.v1 import (gateway_pb2, gateway_pb2_grpc, grasp_pb2, grasp_pb2_grpc, perception_pb2,
-                         perception_pb2_grpc)
+from graspsim.v1 import grasp_pb2, grasp_pb2_grpc, perception_pb2, perception_pb2_grpc
 
 CALLS = {
-    "GatewayService.ListDevices": lambda ch: gateway_pb2_grpc.GatewayServiceStub(ch).ListDevices(
-        gateway_pb2.ListDevicesRequest(), timeout=10),
     "GraspService.PlanArmPath": lambda ch: grasp_pb2_grpc.GraspServiceStub(ch).PlanArmPath(
         grasp_pb2.PlanArmPathRequest(scene_id="s", arm_id="a"), timeout=10),
     "PerceptionService.SegmentScene": lambda ch: perception_pb2_grpc.PerceptionServiceStub(ch).SegmentScene(

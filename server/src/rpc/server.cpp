@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/log.h"
+#include "rpc/gateway_service.h"
 #include "rpc/grasp_service.h"
 #include "rpc/scene_service.h"
 #include "rpc/tactile_service.h"
@@ -35,7 +36,7 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
   services_.push_back(std::make_unique<GraspServiceImpl>(&registry_, &pool_, std::move(grasp_store)));
   services_.push_back(
       std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
-  services_.push_back(std::make_unique<GatewayServiceStub>());
+  services_.push_back(std::make_unique<GatewayServiceImpl>(&gateways_, &registry_, &pool_));
 
   grpc::ServerBuilder builder;
   // Loopback by default; wider addresses get TLS with the security issue.
@@ -65,6 +66,7 @@ void GraspsimServer::Shutdown() {
   server_->GetHealthCheckService()->Shutdown();
   // Watch streams never end by themselves: end them first so that draining waits only for real work.
   registry_.CloseAllWatchers("the server is shutting down");
+  gateways_.EndAll("the server is shutting down");
   if (http_) http_->Stop();  // waits for HTTP requests in flight; they still reach the running gRPC server
   const auto deadline =
       std::chrono::system_clock::now() + std::chrono::duration<double>(options_.drain_timeout_s);

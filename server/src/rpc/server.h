@@ -8,6 +8,7 @@
 
 #include "core/limits.h"
 #include "core/worker_pool.h"
+#include "gateway/gateway_hub.h"
 #include "physics/simulation_cache.h"
 #include "rpc/http_gateway.h"
 #include "world/scene_registry.h"
@@ -46,6 +47,7 @@ class GraspsimServer {
   SceneRegistry registry_;
   WorkerPool pool_;
   SimulationCache simulations_;  // one Simulation per scene, shared by the services that step scenes
+  gateway::GatewayHub gateways_;  // the hardware gateways' devices and the commands in flight to them
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<HttpGateway> http_;

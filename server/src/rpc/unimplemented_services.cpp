@@ -9,7 +9,6 @@ namespace graspsim::rpc {
 namespace {
 
 constexpr char kShapeCompletion[] = "shape completion";
-constexpr char kGateway[] = "the hardware gateway";
 
 }  // namespace
 
@@ -30,16 +29,6 @@ Writer<v1::CompleteShapeProgress>* PerceptionServiceStub::CompleteShape(Context*
 }
 Unary* PerceptionServiceStub::SegmentScene(Context* c, const v1::SegmentSceneRequest*, v1::SegmentSceneResponse*) {
   return NotBuiltYetUnary(c, "PerceptionService/SegmentScene", kShapeCompletion);
-}
-
-grpc::ServerBidiReactor<v1::GatewayMessage, v1::GatewayCommand>* GatewayServiceStub::Connect(Context* c) {
-  return new FailedBidi<v1::GatewayMessage, v1::GatewayCommand>(NotBuiltYet(*c, "GatewayService/Connect", kGateway));
-}
-Unary* GatewayServiceStub::ListDevices(Context* c, const v1::ListDevicesRequest*, v1::ListDevicesResponse*) {
-  return NotBuiltYetUnary(c, "GatewayService/ListDevices", kGateway);
-}
-Unary* GatewayServiceStub::SendCommand(Context* c, const v1::DeviceCommand*, v1::CommandResult*) {
-  return NotBuiltYetUnary(c, "GatewayService/SendCommand", kGateway);
 }
 
 }  // namespace graspsim::rpc

@@ -2,7 +2,6 @@
 // message saying which issue brings it, never a fake result. Replace a class here when its issue lands.
 #pragma once
 
-#include "graspsim/v1/gateway.grpc.pb.h"
 #include "graspsim/v1/perception.grpc.pb.h"
 #include "rpc/failed_call.h"
 
@@ -27,13 +26,6 @@ class PerceptionServiceStub final : public v1::PerceptionService::CallbackServic
  public:
   Writer<v1::CompleteShapeProgress>* CompleteShape(Context*, const v1::CompleteShapeRequest*) override;
   Unary* SegmentScene(Context*, const v1::SegmentSceneRequest*, v1::SegmentSceneResponse*) override;
-};
-
-class GatewayServiceStub final : public v1::GatewayService::CallbackService {
- public:
-  grpc::ServerBidiReactor<v1::GatewayMessage, v1::GatewayCommand>* Connect(Context*) override;
-  Unary* ListDevices(Context*, const v1::ListDevicesRequest*, v1::ListDevicesResponse*) override;
-  Unary* SendCommand(Context*, const v1::DeviceCommand*, v1::CommandResult*) override;
 };
 
 }  // namespace graspsim::rpc
