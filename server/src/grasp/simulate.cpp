@@ -7,6 +7,11 @@
 namespace graspsim::grasp {
 namespace {
 
+// A sweep casts every kPassStride-th ray of a link first (see Sweep).
+constexpr size_t kPassStride = 8;
+// Added to every ray's length: the float tfar then never rounds below a hit the double comparison keeps, m.
+constexpr double kReachMargin = 1e-6;
+
 // Does the segment p + t d, t in [0, length], meet the box [lo, hi]? (slab test)
 bool SegmentMeetsBox(const Vec3& p, const Vec3& d, double length, const Vec3& lo, const Vec3& hi) {
   double t0 = 0, t1 = length;
@@ -97,8 +102,7 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
     const double moved = (b.position - a.position).norm() + link.reach * a.orientation.angularDistance(b.orientation);
     if (!BallMeetsBox(a.position, link.reach + best * moved + tol, lo, hi)) continue;  // nowhere near the object
     const Mat3 ra = a.orientation.toRotationMatrix();
-    w->rays.Clear();
-    w->ray_length.clear();
+    w->pending.clear();
     if (a.orientation.coeffs() == b.orientation.coeffs()) {
       // A pure translation (an approach, a prismatic jaw): one direction for every sample, so the leading test
       // is a dot product in the link frame and trailing samples cost nothing more.
@@ -112,8 +116,7 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
         const Vec3 p0 = a.position + ra * link.samples[i];
         // The box and the bounding ball cull different shapes: a long object, a round one.
         if (!SegmentMeetsBox(p0, u, reach, lo, hi) || !SegmentMeetsBall(p0, u, reach, centre, ball)) continue;
-        w->rays.Add(p0, u, reach, 0);
-        w->ray_length.push_back(static_cast<float>(length));
+        w->pending.push_back({p0, u, length, static_cast<uint32_t>(i)});
       }
     } else {
       // A turning link: the chord of sample s is R_a (Δ s − s) with Δ = T_a⁻¹ T_b, the step as seen from the
@@ -132,18 +135,41 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
         // steps are a few millimetres.
         if ((p0.array() < lo.array() - reach).any() || (p0.array() > hi.array() + reach).any()) continue;
         if ((p0 - centre).squaredNorm() > (ball + reach) * (ball + reach)) continue;
-        w->rays.Add(p0, ra * (chord_local / length), reach, 0);
-        w->ray_length.push_back(static_cast<float>(length));
+        w->pending.push_back({p0, ra * (chord_local / length), length, static_cast<uint32_t>(i)});
       }
     }
-    object_.bvh().Intersect(&w->rays);
-    for (size_t r = 0; r < w->rays.size(); ++r) {
-      if (!w->rays.Hit(r)) continue;
-      const RTCRay& ray = w->rays.rays[r].ray;
-      const double t = ray.tfar;
-      const Vec3 point = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
-      record(t, w->ray_length[r], point, -object_.face_normals()[w->rays.Triangle(r)], l);
+    // Two passes: every kPassStride-th ray first, which finds the first contact to within a few samples; the
+    // rest are then cut there (plus the tolerance), so most of them stop short of the object or are not cast at
+    // all. Only hits within the tolerance of the final first contact are ever kept (KeepContacts), and every ray
+    // still reaches that far, so the kept contacts are those of one pass; they are put back in sample order.
+    w->link_hits.clear();
+    for (int pass = 0; pass < 2; ++pass) {
+      w->rays.Clear();
+      w->ray_length.clear();
+      for (size_t k = 0; k < w->pending.size(); ++k) {
+        if ((k % kPassStride == 0) != (pass == 0)) continue;
+        const SimulationWork::PendingRay& r = w->pending[k];
+        const double reach = best * r.length + tol + kReachMargin;
+        if (pass == 1 && (!SegmentMeetsBox(r.origin, r.direction, reach, lo, hi) ||
+                          !SegmentMeetsBall(r.origin, r.direction, reach, centre, ball))) {
+          continue;
+        }
+        w->rays.Add(r.origin, r.direction, reach, r.sample);
+        w->ray_length.push_back(static_cast<float>(r.length));
+      }
+      object_.bvh().Intersect(&w->rays);
+      for (size_t r = 0; r < w->rays.size(); ++r) {
+        if (!w->rays.Hit(r)) continue;
+        const RTCRay& ray = w->rays.rays[r].ray;
+        const double t = ray.tfar;
+        const Vec3 point = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+        w->link_hits.push_back({ray.id, t, w->ray_length[r], point, -object_.face_normals()[w->rays.Triangle(r)]});
+        best = std::min(best, t / w->ray_length[r]);
+      }
     }
+    std::sort(w->link_hits.begin(), w->link_hits.end(),
+              [](const auto& x, const auto& y) { return x.sample < y.sample; });
+    for (const auto& h : w->link_hits) record(h.t, h.length, h.point, h.normal, l);
   }
 
   // Sharp object vertices against each link, in the link frame: the relative motion runs backwards.
@@ -180,6 +206,7 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
       // The contact is the object's vertex (the ray's origin in the world); the push is the link face's normal.
       const Vec3 vertex = a * Vec3(ray.org_x, ray.org_y, ray.org_z);
       record(ray.tfar, w->ray_length[r], vertex, ra * link.face_normals[w->rays.Triangle(r)], l);
+
     }
   }
   return any ? std::max(0.0, best) : 1.0;

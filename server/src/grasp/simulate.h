@@ -53,6 +53,18 @@ enum class Outcome : uint8_t {
 struct SimulationWork {
   RayBatch rays;
   std::vector<float> ray_length;   // per ray: the chord length, m
+  struct PendingRay {
+    Vec3 origin, direction;        // world, unit direction
+    double length;                 // the chord, m
+    uint32_t sample;               // the link sample that casts it
+  };
+  std::vector<PendingRay> pending; // one link's rays before the two passes of a sweep
+  struct LinkHit {
+    uint32_t sample;
+    double t, length;
+    Vec3 point, normal;
+  };
+  std::vector<LinkHit> link_hits;  // one link's hits of both passes, put back in sample order
   std::vector<std::pair<double, int>> link_order;  // links of a sweep, front first
   std::vector<Pose> poses, next_poses;
   std::vector<double> q;
