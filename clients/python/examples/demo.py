@@ -116,6 +116,14 @@ def read_over_http(http_url: str, scene_id: str) -> None:
           f"{summary['body_count']} bodies, {summary['robot_count']} robot, revision {summary['revision']}")
 
 
+def show_viewer(http_url: str, scene_id: str) -> None:
+    """The browser viewer of the same scene on the same port (docs/viewer.md): any number of people can watch."""
+    url = graspsim.viewer_url(scene_id, http_url)
+    with urllib.request.urlopen(url, timeout=10):  # the page is served (an error raises)
+        pass
+    print(f"browser viewer: {url} (every scene: {http_url}/view; --keep keeps this one to watch)")
+
+
 def cube_state(client: graspsim.Client, scene_id: str):
     cube = next(b for b in client.get_scene(scene_id).bodies if b.id == "cube_5cm")
     return cube.pose.position.z, cube.sleeping
@@ -182,6 +190,7 @@ def main(argv=None) -> int:
             print_tactile_arrays(scene)
             print_snapshot(client, scene_id)
             read_over_http(args.http, scene_id)
+            show_viewer(args.http, scene_id)
             simulate_grasp(client, scene_id)
             if not args.keep:
                 client.delete_scene(scene_id)
