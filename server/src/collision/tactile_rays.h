@@ -9,7 +9,8 @@
 // d = thickness − t (the object has compressed the foam that far). A segment that starts inside a body
 // (first surface hit from inside) reports d = thickness at the base point: fully compressed.
 //
-// Targets are every body's collision geometry triangulated once per model (boxes exactly, spheres and cylinders
+// Targets are every body's collision geometry: a body that is one box is met analytically (slab test, double
+// precision); any other is triangulated once per model (boxes exactly, spheres and cylinders
 // tessellated to a chord error of 0.1 mm, meshes as given) in Embree BVHs in body frames; rays are transformed into
 // each candidate body's frame. A pad only casts against bodies whose world bounding box overlaps its foam's world
 // bounding box (nothing near: no rays at all), never against links of its own robot.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <set>
 #include <utility>
 
@@ -252,6 +253,38 @@ TEST(TactileRaysTest, MeshCubeReadsLikeTheBox) {
   const TactileRayCaster caster(model);
   // body pose = (desired geometry pose) · offset⁻¹
   ExpectFlatContact(caster, Cast(caster, Poses({BoxBottomAt(1.2e-3) * offset.Inverse()})), 1.2e-3, kFirstObject);
+}
+
+TEST(TactileRaysTest, AnalyticBoxAgreesWithItsTriangleMesh) {
+  // A body that is one box is met by the slab test, any other body through Embree: the same box both ways (and
+  // behind a geometry origin), at 200 seeded poses around the pad — tilted, over part of it, base inside —
+  // gives the same elements, bodies and depths to the float BVH's tolerance.
+  auto mesh = std::make_shared<TriangleMesh>(*BoxMesh(Vec3(1, 1, 1)));
+  for (auto& v : mesh->vertices) v = v.cwiseProduct(kBigBox.cast<float>());
+  const Pose offset = At(0.004, -0.01, 0.002, QuatFromRpy(0.2, 0, 0.5));
+  Geometry box = BoxGeometry(kBigBox), meshed = MeshGeometry(mesh);
+  box.origin = meshed.origin = offset;
+  const SceneModel box_model = Scene({Body("box", box)}), mesh_model = Scene({Body("mesh", meshed)});
+  const TactileRayCaster analytic(box_model), embree(mesh_model);
+  std::mt19937 random(7);
+  // The box's bottom centre from 4 mm above the foam to 8 mm into it (base inside past 4 mm).
+  std::uniform_real_distribution<double> shift(-0.03, 0.03), depth(-0.004, 0.008), tilt(-0.3, 0.3);
+  size_t compared = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Pose bottom = At(shift(random), shift(random), kThickness - depth(random),
+                           QuatFromRpy(tilt(random), tilt(random), 3 * tilt(random)));
+    const Pose in_pad = bottom * At(0, 0, kBigBox.z() / 2) * offset.Inverse();  // body pose = geometry pose · offset⁻¹
+    const auto a = Cast(analytic, Poses({in_pad})), b = Cast(embree, Poses({in_pad}));
+    ASSERT_EQ(a.size(), b.size()) << "trial " << trial;
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].element, b[i].element);
+      EXPECT_EQ(a[i].body, b[i].body);
+      EXPECT_NEAR(a[i].depth, b[i].depth, kTol) << "trial " << trial << " element " << a[i].element;
+      EXPECT_LT((a[i].point - b[i].point).norm(), kTol);
+    }
+    compared += a.size();
+  }
+  EXPECT_GT(compared, 200u * kRows * kCols / 4) << "most poses must touch the pad";
 }
 
 TEST(TactileRaysTest, NothingNearCastsNoRays) {
