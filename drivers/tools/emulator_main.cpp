@@ -3,6 +3,8 @@
 //   graspsim-emulator robotiq-tcp [--port=N] [--object-mm=W]   Modbus TCP on 127.0.0.1 (N = 0: a free port)
 //   graspsim-emulator robotiq-rtu [--object-mm=W]              Modbus RTU, unit 9, on a new pseudo-terminal
 //   graspsim-emulator pg70 --can=IFACE [--id=N] [--object-mm=W]  SMP on a SocketCAN interface (e.g. vcan0)
+//   graspsim-emulator pg70 --fd=FD [--id=N] [--object-mm=W]      SMP on an inherited descriptor carrying can_frame
+//                                                                packets (a socketpair end; graspsim-gateway's pg70-fd)
 // The first line on stdout says where it listens (port, pty path or interface), for scripts to read.
 #include <linux/can.h>
 
@@ -37,7 +39,7 @@ int Usage() {
   std::fprintf(stderr,
                "usage: graspsim-emulator robotiq-tcp [--port=N] [--object-mm=W]\n"
                "       graspsim-emulator robotiq-rtu [--object-mm=W]\n"
-               "       graspsim-emulator pg70 --can=IFACE [--id=N] [--object-mm=W]\n");
+               "       graspsim-emulator pg70 --can=IFACE|--fd=FD [--id=N] [--object-mm=W]\n");
   return 2;
 }
 
@@ -72,13 +74,14 @@ int main(int argc, char** argv) {
     }
     if (kind == "pg70") {
       const auto interface = Flag(argc, argv, "can");
-      if (!interface) return Usage();
+      const auto fd = Flag(argc, argv, "fd");
+      if (!interface == !fd) return Usage();
       emulators::Pg70Emulator::Options options;
       options.module_id = static_cast<uint8_t>(std::stoi(Flag(argc, argv, "id").value_or("12")));
       if (object) options.object_width_mm = std::stod(*object);
       const can_filter to_module{static_cast<canid_t>(pg70::smp::kToModule + options.module_id), CAN_SFF_MASK};
-      emulators::Pg70Emulator emulator(can::OpenSocketCan(*interface, &to_module, 1), options);
-      std::printf("pg70 %s module %d\n", interface->c_str(), options.module_id);
+      emulators::Pg70Emulator emulator(fd ? std::stoi(*fd) : can::OpenSocketCan(*interface, &to_module, 1), options);
+      std::printf("pg70 %s module %d\n", fd ? ("fd " + *fd).c_str() : interface->c_str(), options.module_id);
       std::fflush(stdout);
       WaitForSignal();
       return 0;
