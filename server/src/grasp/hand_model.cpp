@@ -155,6 +155,10 @@ HandModel::HandModel(const HandSpec& spec, RTCDevice device, double sample_spaci
     link.name = body.id;
     collision::LocalMesh surface;
     for (const Geometry& g : body.collision) AddGeometry(g, sample_spacing, &surface, &link);
+    for (uint32_t i = 0; i < link.samples.size(); ++i) {
+      if (link.runs.empty() || link.normals[i] != link.runs.back().normal) link.runs.push_back({i, i, link.normals[i]});
+      link.runs.back().end = i + 1;
+    }
     if (surface.triangles.empty()) continue;
     link.bvh = std::make_unique<RayScene>(device, surface.vertices, surface.triangles);
     for (const auto& t : surface.triangles) {

@@ -21,11 +21,18 @@ struct LinkBox {
   Vec3 half = Vec3::Zero();
 };
 
+// Consecutive samples sharing one normal (a box face): a translation's leading test is then one per run.
+struct SampleRun {
+  uint32_t begin = 0, end = 0;
+  Vec3 normal = Vec3::UnitZ();
+};
+
 struct HandLink {
   std::string name;
   int parent_joint = -1;          // the joint whose child this link is; -1 for the root
   std::vector<Vec3> samples;      // surface points, link frame, m (spacing <= the sample spacing)
   std::vector<Vec3> normals;      // outward unit normals of the samples
+  std::vector<SampleRun> runs;    // the samples in runs of one normal, in order
   std::vector<LinkBox> boxes;     // bounding boxes of the collision geometries, link frame
   std::unique_ptr<RayScene> bvh;  // the link's surface, link frame; null for a link without geometry
   std::vector<Vec3> face_normals; // outward unit normals of the BVH's triangles, link frame

@@ -72,7 +72,14 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
     result.degenerate = true;
     return result;
   }
-  std::vector<Vec6> w(n);
+  // Per-thread scratch: a planner thread scores thousands of grasps, and these would be its only allocations.
+  thread_local std::vector<Vec6> w;
+  thread_local std::vector<Vec6> basis;
+  thread_local std::vector<Facet> facets;
+  thread_local std::vector<uint64_t> ridges;
+  w.resize(n);
+  basis.clear();
+  facets.clear();
   double scale = 0;
   for (int i = 0; i < n; ++i) {
     w[i] = Eigen::Map<const Vec6>(wrenches[i].data());
@@ -82,7 +89,6 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
 
   // A full-dimensional start: greedily the wrench farthest from the affine hull of those already taken.
   std::array<int, 7> simplex;
-  std::vector<Vec6> basis;
   simplex[0] = 0;
   for (int i = 1; i < n; ++i) {
     if ((w[i] - w[0]).norm() > (w[simplex[0]] - w[0]).norm()) simplex[0] = i;
@@ -109,8 +115,6 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
   for (int i : simplex) inside += w[i];
   inside /= 7;
 
-  std::vector<Facet> facets;
-  facets.reserve(256);
   for (int skip = 0; skip < 7; ++skip) {
     Facet f;
     int k = 0;
@@ -125,7 +129,6 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
   // A ridge (five sorted wrench indices, each below 2^12) packed into one integer: sorting them finds the
   // horizon several times faster than sorting index arrays.
   if (n >= (1 << 12)) return result;  // never for a grasp (at most 4 contacts per link); qhull decides
-  std::vector<uint64_t> ridges;
   for (int iteration = 0; iteration <= n + 8; ++iteration) {
     int nearest = -1;
     for (int f = 0; f < static_cast<int>(facets.size()); ++f) {
@@ -138,6 +141,15 @@ NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches) {
     for (int i = 0; i < n; ++i) {
       const double h = u.dot(w[i]);
       if (h > reach) reach = h, support = i;
+    }
+    if (reach <= 0) {
+      // Every wrench lies on or below the plane u·x = reach <= 0, which the origin is not below: the origin is
+      // not strictly inside the hull, so no force closure, whatever the nearest facet turns out to be. Most
+      // grasps that are not force closure stop here after a few iterations instead of building the hull's
+      // whole near side.
+      result.converged = true;
+      result.distance = reach;
+      return result;
     }
     if (reach <= facets[nearest].offset + tolerance) {  // nothing beyond: a facet of the hull
       result.converged = true;

@@ -17,7 +17,8 @@ namespace graspsim::grasp {
 struct NearestFacetResult {
   bool degenerate = false; // the wrenches do not span R^6 (or are fewer than 7): no force closure
   bool converged = false;  // false (and not degenerate): the iteration cap; the caller falls back to qhull
-  double distance = 0;     // signed distance of the origin inside the nearest facet's plane (> 0: inside)
+  double distance = 0;     // > 0: the origin is inside, this far from the nearest facet's plane (ε); <= 0: not
+                           // strictly inside (then only the sign is meaningful)
 };
 
 NearestFacetResult NearestFacet(const std::vector<Wrench>& wrenches);

@@ -11,22 +11,43 @@ namespace {
 constexpr size_t kPassStride = 8;
 // Added to every ray's length: the float tfar then never rounds below a hit the double comparison keeps, m.
 constexpr double kReachMargin = 1e-6;
+// Rays shorter than this are culled by a division-free test (NearBoxAndBall), m.
+constexpr double kShortReach = 0.01;
+
+// A direction prepared for slab tests: its reciprocals, and which components are zero.
+struct SlabDirection {
+  explicit SlabDirection(const Vec3& d) {
+    for (int k = 0; k < 3; ++k) {
+      parallel[k] = std::abs(d[k]) < 1e-15;
+      inverse[k] = parallel[k] ? 0.0 : 1.0 / d[k];
+    }
+  }
+  Vec3 inverse;
+  bool parallel[3];
+};
 
 // Does the segment p + t d, t in [0, length], meet the box [lo, hi]? (slab test)
-bool SegmentMeetsBox(const Vec3& p, const Vec3& d, double length, const Vec3& lo, const Vec3& hi) {
+bool SegmentMeetsBox(const Vec3& p, const SlabDirection& d, double length, const Vec3& lo, const Vec3& hi) {
   double t0 = 0, t1 = length;
   for (int k = 0; k < 3; ++k) {
-    if (std::abs(d[k]) < 1e-15) {
+    if (d.parallel[k]) {
       if (p[k] < lo[k] || p[k] > hi[k]) return false;
       continue;
     }
-    double a = (lo[k] - p[k]) / d[k], b = (hi[k] - p[k]) / d[k];
+    double a = (lo[k] - p[k]) * d.inverse[k], b = (hi[k] - p[k]) * d.inverse[k];
     if (a > b) std::swap(a, b);
     t0 = std::max(t0, a);
     t1 = std::min(t1, b);
     if (t0 > t1) return false;
   }
   return true;
+}
+
+// Can a segment of length `reach` from p meet the box [lo, hi] or the ball (centre, radius)? A division-free
+// test, conservative whatever the direction: tight for the short rays of a sweep's second pass.
+bool NearBoxAndBall(const Vec3& p, double reach, const Vec3& lo, const Vec3& hi, const Vec3& centre, double radius) {
+  if ((p.array() < lo.array() - reach).any() || (p.array() > hi.array() + reach).any()) return false;
+  return (p - centre).squaredNorm() <= (radius + reach) * (radius + reach);
 }
 
 // Does the segment p + t u, t in [0, length] (u unit), come within `radius` of `centre`?
@@ -110,13 +131,9 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
       const double length = d.norm();
       if (length < 1e-12) continue;
       const Vec3 u = d / length, local = ra.transpose() * u;
-      const double reach = best * length + tol;
-      for (size_t i = 0; i < link.samples.size(); ++i) {
-        if (link.normals[i].dot(local) <= 0) continue;
-        const Vec3 p0 = a.position + ra * link.samples[i];
-        // The box and the bounding ball cull different shapes: a long object, a round one.
-        if (!SegmentMeetsBox(p0, u, reach, lo, hi) || !SegmentMeetsBall(p0, u, reach, centre, ball)) continue;
-        w->pending.push_back({p0, u, length, static_cast<uint32_t>(i)});
+      for (const SampleRun& run : link.runs) {
+        if (run.normal.dot(local) <= 0) continue;
+        for (uint32_t i = run.begin; i < run.end; ++i) w->pending.push_back({a.position + ra * link.samples[i], u, length, i});
       }
     } else {
       // A turning link: the chord of sample s is R_a (Δ s − s) with Δ = T_a⁻¹ T_b, the step as seen from the
@@ -131,10 +148,8 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
         if (length < 1e-12) continue;
         const double reach = best * length + tol;
         const Vec3 p0 = a.position + ra * s_local;
-        // The segment lies within `reach` of p0: a box test with no division culls nearly as well here, where
-        // steps are a few millimetres.
-        if ((p0.array() < lo.array() - reach).any() || (p0.array() > hi.array() + reach).any()) continue;
-        if ((p0 - centre).squaredNorm() > (ball + reach) * (ball + reach)) continue;
+        // Steps are a few millimetres: the division-free test culls nearly as well here.
+        if (!NearBoxAndBall(p0, reach, lo, hi, centre, ball)) continue;
         w->pending.push_back({p0, ra * (chord_local / length), length, static_cast<uint32_t>(i)});
       }
     }
@@ -150,8 +165,11 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
         if ((k % kPassStride == 0) != (pass == 0)) continue;
         const SimulationWork::PendingRay& r = w->pending[k];
         const double reach = best * r.length + tol + kReachMargin;
-        if (pass == 1 && (!SegmentMeetsBox(r.origin, r.direction, reach, lo, hi) ||
-                          !SegmentMeetsBall(r.origin, r.direction, reach, centre, ball))) {
+        // Long rays (the first link of an approach) by the box and the bounding ball, which cull different
+        // shapes (a long object, a round one); short ones by the cheaper test.
+        if (reach < kShortReach ? !NearBoxAndBall(r.origin, reach, lo, hi, centre, ball)
+                                : !SegmentMeetsBall(r.origin, r.direction, reach, centre, ball) ||
+                                      !SegmentMeetsBox(r.origin, SlabDirection(r.direction), reach, lo, hi)) {
           continue;
         }
         w->rays.Add(r.origin, r.direction, reach, r.sample);
