@@ -17,6 +17,8 @@ const double kSharpCos = std::cos(20.0 * 3.14159265358979 / 180);
 // At most this many sharp vertices are swept (a scanned mesh has many noisy ones, and each costs a test per link
 // and closing step); beyond it, every k-th, so the bound of simulate.h then holds only for the kept ones.
 constexpr size_t kMaxSharp = 512;
+// Sharp vertices per cluster (GraspObject::sharp_clusters): a sweep tests one ball for this many.
+constexpr size_t kClusterSize = 16;
 
 }  // namespace
 
@@ -97,6 +99,36 @@ GraspObject::GraspObject(std::shared_ptr<const TriangleMesh> mesh, std::vector<O
   }
   const size_t stride = (all.size() + kMaxSharp - 1) / kMaxSharp;
   for (size_t i = 0; i < all.size(); i += std::max<size_t>(stride, 1)) sharp_.push_back(all[i]);
+  BuildClusters();
+}
+
+void GraspObject::BuildClusters() {
+  // Recursive median splits along the longest axis down to kClusterSize vertices: tight balls for any shape.
+  std::vector<uint32_t> order(sharp_.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::vector<std::pair<size_t, size_t>> stack = {{0, order.size()}};
+  while (!stack.empty()) {
+    const auto [begin, end] = stack.back();
+    stack.pop_back();
+    if (begin == end) continue;
+    Vec3 lo = sharp_[order[begin]], hi = lo;
+    for (size_t i = begin; i < end; ++i) lo = lo.cwiseMin(sharp_[order[i]]), hi = hi.cwiseMax(sharp_[order[i]]);
+    if (end - begin > kClusterSize) {
+      int axis;
+      (hi - lo).maxCoeff(&axis);
+      const size_t mid = (begin + end) / 2;
+      std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                       [&](uint32_t x, uint32_t y) { return sharp_[x][axis] < sharp_[y][axis]; });
+      stack.push_back({begin, mid});
+      stack.push_back({mid, end});
+      continue;
+    }
+    VertexCluster& cluster = clusters_.emplace_back();
+    cluster.centre = 0.5 * (lo + hi);
+    cluster.members.assign(order.begin() + begin, order.begin() + end);
+    std::sort(cluster.members.begin(), cluster.members.end());
+    for (uint32_t i : cluster.members) cluster.radius = std::max(cluster.radius, (sharp_[i] - cluster.centre).norm());
+  }
 }
 
 bool BoxesOverlap(const LinkBox& a, const LinkBox& b, double margin) {

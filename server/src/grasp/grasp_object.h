@@ -27,6 +27,14 @@ class GraspObject {
   const RayScene& bvh() const { return *bvh_; }
   const std::vector<Vec3>& face_normals() const { return face_normals_; }  // outward unit, per triangle
   const std::vector<Vec3>& sharp_vertices() const { return sharp_; }
+  // The sharp vertices in small spatial clusters (a ball each, indices into sharp_vertices() ascending), so a
+  // sweep tests a cluster before its members.
+  struct VertexCluster {
+    Vec3 centre = Vec3::Zero();
+    double radius = 0;
+    std::vector<uint32_t> members;
+  };
+  const std::vector<VertexCluster>& sharp_clusters() const { return clusters_; }
   const std::vector<ObstacleBox>& obstacles() const { return obstacles_; }
   Vec3 centroid() const { return centroid_; }            // of the surface (area-weighted), m
   const Mat3& principal_axes() const { return axes_; }   // columns: major, middle, minor
@@ -35,10 +43,13 @@ class GraspObject {
   Vec3 hi() const { return hi_; }
 
  private:
+  void BuildClusters();
+
   std::shared_ptr<const TriangleMesh> mesh_;
   std::unique_ptr<RayScene> bvh_;
   std::vector<Vec3> face_normals_, sharp_;
   std::vector<ObstacleBox> obstacles_;
+  std::vector<VertexCluster> clusters_;
   Vec3 centroid_ = Vec3::Zero(), lo_ = Vec3::Zero(), hi_ = Vec3::Zero();
   Mat3 axes_ = Mat3::Identity();
   double length_ = 0;

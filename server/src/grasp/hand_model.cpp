@@ -159,6 +159,12 @@ HandModel::HandModel(const HandSpec& spec, RTCDevice device, double sample_spaci
       if (link.runs.empty() || link.normals[i] != link.runs.back().normal) link.runs.push_back({i, i, link.normals[i]});
       link.runs.back().end = i + 1;
     }
+    for (SampleRun& run : link.runs) {
+      Vec3 lo = link.samples[run.begin], hi = lo;
+      for (uint32_t i = run.begin; i < run.end; ++i) lo = lo.cwiseMin(link.samples[i]), hi = hi.cwiseMax(link.samples[i]);
+      run.centre = 0.5 * (lo + hi);
+      run.radius = 0.5 * (hi - lo).norm();
+    }
     if (surface.triangles.empty()) continue;
     link.bvh = std::make_unique<RayScene>(device, surface.vertices, surface.triangles);
     for (const auto& t : surface.triangles) {

@@ -25,6 +25,8 @@ struct LinkBox {
 struct SampleRun {
   uint32_t begin = 0, end = 0;
   Vec3 normal = Vec3::UnitZ();
+  Vec3 centre = Vec3::Zero();  // a ball around the run's samples, link frame: whole runs are culled by it
+  double radius = 0;
 };
 
 struct HandLink {

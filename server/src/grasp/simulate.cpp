@@ -140,17 +140,29 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
       // link, so the leading test needs one product per sample and the world position only the leading ones.
       const Pose delta = a.Inverse() * b;
       const Mat3 rd = delta.orientation.toRotationMatrix();
-      for (size_t i = 0; i < link.samples.size(); ++i) {
-        const Vec3& s_local = link.samples[i];
-        const Vec3 chord_local = rd * s_local + delta.position - s_local;
-        if (link.normals[i].dot(chord_local) <= 0) continue;
-        const double length = chord_local.norm();
-        if (length < 1e-12) continue;
-        const double reach = best * length + tol;
-        const Vec3 p0 = a.position + ra * s_local;
-        // Steps are a few millimetres: the division-free test culls nearly as well here.
-        if (!NearBoxAndBall(p0, reach, lo, hi, centre, ball)) continue;
-        w->pending.push_back({p0, ra * (chord_local / length), length, static_cast<uint32_t>(i)});
+      // A whole run is skipped when its ball shows that no sample of it leads (the chord (R_Δ − I) s + t_Δ is
+      // affine in s, so n·chord varies by at most |(R_Δ − I)ᵀ n| r over the ball) or can come near the object.
+      const Mat3 turn = rd - Mat3::Identity();
+      const double stretch = turn.norm();  // Frobenius: bounds how much chords differ within a ball
+      for (const SampleRun& run : link.runs) {
+        const Vec3 chord_centre = turn * run.centre + delta.position;
+        if (run.normal.dot(chord_centre) + (turn.transpose() * run.normal).norm() * run.radius <= 0) continue;
+        const double longest = chord_centre.norm() + stretch * run.radius;
+        if (!NearBoxAndBall(a.position + ra * run.centre, run.radius + best * longest + tol, lo, hi, centre, ball)) {
+          continue;
+        }
+        for (uint32_t i = run.begin; i < run.end; ++i) {
+          const Vec3& s_local = link.samples[i];
+          const Vec3 chord_local = rd * s_local + delta.position - s_local;
+          if (link.normals[i].dot(chord_local) <= 0) continue;
+          const double length = chord_local.norm();
+          if (length < 1e-12) continue;
+          const double reach = best * length + tol;
+          const Vec3 p0 = a.position + ra * s_local;
+          // Steps are a few millimetres: the division-free test culls nearly as well here.
+          if (!NearBoxAndBall(p0, reach, lo, hi, centre, ball)) continue;
+          w->pending.push_back({p0, ra * (chord_local / length), length, i});
+        }
       }
     }
     // Two passes: every kPassStride-th ray first, which finds the first contact to within a few samples; the
@@ -207,9 +219,23 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
     // to the first contact found so far.
     const Vec3 path = best * (b.position - a.position);
     const double path2 = path.squaredNorm();
-    for (const Vec3& v : object_.sharp_vertices()) {
+    // The distance to the path is 1-Lipschitz: a cluster farther than radius + its own radius holds no vertex
+    // nearer than radius. The vertices that pass go in their original order, as every ray of a sweep does.
+    auto path_distance2 = [&](const Vec3& v) {
       const double along = path2 > 0 ? std::clamp((v - a.position).dot(path) / path2, 0.0, 1.0) : 0.0;
-      if ((v - a.position - along * path).squaredNorm() > radius * radius) continue;
+      return (v - a.position - along * path).squaredNorm();
+    };
+    w->vertex_ids.clear();
+    for (const GraspObject::VertexCluster& cluster : object_.sharp_clusters()) {
+      const double r = radius + cluster.radius;
+      if (path_distance2(cluster.centre) > r * r) continue;
+      for (uint32_t i : cluster.members) {
+        if (path_distance2(object_.sharp_vertices()[i]) <= radius * radius) w->vertex_ids.push_back(i);
+      }
+    }
+    std::sort(w->vertex_ids.begin(), w->vertex_ids.end());
+    for (uint32_t i : w->vertex_ids) {
+      const Vec3& v = object_.sharp_vertices()[i];
       const Vec3 v0 = ia * v;
       const Vec3 d = ib * v - v0;
       const double length = d.norm();

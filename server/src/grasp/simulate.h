@@ -65,6 +65,7 @@ struct SimulationWork {
     Vec3 point, normal;
   };
   std::vector<LinkHit> link_hits;  // one link's hits of both passes, put back in sample order
+  std::vector<uint32_t> vertex_ids;  // sharp vertices near a link's path
   std::vector<std::pair<double, int>> link_order;  // links of a sweep, front first
   std::vector<Pose> poses, next_poses;
   std::vector<double> q;
