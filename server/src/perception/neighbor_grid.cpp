@@ -94,4 +94,18 @@ double NeighborGrid::SuggestCellSize(const std::vector<Vec3>& points, int k) {
   return std::max(spacing * std::sqrt(double(std::max(k, 1))) * 0.5, 1e-9);
 }
 
+double NeighborGrid::MedianSpacing(const std::vector<Vec3>& points) {
+  if (points.size() < 2) return 1e-3;
+  const NeighborGrid grid(points, NeighborGrid::SuggestCellSize(points, 2));
+  const size_t stride = std::max<size_t>(1, points.size() / 256);
+  std::vector<double> gaps;
+  std::vector<uint32_t> nearest;
+  for (size_t i = 0; i < points.size(); i += stride) {
+    grid.Nearest(points[i], 2, &nearest);
+    gaps.push_back((points[nearest.back()] - points[i]).norm());
+  }
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  return gaps[gaps.size() / 2] > 0 ? gaps[gaps.size() / 2] : 1e-3;
+}
+
 }  // namespace graspsim

@@ -23,6 +23,10 @@ class NeighborGrid {
   // sample spacing estimated from the bounding box (the area of a surface in a box grows like its diagonal²).
   static double SuggestCellSize(const std::vector<Vec3>& points, int k);
 
+  // The median distance from a point to its nearest other point, over up to 256 points spread through the cloud
+  // (1 mm for fewer than 2 points or all coincident).
+  static double MedianSpacing(const std::vector<Vec3>& points);
+
  private:
   int64_t CellIndex(int x, int y, int z) const { return (int64_t(z) * dims_[1] + y) * dims_[0] + x; }
   Eigen::Vector3i CellOf(const Vec3& p) const;

@@ -24,20 +24,6 @@ constexpr int kMaxDerivedSide = 2048;
 
 std::string Count(size_t n) { return std::to_string(n); }
 
-// The median distance from a point to its nearest neighbour, over up to 256 points spread through the cloud.
-double MedianSpacing(const std::vector<Vec3>& points) {
-  if (points.size() < 2) return 1e-3;
-  const NeighborGrid grid(points, NeighborGrid::SuggestCellSize(points, 2));
-  const size_t stride = std::max<size_t>(1, points.size() / 256);
-  std::vector<double> gaps;
-  std::vector<uint32_t> nearest;
-  for (size_t i = 0; i < points.size(); i += stride) {
-    grid.Nearest(points[i], 2, &nearest);
-    gaps.push_back((points[nearest.back()] - points[i]).norm());
-  }
-  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-  return gaps[gaps.size() / 2] > 0 ? gaps[gaps.size() / 2] : 1e-3;
-}
 
 void CheckLimit(const std::string& field, size_t count, const char* what, size_t max_points) {
   if (count > max_points) {
@@ -112,7 +98,7 @@ Observation FromPoints(const std::vector<Vec3>& points, const Pose& camera_pose,
   }
   std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
   const double median_depth = depths[depths.size() / 2];
-  double f = median_depth / MedianSpacing(points) * kPixelsPerSpacing;
+  double f = median_depth / NeighborGrid::MedianSpacing(points) * kPixelsPerSpacing;
   double umin = 1e300, umax = -1e300, vmin = 1e300, vmax = -1e300;
   for (const Vec3& p : local) {
     umin = std::min(umin, p.x() / p.z());

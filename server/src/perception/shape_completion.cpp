@@ -1,12 +1,16 @@
 #include "perception/shape_completion.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <string>
 
 #include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
 #include "perception/cloud_filters.h"
+#include "perception/neighbor_grid.h"
 #include "perception/normals.h"
 
 namespace graspsim {
@@ -56,6 +60,37 @@ void OrientedSurfacePoints(const std::vector<Vec3>& seen, const std::optional<Sy
   }
 }
 
+// The underside on a known table: points every `step` (the seen cloud's spacing) over the convex hull of the
+// footprint, normals into the table.
+void AddTableCap(const Vec3& up, double offset, double step, std::vector<Vec3>* points, std::vector<Vec3>* normals) {
+  const Vec3 ax = (std::abs(up.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(up).normalized();
+  const Vec3 ay = up.cross(ax);
+  std::vector<cv::Point2f> footprint, hull;
+  footprint.reserve(points->size());
+  for (const Vec3& p : *points) footprint.emplace_back(float(p.dot(ax)), float(p.dot(ay)));
+  cv::convexHull(footprint, hull, /*clockwise=*/false);
+  if (hull.size() < 3) return;
+  double lo_x = hull[0].x, hi_x = lo_x, lo_y = hull[0].y, hi_y = lo_y;
+  for (const cv::Point2f& h : hull) {
+    lo_x = std::min<double>(lo_x, h.x), hi_x = std::max<double>(hi_x, h.x);
+    lo_y = std::min<double>(lo_y, h.y), hi_y = std::max<double>(hi_y, h.y);
+  }
+  const auto inside = [&hull](double x, double y) {  // left of every counter-clockwise hull edge
+    for (size_t i = 0; i < hull.size(); ++i) {
+      const cv::Point2f a = hull[i], b = hull[(i + 1) % hull.size()];
+      if ((b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x) < 0) return false;
+    }
+    return true;
+  };
+  for (double x = lo_x + 0.5 * step; x < hi_x; x += step) {
+    for (double y = lo_y + 0.5 * step; y < hi_y; y += step) {
+      if (!inside(x, y)) continue;
+      points->push_back(x * ax + y * ay + offset * up);
+      normals->push_back(-up);
+    }
+  }
+}
+
 }  // namespace
 
 std::optional<CompletionResult> CompleteShape(const PartialView& view, const CompletionOptions& options,
@@ -64,6 +99,9 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   const Clock::time_point start = Clock::now();
   ValidateSymmetryParams(options.symmetry);
   if (!(options.outlier_std >= 0)) ThrowInvalidArgument("outlier_std: must be ≥ 0 (0 = off)");
+  if (options.table_offset && !std::isfinite(*options.table_offset)) {
+    ThrowInvalidArgument("table_pose: the table's offset is not finite");
+  }
   if (!(options.voxel_size >= 0)) ThrowInvalidArgument("voxel_size: must be ≥ 0 m (0 = off)");
   CompletionResult result;
 
@@ -98,6 +136,10 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   t = Clock::now();
   std::vector<Vec3> points, normals;
   OrientedSurfacePoints(seen, result.plane, observation.CameraCentre(), options.normal_k, &points, &normals);
+  if (options.table_offset) {
+    AddTableCap(options.symmetry.table_normal.normalized(), *options.table_offset, NeighborGrid::MedianSpacing(seen),
+                &points, &normals);
+  }
   result.surface_points = points.size();
   result.ms.normals_ms = MsSince(t);
 

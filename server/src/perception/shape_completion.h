@@ -3,7 +3,8 @@
 //   Observe  → the object's points and the camera's picture of them (observation.h)
 //   Filter   → statistical outlier removal, optional voxel down-sampling (cloud_filters.h)
 //   Symmetry → the best mirror plane perpendicular to the table by the visibility score (symmetry_search.h)
-//   Normals  → plane fits over k neighbours, towards the camera; mirrored points take reflected normals (normals.h)
+//   Normals  → plane fits over k neighbours, towards the camera; mirrored points take reflected normals (normals.h);
+//              with a known table, a cap of points over the footprint closes the underside
 //   Surface  → screened Poisson on seen + mirrored points (poisson.h): a closed mesh
 //
 // or, for the paper's baseline, Observe → Filter → Delaunay sheet of 500 samples (delaunay_baseline.h).
@@ -31,6 +32,10 @@ struct CompletionOptions {
   double outlier_std = 2;       // and the cut in standard deviations; 0 = no outlier removal
   double voxel_size = 0;        // m; 0 = no down-sampling
   SymmetryParams symmetry;      // table_normal: world up unless the caller knows the table
+  // The table the object stands on, {x : symmetry.table_normal · x = table_offset} (m), when known: the underside,
+  // which no camera above the table sees, is then closed by a flat cap of points over the footprint (the convex
+  // hull of the seen and mirrored points' projection), with normals into the table, instead of Poisson's bulge.
+  std::optional<double> table_offset;
   int normal_k = 10;            // neighbours per normal, 3..100
   PoissonParams poisson = [] { PoissonParams p; p.depth = 6; return p; }();
   DelaunayParams delaunay;

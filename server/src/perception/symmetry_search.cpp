@@ -16,7 +16,11 @@ namespace {
 
 constexpr double kDegree = M_PI / 180;
 // A later hypothesis replaces the best only when it is lower by more than this fraction (see the header, 2.).
-constexpr double kTieTolerance = 1e-9;
+// Scores are mean penalties per mirrored point (px²); differences below this are pixel rounding, not evidence.
+constexpr double kTieTolerance = 2e-3;
+// A table-projected cloud this close to isotropic (minor / major eigenvalue) has no meaningful eigenvectors (a
+// cylinder seen from above and the side projects to a disc): the initial plane then faces the camera.
+constexpr double kIsotropic = 0.8;
 
 void CheckCount(const std::string& field, int value, int lo, int hi) {
   if (value < lo || value > hi) {
@@ -49,6 +53,23 @@ std::vector<double> AnglesByDistance(double centre, double half, int count) {
     return a > b;
   });
   return out;
+}
+
+// The observed depth at (u, v): bilinear between the four pixels around it when all four saw the object (a slanted
+// surface changes depth by millimetres from one pixel to the next, which rounding would turn into false
+// penalties), else the nearest pixel's.
+double ObservedDepth(const Observation& obs, double u, double v, size_t nearest) {
+  const CameraIntrinsics& k = obs.intrinsics;
+  const double u0 = std::floor(u), v0 = std::floor(v);
+  if (u0 < 0 || v0 < 0 || u0 + 1 >= k.width || v0 + 1 >= k.height) return obs.depth[nearest];
+  const size_t i = size_t(v0) * size_t(k.width) + size_t(u0), w = size_t(k.width);
+  const float d00 = obs.depth[i], d10 = obs.depth[i + 1], d01 = obs.depth[i + w], d11 = obs.depth[i + w + 1];
+  if (!obs.mask[i] || !obs.mask[i + 1] || !obs.mask[i + w] || !obs.mask[i + w + 1] ||
+      !std::isfinite(d00 + d10 + d01 + d11)) {
+    return obs.depth[nearest];
+  }
+  const double fu = u - u0, fv = v - v0;
+  return (1 - fv) * ((1 - fu) * d00 + fu * d10) + fv * ((1 - fu) * d01 + fu * d11);
 }
 
 }  // namespace
@@ -110,14 +131,15 @@ double SymmetrySearch::Score(const std::vector<Vec3>& points, const SymmetryPlan
     const double overshoot = (ur - uc) * (ur - uc) + (vr - vc) * (vr - vc);
     if (overshoot == 0 && obs.mask[pixel]) {
       ++n_in;
-      const double in_front = double(obs.depth[pixel]) - c.z() - depth_tolerance;
+      const double in_front = ObservedDepth(obs, u, v, pixel) - c.z() - depth_tolerance;
       if (in_front > 0) sum_in += in_front * k.fx / c.z();
     } else {
       ++n_out;
       sum_out += outside_sq_[pixel] + overshoot;
     }
   }
-  return (n_out ? sum_out / double(n_out) : 0) + (n_in ? sum_in / double(n_in) : 0);
+  // Both sums over every mirrored point (see the header: eq. 3's per-subset means jump when one point crosses).
+  return points.empty() ? 0 : (sum_out + sum_in) / double(n_out + n_in);
 }
 
 SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const SymmetryParams& params) const {
@@ -144,6 +166,8 @@ SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const Symmet
   // The plane's normal is the eigenvector most parallel to the view (the axis the one most perpendicular to it);
   // seen from straight above, the minor one (the plane along the object's length).
   Vec3 n0 = view.norm() > 1e-9 && std::abs(e_major.dot(view)) > std::abs(e_minor.dot(view)) ? e_major : e_minor;
+  const Eigen::Vector2d spread = eigen.eigenvalues();
+  if (view.norm() > 1e-9 && spread(0) >= kIsotropic * spread(1)) n0 = view.normalized();
   if (n0.dot(view) < 0) n0 = -n0;
 
   // 2. Shifts up to shift_range × the farthest seen point behind the centroid.
@@ -170,16 +194,19 @@ SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const Symmet
         SymmetryPlane plane = plane_at(alpha, shift);
         plane.score = Score(points, plane, params.depth_tolerance);  // 3. and 4.
         ++hypotheses;
-        if (plane.score < best.score * (1 - kTieTolerance) - 1e-300 || !std::isfinite(best.score)) best = plane;
+        if (plane.score < best.score - kTieTolerance || !std::isfinite(best.score)) best = plane;
       }
     }
     // 5. The next pass spans ± one step of this one around the best.
     const double angle_step = params.orientations > 1 ? 2 * angle_half / (params.orientations - 1) : angle_half;
     const double shift_step = params.shifts > 1 ? (shift_hi - shift_lo) / (params.shifts - 1) : 0.5 * (shift_hi - shift_lo);
-    angle_centre = best.angle_deg * kDegree;
+    // Windows stay inside the paper's ranges (an object symmetric about many planes would otherwise drift).
+    const double max_angle = params.max_angle_deg * kDegree;
     angle_half = angle_step;
-    shift_lo = best.shift - shift_step;
-    shift_hi = best.shift + shift_step;
+    angle_centre = std::clamp(best.angle_deg * kDegree, -max_angle + angle_half, max_angle - angle_half);
+    if (angle_half > max_angle) angle_centre = 0, angle_half = max_angle;
+    shift_lo = std::max(0.0, best.shift - shift_step);
+    shift_hi = std::min(max_shift, best.shift + shift_step);
   }
   best.hypotheses = hypotheses;
   return best;

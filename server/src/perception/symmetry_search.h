@@ -3,11 +3,13 @@
 //
 //   1. Project the cloud onto the table plane; its centroid c and the two eigenvectors of its 2D covariance.
 //      The initial plane contains the eigenvector most perpendicular to the viewing direction v (camera → c), so
-//      its normal n₀ points roughly away from the camera and mirroring moves the seen side to the back.
+//      its normal n₀ points roughly away from the camera and mirroring moves the seen side to the back. A nearly
+//      isotropic projection (eigenvalue ratio ≥ 0.8, e.g. a cylinder's disc) has no meaningful eigenvectors: n₀ is
+//      then the viewing direction itself.
 //   2. Hypotheses: n orientations α in [−max_angle, max_angle] about the table normal × m shifts d along the
 //      rotated plane normal n_α, d in [0, shift_range × max_p (p − c)·n_α] (0: the plane through the centroid;
 //      the far end: the plane through the farthest seen point). Orientations are tried by |α| ascending, shifts
-//      ascending, and a later hypothesis wins only when its score is lower by more than 1e-9 relative: the
+//      ascending, and a later hypothesis wins only when its score is lower by more than 0.002 px²: the
 //      visibility score cannot see a plane placed too far back (its mirrored points all hide behind the seen
 //      surface), so among equal scores the nearest plane is the plausible one.
 //   3. Mirror: Q = P − 2 ((P − o) · n) n, o = c + d n_α (the paper's Q = R⁻¹(−R(P + d − c)) + c).
@@ -17,9 +19,13 @@
 //        inside, in front of the observed depth by more than depth_tolerance:
 //                                             δ2 = the depth difference in pixels (m × f / z, so both terms are in
 //                                             image units)
-//      score = E_{Q∉mask}[δ1] + E_{Q∈mask}[δ2] (δ2 = 0 for points behind), the paper's eq. 3.
+//      score = (Σ_{Q∉mask} δ1 + Σ_{Q∈mask} δ2) / |Q|: the paper's eq. 3, E_{Q∉mask}[δ1] + E_{Q∈mask}[δ2], but
+//      with both expectations over all mirrored points (a point contributes 0 to the term it is not in). Taken
+//      literally, eq. 3 averages each term over its own subset, so one point crossing the mask's edge makes the
+//      score jump from 0 to ≥ 1 px² however many points fit: the minimum then lands wherever no point happens to
+//      cross, a millimetre or more off (measured on the cylinder of shape_completion_test.cpp: 1.3 mm).
 //   5. Optional refinements (not in the paper): the grid again, n × m, spanning ± one step around the best
-//      hypothesis, so the plane is found to a fraction of a coarse step.
+//      hypothesis (kept inside the ranges of 2.), so the plane is found to a fraction of a coarse step.
 #pragma once
 
 #include <vector>
@@ -35,7 +41,8 @@ struct SymmetryParams {
   int shifts = 5;                     // m, 1..50
   double max_angle_deg = 20;          // the orientations span ± this, 0..90
   double shift_range = 1.25;          // see 2., 0..4
-  double depth_tolerance = 0.002;     // m: sensor noise; a mirrored point this close in front is not penalised
+  double depth_tolerance = 0;         // m: a mirrored point this close in front is not penalised (it biases the
+                                      // plane towards the camera by about half of it, so 0 unless told)
   int refinements = 0;                // finer passes around the best hypothesis, 0..5
 };
 

@@ -1,0 +1,274 @@
+// Shape completion end to end in process (perception/shape_completion.h): views rendered by exact ray casts
+// (render_view.h) of solids standing on a table, 320 × 240 pixels, f = 300 px, the camera 0.5–0.6 m away and
+// 30–35° above the table. Tolerances (figures measured when set are printed by each test):
+//   - symmetry plane within 2° and 2 mm of the solid's true mid-plane (the bound), with 3 refinement
+//     passes after the paper's 7 × 5 grid;
+//   - completion of a cylinder seen from one side: mean two-sided deviation from the true surface < 1 mm (the
+//     issue's bound; the table side is never seen and is closed by Poisson);
+//   - the same input twice gives the same mesh bit for bit.
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <iostream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "perception/cloud_filters.h"
+#include "perception/delaunay_baseline.h"
+#include "perception/mesh_metrics.h"
+#include "perception/render_view.h"
+#include "perception/shape_completion.h"
+#include "perception/shapes.h"
+
+namespace graspsim {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+// 320 × 240, f = 300 px; scale 2: 640 × 480, f = 600 px (a Kinect-class camera).
+CameraIntrinsics Camera(int scale = 1) {
+  CameraIntrinsics k;
+  k.width = 320 * scale;
+  k.height = 240 * scale;
+  k.fx = k.fy = 300 * scale;
+  k.cx = 0.5 * (k.width - 1);
+  k.cy = 0.5 * (k.height - 1);
+  return k;
+}
+
+// An eye `distance` from `target`, `azimuth` about z from +x, `elevation` above the table.
+Pose EyeAt(const Vec3& target, double distance, double azimuth, double elevation) {
+  const Vec3 eye = target + distance * Vec3(std::cos(elevation) * std::cos(azimuth),
+                                            std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+  return test_render::LookAt(eye, target);
+}
+
+// Distance from a point to the plane, and angle between the plane's normal and an axis (either sign).
+double PlaneDistance(const SymmetryPlane& plane, const Vec3& p) { return std::abs((p - plane.point).dot(plane.normal)); }
+double AxisAngleDeg(const Vec3& a, const Vec3& b) {
+  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) / kDeg;
+}
+
+struct Deviation {
+  double mesh_to_shape = 0, shape_to_mesh = 0;
+  double Mean() const { return (mesh_to_shape + shape_to_mesh) / 2; }
+};
+Deviation Measure(const TriangleMesh& mesh, const std::function<double(const Vec3&)>& distance,
+                  const std::vector<Vec3>& surface) {
+  Deviation d;
+  const std::vector<Vec3> samples = SampleSurface(mesh, 20000, 7);
+  for (const Vec3& p : samples) d.mesh_to_shape += std::abs(distance(p));
+  d.mesh_to_shape /= double(samples.size());
+  const MeshDistance to_mesh(mesh);
+  for (const Vec3& p : surface) d.shape_to_mesh += to_mesh.Distance(p);
+  d.shape_to_mesh /= double(surface.size());
+  return d;
+}
+
+struct BoxScene {
+  Vec3 size{0.08, 0.12, 0.10};
+  Pose pose;
+  Pose camera;
+  PartialView view;
+};
+
+// A box 8 × 12 × 10 cm standing on the table, turned 10° about z, seen along (about) its short axis.
+BoxScene MakeBoxScene(double noise_sigma = 0) {
+  BoxScene s;
+  s.pose.position = Vec3(0.01, -0.02, 0.05);
+  s.pose.orientation = Quat(Eigen::AngleAxisd(10 * kDeg, Vec3::UnitZ()));
+  s.camera = EyeAt(s.pose.position, 0.55, 200 * kDeg, 35 * kDeg);
+  std::mt19937 random(3);
+  std::normal_distribution<double> gauss(0, noise_sigma > 0 ? noise_sigma : 1);
+  s.view.image = test_render::Render(test_render::Box(s.size, s.pose), s.camera, Camera(),
+                                     [&](int, int) { return noise_sigma > 0 ? gauss(random) : 0.0; });
+  s.view.camera_pose = s.camera;
+  return s;
+}
+
+CompletionOptions Refined(int depth = 6) {
+  CompletionOptions options;
+  options.symmetry.refinements = 4;
+  options.poisson.depth = depth;
+  return options;
+}
+
+TEST(ShapeCompletionTest, MirrorRecoversTheBoxsMidPlane) {
+  for (double sigma : {0.0, 0.001}) {
+    const BoxScene s = MakeBoxScene(sigma);
+    const auto result = CompleteShape(s.view, Refined());
+    ASSERT_TRUE(result && result->plane);
+    const SymmetryPlane& plane = *result->plane;
+    // Seen from 200° the view runs along the box's local x axis: that mid-plane is the one to find.
+    const Vec3 truth = s.pose.orientation * Vec3::UnitX();
+    const double angle = AxisAngleDeg(plane.normal, truth), offset = PlaneDistance(plane, s.pose.position);
+    std::cout << "noise " << sigma * 1e3 << " mm: angle " << angle << " deg, offset " << offset * 1e3
+              << " mm, score " << plane.score << ", " << plane.hypotheses << " hypotheses\n";
+    EXPECT_LT(angle, 2.0);
+    EXPECT_LT(offset, 0.002);
+    EXPECT_LT(std::abs(plane.normal.z()), 1e-12);  // perpendicular to the table
+  }
+}
+
+TEST(ShapeCompletionTest, MirrorFromPointsUsesADerivedCamera) {
+  const BoxScene s = MakeBoxScene();
+  PartialView points;
+  points.camera_pose = s.camera;
+  const Observation obs = Observe(s.view, 1 << 20);
+  points.points = obs.points;
+  const auto result = CompleteShape(points, Refined());
+  ASSERT_TRUE(result && result->plane);
+  const double angle = AxisAngleDeg(result->plane->normal, s.pose.orientation * Vec3::UnitX());
+  const double offset = PlaneDistance(*result->plane, s.pose.position);
+  std::cout << "points: angle " << angle << " deg, offset " << offset * 1e3 << " mm\n";
+  EXPECT_LT(angle, 2.0);
+  EXPECT_LT(offset, 0.002);
+}
+
+// A cylinder (r = 4 cm, h = 10 cm) on the table z = 0 seen by a 640 × 480 camera from 30° above, completed at depth
+// 7 with the table known: the mesh against the exact cylinder, both ways. The search runs over shifts only
+// (orientations = 1): every vertical plane through the axis is a symmetry of a cylinder, and only the one facing the
+// camera completes it (see CylinderPlaneContainsTheAxis).
+TEST(ShapeCompletionTest, CylinderSeenFromOneSideIsCompletedWithinOneMillimetre) {
+  const double r = 0.04, h = 0.10;
+  const Vec3 centre(0.0, 0.0, h / 2);
+  PartialView view;
+  view.camera_pose = EyeAt(centre, 0.5, 30 * kDeg, 30 * kDeg);
+  view.image = test_render::Render(test_render::Cylinder(r, h, centre), view.camera_pose, Camera(2));
+  CompletionOptions options = Refined(7);
+  options.symmetry.orientations = 1;
+  options.table_offset = 0;  // the unseen bottom is closed flat on the table
+  const auto result = CompleteShape(view, options);
+  ASSERT_TRUE(result && result->plane);
+  EXPECT_TRUE(CountEdges(result->mesh).Closed());
+  test_shapes::OrientedCloud truth = test_shapes::Cylinder(r, h, 0.002);
+  for (Vec3& p : truth.points) p += centre;
+  const Deviation d = Measure(
+      result->mesh, [&](const Vec3& p) { return test_shapes::CylinderDistance(p - centre, r, h); }, truth.points);
+  const double axis_offset = PlaneDistance(*result->plane, centre);
+  std::cout << "cylinder: " << result->input_points << " points, deviation " << d.mesh_to_shape * 1e3 << " / "
+            << d.shape_to_mesh * 1e3 << " mm, plane " << axis_offset * 1e3 << " mm from the axis, "
+            << result->mesh.TriangleCount() << " triangles\n";
+  EXPECT_LT(d.Mean(), 0.001);
+  EXPECT_LT(axis_offset, 0.002);
+}
+
+// A cylinder is symmetric about every vertical plane through its axis; the score cannot prefer the one facing
+// the camera, and a plane turned by α leaves a gap of 2α on the back that Poisson bulges over (docs/perception.md).
+// What must hold: the plane contains the axis, and the seen side is reproduced.
+TEST(ShapeCompletionTest, CylinderPlaneContainsTheAxis) {
+  const double r = 0.04, h = 0.10;
+  const Vec3 centre(0.0, 0.0, h / 2);
+  PartialView view;
+  view.camera_pose = EyeAt(centre, 0.5, 30 * kDeg, 30 * kDeg);
+  view.image = test_render::Render(test_render::Cylinder(r, h, centre), view.camera_pose, Camera());
+  const auto result = CompleteShape(view, Refined(6));
+  ASSERT_TRUE(result && result->plane);
+  EXPECT_TRUE(CountEdges(result->mesh).Closed());
+  const double offset = PlaneDistance(*result->plane, centre);
+  std::cout << "cylinder: plane " << offset * 1e3 << " mm from the axis, turned " << result->plane->angle_deg
+            << " deg\n";
+  EXPECT_LT(offset, 0.002);
+  const Observation seen = Observe(view, 1 << 22);
+  const MeshDistance to_mesh(result->mesh);
+  double mean = 0;
+  for (const Vec3& p : seen.points) mean += to_mesh.Distance(p) / double(seen.points.size());
+  EXPECT_LT(mean, 0.001);
+}
+
+TEST(ShapeCompletionTest, SameInputGivesBitIdenticalMesh) {
+  const BoxScene s = MakeBoxScene(0.001);
+  const auto a = CompleteShape(s.view, Refined()), b = CompleteShape(s.view, Refined());
+  ASSERT_TRUE(a && b);
+  ASSERT_EQ(a->mesh.vertices.size(), b->mesh.vertices.size());
+  ASSERT_EQ(a->mesh.triangles, b->mesh.triangles);
+  EXPECT_EQ(0, std::memcmp(a->mesh.vertices.data(), b->mesh.vertices.data(),
+                           a->mesh.vertices.size() * sizeof(a->mesh.vertices[0])));
+  EXPECT_EQ(a->plane->point, b->plane->point);
+  EXPECT_EQ(a->plane->score, b->plane->score);
+}
+
+TEST(ShapeCompletionTest, DelaunayBaselineIsAClosedShellOfTheSeenSide) {
+  const BoxScene s = MakeBoxScene();
+  CompletionOptions options;
+  options.method = CompletionMethod::kDelaunay;
+  const auto result = CompleteShape(s.view, options);
+  ASSERT_TRUE(result);
+  EXPECT_FALSE(result->plane);
+  const EdgeCounts edges = CountEdges(result->mesh);
+  EXPECT_EQ(edges.boundary, 0u);
+  EXPECT_EQ(edges.misoriented, 0u);
+  // Every vertex is a seen point; every sample of the shell lies on the box's surface (within the chord error
+  // of triangles across its edges).
+  double worst = 0, mean = 0;
+  const std::vector<Vec3> samples = SampleSurface(result->mesh, 5000, 3);
+  const Pose inv = s.pose.Inverse();
+  for (const Vec3& p : samples) {
+    const double d = std::abs(test_shapes::BoxDistance(inv * p, s.size));
+    worst = std::max(worst, d);
+    mean += d / samples.size();
+  }
+  std::cout << "delaunay: " << result->mesh.TriangleCount() << " triangles, mean " << mean * 1e3 << " mm, worst "
+            << worst * 1e3 << " mm off the box\n";
+  EXPECT_LT(mean, 0.002);
+}
+
+TEST(ShapeCompletionTest, FiltersDropOutliersAndMergeVoxels) {
+  std::vector<Vec3> grid;
+  for (int i = 0; i < 30; ++i) {
+    for (int j = 0; j < 30; ++j) grid.emplace_back(0.002 * i, 0.002 * j, 0);
+  }
+  std::vector<Vec3> with_outlier = grid;
+  with_outlier.emplace_back(0.03, 0.03, 0.05);
+  const std::vector<Vec3> kept = RemoveStatisticalOutliers(with_outlier, 8, 2);
+  EXPECT_EQ(kept.size(), grid.size());
+  EXPECT_EQ(kept, grid);
+  const std::vector<Vec3> voxels = VoxelDownsample(grid, 0.004 - 1e-9);  // 2 × 2 points per voxel
+  EXPECT_EQ(voxels.size(), 15u * 15u);
+  EXPECT_NEAR(voxels.front().x(), 0.001, 1e-12);
+}
+
+// Bad input names the field and the value.
+void ExpectError(const PartialView& view, ErrorCode code, const std::string& text, size_t max_points = 1 << 20) {
+  CompletionOptions options;
+  options.max_points = max_points;
+  try {
+    CompleteShape(view, options);
+    ADD_FAILURE() << "no error; expected " << text;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), code) << e.what();
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+  }
+}
+
+TEST(ShapeCompletionTest, BadInputIsRejectedNamingTheField) {
+  PartialView empty;
+  ExpectError(empty, ErrorCode::kInvalidArgument, "cloud.points: the cloud is empty");
+
+  PartialView line;
+  line.camera_pose.position = Vec3(0, 0, -1);
+  for (int i = 0; i < 100; ++i) line.points.emplace_back(0.001 * i, 0, 0);
+  ExpectError(line, ErrorCode::kInvalidArgument, "lie on one line");
+
+  PartialView big = line;
+  ExpectError(big, ErrorCode::kResourceExhausted, "cloud.points: 100 points exceed the limit of 50", 50);
+
+  PartialView nan_image;
+  nan_image.image = DepthImage{Camera(), std::vector<float>(320 * 240, NAN), {}};
+  ExpectError(nan_image, ErrorCode::kInvalidArgument, "depth_image.depth: no pixel has a finite, positive depth");
+
+  PartialView bad_mask = nan_image;
+  bad_mask.image->depth.assign(320 * 240, 0.5f);
+  bad_mask.image->mask.assign(100, 1);
+  ExpectError(bad_mask, ErrorCode::kInvalidArgument, "depth_image.mask: 100 bytes for a 320 x 240 image");
+
+  PartialView behind;
+  behind.camera_pose.position = Vec3(0, 0, 1);  // looking along +z: the points at z = 0 are behind it
+  behind.points = {Vec3(0, 0, 0), Vec3(0.01, 0, 0), Vec3(0, 0.01, 0)};
+  ExpectError(behind, ErrorCode::kInvalidArgument, "cloud.points[0]: behind the camera");
+}
+
+}  // namespace
+}  // namespace graspsim
