@@ -9,8 +9,9 @@ tactile work cycle in a fresh scene (a PG70 on a vertical axis: approach, grasp 
 lift, hold, move down, release; examples/tactile_cycle.py runs it at several coverages) with its summary, and
 its plots when matplotlib is installed. Then grasp planning: the PG70's grasp set of the cube on the table
 (examples/grasp_planning.py does all three hands and draws them; shape completion, which would give the
-object's completed mesh, is a later issue, so the cube's own geometry is planned on). Exits non-zero on any
-error.
+object's completed mesh, is a later issue, so the cube's own geometry is planned on). Last, the hardware gateway
+with emulated grippers (examples/hardware_gateway.py): commands through the server, an e-stop, and a PG70 move
+beside its simulated twin with the surprise. Exits non-zero on any error.
 
     python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080 [--out DIR]
 """
@@ -26,6 +27,7 @@ import numpy as np
 
 import graspsim
 import grasp_planning  # examples/grasp_planning.py, next to this file
+import hardware_gateway  # examples/hardware_gateway.py, next to this file
 import tactile_cycle  # examples/tactile_cycle.py, next to this file
 from graspsim.v1 import common_pb2
 
@@ -196,6 +198,7 @@ def main(argv=None) -> int:
                 client.delete_scene(scene_id)
             run_work_cycle(client, args.out)
             plan_grasps(client)
+            hardware_gateway.demo(client, args.server)
     except (graspsim.GraspsimError, OSError) as err:
         print(f"demo failed: {err}", file=sys.stderr)
         return 1
