@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <mutex>
 #include <thread>
 
@@ -152,6 +153,9 @@ std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candida
   std::vector<std::vector<PlannedGrasp>> found(workers);
 
   std::vector<double> cpu(workers, 0.0);
+  std::mutex finished_mutex;
+  std::condition_variable finished_cv;
+  int finished = 0;
   auto work = [&](int worker) {
     const double cpu0 = ThreadCpuSeconds();
     SimulationWork scratch;
@@ -169,11 +173,19 @@ std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candida
       done.fetch_add(end - begin);
     }
     cpu[worker] = ThreadCpuSeconds() - cpu0;
+    std::lock_guard<std::mutex> lock(finished_mutex);
+    ++finished;
+    finished_cv.notify_one();
   };
   std::vector<std::thread> pool;
   for (int t = 0; t < workers; ++t) pool.emplace_back(work, t);
-  while (done.load() < total && !cancelled.load()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  // Progress about every 20 ms; woken at once when the last worker finishes (a plan of a few hundred ms would
+  // otherwise wait out most of a period).
+  for (;;) {
+    std::unique_lock<std::mutex> lock(finished_mutex);
+    if (finished_cv.wait_for(lock, std::chrono::milliseconds(20), [&] { return finished == workers; })) break;
+    lock.unlock();
+    if (cancelled.load()) continue;  // the workers stop after their chunk
     if (done.load() < total && !progress(done.load(), total)) cancelled = true;
   }
   for (std::thread& t : pool) t.join();
