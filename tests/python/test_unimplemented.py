@@ -2,13 +2,11 @@
 import grpc
 import pytest
 
-from graspsim.v1 import grasp_pb2, grasp_pb2_grpc, perception_pb2, perception_pb2_grpc
+from graspsim.v1 import grasp_pb2, grasp_pb2_grpc
 
 CALLS = {
     "GraspService.PlanArmPath": lambda ch: grasp_pb2_grpc.GraspServiceStub(ch).PlanArmPath(
         grasp_pb2.PlanArmPathRequest(scene_id="s", arm_id="a"), timeout=10),
-    "PerceptionService.SegmentScene": lambda ch: perception_pb2_grpc.PerceptionServiceStub(ch).SegmentScene(
-        perception_pb2.SegmentSceneRequest(), timeout=10),
 }
 
 

@@ -99,6 +99,11 @@ const std::vector<FlagSpec>& Specs() {
        [](const std::string& v, ServerFlags* f) {
          f->server.limits.max_upload_bytes = ParseCount("max-upload-bytes", v, 1);
        }},
+      {"max-cloud-points", "points of a cloud or pixels of a depth image (PerceptionService)",
+       [](const ServerFlags& f) { return std::to_string(f.server.limits.max_cloud_points); },
+       [](const std::string& v, ServerFlags* f) {
+         f->server.limits.max_cloud_points = ParseCount("max-cloud-points", v, 1);
+       }},
       {"max-scene-file-bytes", "bytes of all files of one scene",
        [](const ServerFlags& f) { return std::to_string(f.server.limits.max_scene_file_bytes); },
        [](const std::string& v, ServerFlags* f) {

@@ -11,6 +11,7 @@
 #include "core/log.h"
 #include "rpc/gateway_service.h"
 #include "rpc/grasp_service.h"
+#include "rpc/perception_service.h"
 #include "rpc/scene_service.h"
 #include "rpc/tactile_service.h"
 #include "rpc/unimplemented_services.h"
@@ -30,7 +31,7 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
 
   services_.push_back(
       std::make_unique<SceneServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
-  services_.push_back(std::make_unique<PerceptionServiceStub>());
+  services_.push_back(std::make_unique<PerceptionServiceImpl>(&registry_, &pool_));
   std::shared_ptr<grasp::GraspStore> grasp_store;
   if (options.grasp_data_dir != "off") grasp_store = std::make_shared<grasp::GraspStore>(options.grasp_data_dir);
   services_.push_back(std::make_unique<GraspServiceImpl>(&registry_, &pool_, std::move(grasp_store)));

@@ -6,12 +6,6 @@
 #include "rpc/failed_call.h"
 
 namespace graspsim::rpc {
-namespace {
-
-constexpr char kShapeCompletion[] = "shape completion";
-
-}  // namespace
-
 grpc::Status NotBuiltYet(const Context& context, const char* method, const char* capability) {
   const grpc::Status status(grpc::StatusCode::UNIMPLEMENTED,
                             std::string("graspsim.v1.") + method + " is declared in API v1 but not implemented yet: " +
@@ -22,13 +16,6 @@ grpc::Status NotBuiltYet(const Context& context, const char* method, const char*
 
 Unary* NotBuiltYetUnary(Context* context, const char* method, const char* capability) {
   return FailedUnary(context, NotBuiltYet(*context, method, capability));
-}
-
-Writer<v1::CompleteShapeProgress>* PerceptionServiceStub::CompleteShape(Context* c, const v1::CompleteShapeRequest*) {
-  return NotBuiltYetStream<v1::CompleteShapeProgress>(c, "PerceptionService/CompleteShape", kShapeCompletion);
-}
-Unary* PerceptionServiceStub::SegmentScene(Context* c, const v1::SegmentSceneRequest*, v1::SegmentSceneResponse*) {
-  return NotBuiltYetUnary(c, "PerceptionService/SegmentScene", kShapeCompletion);
 }
 
 }  // namespace graspsim::rpc

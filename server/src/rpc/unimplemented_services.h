@@ -2,7 +2,8 @@
 // message saying which issue brings it, never a fake result. Replace a class here when its issue lands.
 #pragma once
 
-#include "graspsim/v1/perception.grpc.pb.h"
+#include <grpcpp/grpcpp.h>
+
 #include "rpc/failed_call.h"
 
 namespace graspsim::rpc {
@@ -21,11 +22,5 @@ template <typename Response>
 Writer<Response>* NotBuiltYetStream(Context* context, const char* method, const char* capability) {
   return new FailedWriter<Response>(NotBuiltYet(*context, method, capability));
 }
-
-class PerceptionServiceStub final : public v1::PerceptionService::CallbackService {
- public:
-  Writer<v1::CompleteShapeProgress>* CompleteShape(Context*, const v1::CompleteShapeRequest*) override;
-  Unary* SegmentScene(Context*, const v1::SegmentSceneRequest*, v1::SegmentSceneResponse*) override;
-};
 
 }  // namespace graspsim::rpc

@@ -1,0 +1,239 @@
+// PerceptionService: requests become the perception library's inputs here (validated: field and value in every
+// error), results become messages. CompleteShape is one pool job per call that streams a message per stage.
+#include "rpc/perception_service.h"
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/validate.h"
+#include "perception/mesh_metrics.h"
+#include "perception/segmentation.h"
+#include "perception/shape_completion.h"
+#include "rpc/call.h"
+#include "rpc/convert.h"
+#include "rpc/progress_run.h"
+#include "rpc/run_reactor.h"
+
+namespace graspsim::rpc {
+namespace {
+
+constexpr char kCompleteShape[] = "PerceptionService/CompleteShape";
+constexpr double kDefaultMass = 0.1;  // kg
+
+// Packed float32 x y z triplets → points.
+std::vector<Vec3> PointsFromBytes(const std::string& field, const std::string& bytes, size_t max_points) {
+  if (bytes.size() % 12 != 0) {
+    ThrowInvalidArgument(field + ": " + std::to_string(bytes.size()) + " bytes is not a whole number of float32 x y z "
+                         "triplets (12 bytes each)");
+  }
+  const size_t n = bytes.size() / 12;
+  if (n > max_points) {
+    ThrowResourceExhausted(field + ": " + std::to_string(n) + " points exceed the limit of " +
+                           std::to_string(max_points) + " (--max-cloud-points)");
+  }
+  std::vector<Vec3> points(n);
+  std::vector<float> raw(3 * n);
+  std::memcpy(raw.data(), bytes.data(), bytes.size());
+  for (size_t i = 0; i < n; ++i) points[i] = Vec3(raw[3 * i], raw[3 * i + 1], raw[3 * i + 2]);
+  return points;
+}
+
+DepthImage ImageFromProto(const v1::DepthImage& in, size_t max_points) {
+  DepthImage image;
+  const auto& k = in.intrinsics();
+  image.intrinsics = {int(std::min<uint32_t>(k.width(), 1u << 30)), int(std::min<uint32_t>(k.height(), 1u << 30)),
+                      k.fx(), k.fy(), k.cx(), k.cy()};
+  const uint64_t pixels = uint64_t(k.width()) * k.height();
+  if (pixels > max_points) {
+    ThrowResourceExhausted("depth_image: " + std::to_string(k.width()) + " x " + std::to_string(k.height()) + " = " +
+                           std::to_string(pixels) + " pixels exceed the limit of " + std::to_string(max_points) +
+                           " (--max-cloud-points)");
+  }
+  if (in.depth().size() % 4 != 0) {
+    ThrowInvalidArgument("depth_image.depth: " + std::to_string(in.depth().size()) + " bytes is not a whole number "
+                         "of float32 values");
+  }
+  image.depth.resize(in.depth().size() / 4);
+  std::memcpy(image.depth.data(), in.depth().data(), in.depth().size());
+  image.mask.assign(in.mask().begin(), in.mask().end());
+  return image;
+}
+
+// The table: given by table_pose (its z axis and the plane through its origin), else the world's up and unknown
+// height (no cap under the object).
+void TableFromProto(const v1::CompleteShapeRequest& request, CompletionOptions* options) {
+  if (!request.has_table_pose()) return;
+  const Pose table = PoseFromProto("table_pose", request.table_pose());
+  options->symmetry.table_normal = table.orientation * Vec3::UnitZ();
+  options->table_offset = options->symmetry.table_normal.dot(table.position);
+}
+
+CompletionOptions OptionsFromProto(const v1::CompleteShapeRequest& request, const Limits& limits) {
+  CompletionOptions options;
+  options.max_points = limits.max_cloud_points;
+  const auto count = [](const char* field, uint32_t value, int lo, int hi, int fallback) {
+    if (value == 0) return fallback;
+    if (value < uint32_t(lo) || value > uint32_t(hi)) {
+      ThrowInvalidArgument(std::string(field) + ": " + std::to_string(value) + " is outside " + std::to_string(lo) +
+                           ".." + std::to_string(hi) + " (0 = " + std::to_string(fallback) + ")");
+    }
+    return int(value);
+  };
+  options.symmetry.orientations = count("orientations", request.orientations(), 1, 50, 7);
+  options.symmetry.shifts = count("shifts", request.shifts(), 1, 50, 5);
+  options.poisson.depth = count("octree_depth", request.octree_depth(), 5, 8, 6);
+  if (request.refinements() > 5) {
+    ThrowInvalidArgument("refinements: " + std::to_string(request.refinements()) + " is outside 0..5");
+  }
+  options.symmetry.refinements = int(request.refinements());
+  if (!std::isfinite(request.voxel_size()) || request.voxel_size() < 0) {
+    ThrowInvalidArgument("voxel_size: " + FormatNumber(request.voxel_size()) + " m must be ≥ 0 (0 = none)");
+  }
+  options.voxel_size = request.voxel_size();
+  switch (request.method()) {
+    case v1::COMPLETION_METHOD_MIRROR: options.method = CompletionMethod::kMirror; break;
+    case v1::COMPLETION_METHOD_DELAUNAY: options.method = CompletionMethod::kDelaunay; break;
+    default: ThrowInvalidArgument("method: " + std::to_string(int(request.method())) + " is not a CompletionMethod");
+  }
+  TableFromProto(request, &options);
+  return options;
+}
+
+PartialView ViewFromProto(const v1::CompleteShapeRequest& request, const Limits& limits) {
+  PartialView view;
+  if (!request.has_camera_pose()) ThrowInvalidArgument("camera_pose: required (the pose the view was taken from)");
+  view.camera_pose = PoseFromProto("camera_pose", request.camera_pose());
+  switch (request.input_case()) {
+    case v1::CompleteShapeRequest::kDepthImage:
+      view.image = ImageFromProto(request.depth_image(), limits.max_cloud_points);
+      break;
+    case v1::CompleteShapeRequest::kCloud:
+      view.points = PointsFromBytes("cloud.points", request.cloud().points(), limits.max_cloud_points);
+      break;
+    case v1::CompleteShapeRequest::INPUT_NOT_SET:
+      ThrowInvalidArgument("input: give depth_image or cloud");
+  }
+  return view;
+}
+
+// The completed mesh as a free object: body frame at the solid's centroid, uniform density.
+std::string AddToScene(Scene* scene, const std::string& requested_name, double mass, const TriangleMesh& mesh) {
+  static std::atomic<uint64_t> counter{0};
+  const std::string name = requested_name.empty() ? "completed_" + std::to_string(++counter) : requested_name;
+  const SolidProperties solid = ComputeSolidProperties(mesh);
+  if (!(solid.volume > 0)) ThrowInvalidArgument("add_to_scene_id: the completed mesh encloses no volume");
+  auto local = std::make_shared<TriangleMesh>(mesh);
+  for (auto& v : local->vertices) v -= solid.centroid.cast<float>();
+  BodySpec body;
+  body.id = name;
+  body.motion = BodyMotion::kFree;
+  Geometry geometry;
+  geometry.kind = Geometry::Kind::kMesh;
+  geometry.mesh = std::move(local);
+  body.collision.push_back(std::move(geometry));
+  body.inertial.mass = mass;
+  const double density = mass / solid.volume;
+  body.inertial.inertia =
+      density * (solid.second_moment.trace() * Mat3::Identity() - solid.second_moment);
+  Pose pose;
+  pose.position = solid.centroid;
+  return scene->AddObject(std::move(body), pose).id;
+}
+
+v1::CompleteShapeProgress Stage(const std::string& stage, double fraction) {
+  v1::CompleteShapeProgress message;
+  message.set_stage(stage);
+  message.set_fraction(fraction);
+  return message;
+}
+
+void ResultToProto(const CompletionResult& result, v1::CompleteShapeProgress* out) {
+  if (result.plane) {
+    ToProto(result.plane->point, out->mutable_plane()->mutable_point());
+    ToProto(result.plane->normal, out->mutable_plane()->mutable_normal());
+    out->mutable_plane()->set_score(result.plane->score);
+    out->mutable_plane()->set_angle_deg(result.plane->angle_deg);
+    out->mutable_plane()->set_hypotheses(uint32_t(result.plane->hypotheses));
+  }
+  ToProto(result.mesh, out->mutable_mesh());
+  auto* t = out->mutable_timings();
+  t->set_observe_ms(result.ms.observe_ms);
+  t->set_filter_ms(result.ms.filter_ms);
+  t->set_symmetry_ms(result.ms.symmetry_ms);
+  t->set_normals_ms(result.ms.normals_ms);
+  t->set_surface_ms(result.ms.surface_ms);
+  t->set_total_ms(result.ms.total_ms);
+  out->set_input_points(uint32_t(result.input_points));
+  out->set_filtered_points(uint32_t(result.filtered_points));
+  out->set_surface_points(uint32_t(result.surface_points));
+}
+
+using CompletionRun = ProgressRun<v1::CompleteShapeProgress>;
+
+void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* registry,
+                   const std::shared_ptr<CompletionRun>& run) {
+  try {
+    const Limits& limits = registry->limits();
+    const CompletionOptions options = OptionsFromProto(request, limits);
+    std::shared_ptr<Scene> scene;
+    if (!request.add_to_scene_id().empty()) {
+      scene = registry->Get(request.add_to_scene_id());  // NOT_FOUND before the work, not after
+      if (!request.object_name().empty()) CheckName("object_name", request.object_name());
+    }
+    if (!std::isfinite(request.object_mass()) || request.object_mass() < 0) {
+      ThrowInvalidArgument("object_mass: " + FormatNumber(request.object_mass()) + " kg must be ≥ 0 (0 = 0.1)");
+    }
+    const PartialView view = ViewFromProto(request, limits);
+    const auto result = CompleteShape(view, options, [&](const std::string& stage, double fraction) {
+      return run->Progress(Stage(stage, fraction));
+    });
+    if (!result) return;  // cancelled: the reactor already ends the call
+    ValidateMesh(result->mesh, "mesh", limits.max_triangles_per_mesh);
+    v1::CompleteShapeProgress last = Stage("done", 1);
+    ResultToProto(*result, &last);
+    if (scene) {
+      const double mass = request.object_mass() > 0 ? request.object_mass() : kDefaultMass;
+      last.set_body_id(AddToScene(scene.get(), request.object_name(), mass, result->mesh));
+    }
+    run->Finish(std::move(last), grpc::Status::OK);
+  } catch (...) {
+    run->Finish(std::nullopt, StatusOfException(kCompleteShape, std::current_exception()));
+  }
+}
+
+}  // namespace
+
+grpc::ServerWriteReactor<v1::CompleteShapeProgress>* PerceptionServiceImpl::CompleteShape(
+    Context* context, const v1::CompleteShapeRequest* request) {
+  auto* reactor = new RunReactor<v1::CompleteShapeProgress, CompletionRun>(context, kCompleteShape);
+  pool_->Post([request, registry = registry_, run = reactor->run()] { RunCompletion(*request, registry, run); });
+  return reactor;
+}
+
+grpc::ServerUnaryReactor* PerceptionServiceImpl::SegmentScene(Context* context, const v1::SegmentSceneRequest* request,
+                                                              v1::SegmentSceneResponse* response) {
+  return RunUnary(context, "PerceptionService/SegmentScene", pool_, [=, this] {
+    SegmentationParams params;
+    if (request->cluster_tolerance() != 0) params.cluster_tolerance = request->cluster_tolerance();
+    if (request->plane_threshold() != 0) params.plane_threshold = request->plane_threshold();
+    if (request->min_cluster_points() != 0) params.min_cluster_points = int(std::min(request->min_cluster_points(), 1u << 30));
+    const std::vector<Vec3> points =
+        PointsFromBytes("cloud.points", request->cloud().points(), registry_->limits().max_cloud_points);
+    const SceneSegmentation segmentation = graspsim::SegmentScene(points, params);
+    ToProto(segmentation.table_normal, response->mutable_table_normal());
+    response->set_table_offset(segmentation.table_offset);
+    for (const auto& object : segmentation.objects) {
+      std::vector<float> raw;
+      raw.reserve(3 * object.size());
+      for (const Vec3& p : object) raw.insert(raw.end(), {float(p.x()), float(p.y()), float(p.z())});
+      response->add_objects()->set_points(std::string(reinterpret_cast<const char*>(raw.data()), raw.size() * 4));
+    }
+  });
+}
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,27 @@
+// graspsim.v1.PerceptionService: translation between messages and the perception library (server/src/perception).
+// CompleteShape runs on the worker pool and streams its stages (perception_service.cpp); with add_to_scene_id the
+// completed mesh becomes a free object of that scene (collision on the closed mesh itself, no convex
+// decomposition: the contact finder tests points against closed meshes with Embree). SegmentScene is unary.
+#pragma once
+
+#include "core/limits.h"
+#include "core/worker_pool.h"
+#include "graspsim/v1/perception.grpc.pb.h"
+#include "world/scene_registry.h"
+
+namespace graspsim::rpc {
+
+class PerceptionServiceImpl final : public v1::PerceptionService::CallbackService {
+ public:
+  PerceptionServiceImpl(SceneRegistry* registry, WorkerPool* pool) : registry_(registry), pool_(pool) {}
+
+  using Context = grpc::CallbackServerContext;
+  grpc::ServerWriteReactor<v1::CompleteShapeProgress>* CompleteShape(Context*, const v1::CompleteShapeRequest*) override;
+  grpc::ServerUnaryReactor* SegmentScene(Context*, const v1::SegmentSceneRequest*, v1::SegmentSceneResponse*) override;
+
+ private:
+  SceneRegistry* registry_;
+  WorkerPool* pool_;
+};
+
+}  // namespace graspsim::rpc
