@@ -5,10 +5,11 @@ no body sleeps). A client steps it in 0.1 s requests as fast as it can; the figu
 steps per wall second). Phases of PHASE_S alternate without viewers and with VIEWERS + 1 viewers, ROUNDS
 times, so that drift in the machine's load hits both alike; "viewer_slowdown_pct" compares the medians.
 
-A viewer is what a browser's EventSource is: a GET /view/<scene>/poses Server-Sent Events stream at the
-page's default 30 Hz, read and discarded on its own socket (all reading viewers share one thread of this process
-with select(), so that 50 Python threads do not compete with the server for the 2 cores more than a browser
-on another machine would). One more viewer sends its request and never reads (a 4 KiB receive buffer): a
+A viewer is what a browser's EventSource is: a GET /view/<scene>/poses?contacts=1 Server-Sent Events stream
+as the page asks for it (30 Hz, with the step's contact points: a few hundred while the PG70 holds the cube),
+read and discarded on its own socket. All reading viewers share one thread of this process with select(), so
+that 50 Python threads do not compete with the server for the 2 cores more than browsers on other machines
+would. One more viewer sends its request and never reads (a 4 KiB receive buffer): a
 stalled browser. The server's own CPU time per wall second is reported beside the step rates: what serving
 the viewers costs it; with the CPU per step it is the figure to trust when other jobs load the machine (the
 step rates then move by ±15 % between phases on their own).
@@ -67,7 +68,7 @@ def open_viewer(http_url: str, scene: str, receive_buffer: int = 0) -> socket.so
     if receive_buffer:
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, receive_buffer)
     sock.connect((host, port))
-    sock.sendall(f"GET /view/{scene}/poses HTTP/1.1\r\nHost: {host}\r\nAccept: text/event-stream\r\n\r\n".encode())
+    sock.sendall(f"GET /view/{scene}/poses?contacts=1 HTTP/1.1\r\nHost: {host}\r\nAccept: text/event-stream\r\n\r\n".encode())
     return sock
 
 

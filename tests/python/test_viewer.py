@@ -229,3 +229,57 @@ def test_scene_figure_draws_every_shape(client, scene_id):
     assert len(ax.collections) == 2
     assert ax.get_xlim()[0] <= -CUBE / 2 + 1e-12 and ax.get_xlim()[1] >= 0.22 - 1e-12  # both bodies inside
     fig.canvas.draw()  # renders without a display
+
+
+@pytest.fixture
+def resting_cube(client, scene_id):
+    """The built-in 5 cm cube resting on the table after 1 s of simulation, kept awake (a sleeping body's contacts
+    are not computed, so a snapshot then has none)."""
+    client.set_simulation_params(scene_id, sleep_time=100.0)
+    client.add_object(scene_id, "table", builtin="table")
+    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, 0.75 + CUBE / 2, 1, 0, 0, 0])
+    client.step_simulation(scene_id, 1.0)
+    return scene_id
+
+
+def force_on(snapshot_contacts, pairs, body: int) -> np.ndarray:
+    """Sum of the contact forces acting on one body: +f where it is the first body, -f where the second."""
+    sign = (pairs[:, 0] == body).astype(float) - (pairs[:, 1] == body)
+    return (sign[:, None] * snapshot_contacts[:, 3:]).sum(axis=0)
+
+
+def test_snapshot_contacts_hold_the_resting_cube_up(client, resting_cube):
+    mass = next(b for b in client.get_scene(resting_cube).bodies if b.id == "cube").inertial.mass
+    with client.watch_scene(resting_cube) as watch:
+        snapshot = next(iter(watch))
+    assert len(snapshot.contacts) >= 4  # at least the cube's bottom corners
+    cube = snapshot.body_ids.index("cube")
+    # At rest the contacts carry the weight: Σ f = (0, 0, m g) on the cube, within 1 %.
+    np.testing.assert_allclose(force_on(snapshot.contacts, snapshot.contact_bodies, cube), [0, 0, mass * 9.81],
+                               rtol=0, atol=0.01 * mass * 9.81)
+    # Every contact point lies on the table top, under the cube.
+    np.testing.assert_allclose(snapshot.contacts[:, 2], 0.75, atol=1e-3)
+    assert np.all(np.abs(snapshot.contacts[:, :2]) <= CUBE / 2 + 1e-3)
+    client.set_body_pose(resting_cube, "cube", [0, 0, 0.9, 1, 0, 0, 0])  # lifted by hand: no contact until a step
+    with client.watch_scene(resting_cube) as watch:
+        assert len(next(iter(watch)).contacts) == 0
+
+
+def test_pose_events_carry_contacts_when_asked(server, client, resting_cube):
+    with client.watch_scene(resting_cube) as watch:
+        reference = next(iter(watch))
+    events = Events(server, f"/view/{resting_cube}/poses?contacts=1&max_seconds=30")
+    try:
+        event, snapshot = events.next()
+    finally:
+        events.close()
+    contacts = np.array(snapshot["contacts"]).reshape(-1, 6)
+    np.testing.assert_allclose(contacts, reference.contacts, rtol=1e-3, atol=1e-6)  # 4 significant digits
+    np.testing.assert_array_equal(np.array(snapshot["contact_bodies"]).reshape(-1, 2), reference.contact_bodies)
+    events = Events(server, f"/view/{resting_cube}/poses?max_seconds=30")
+    try:
+        assert "contacts" not in events.next()[1]
+    finally:
+        events.close()
+    status, _, text = get(server, f"/view/{resting_cube}/poses?contacts=yes")
+    assert status == 400 and json.loads(text)["message"].startswith("contacts: 'yes'")

@@ -140,3 +140,21 @@ def test_tactile_heat_map_appears_during_a_work_cycle(browser, server, client, s
     assert during, "the pads showed pressure only after the work cycle had ended"
     assert brightest > 0
     assert "r" in result  # the cycle itself succeeded
+
+
+def test_contact_overlay_shows_the_steps_contacts(browser, server, client, scene_id):
+    client.set_simulation_params(scene_id, sleep_time=100.0)  # a sleeping body's contacts are not computed
+    client.add_object(scene_id, "table", builtin="table")
+    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + CUBE / 2, 1, 0, 0, 0])
+    client.step_simulation(scene_id, 0.5)
+    with client.watch_scene(scene_id) as watch:
+        expected = len(next(iter(watch)).contacts)
+    assert expected >= 4
+    open_viewer(browser, server, scene_id)
+    wait_for(browser, f"window.graspsimViewer.state.contacts === {expected}", f"{expected} contacts drawn")
+    legend = browser.find_element("id", "contact-legend").text
+    assert legend.startswith(f"{expected} contact points; largest force ")
+    browser.find_element("id", "show-contacts").click()  # off: the page asks for poses without contacts
+    revision = client.set_body_pose(scene_id, "cube", [0, 0, 0.9, 1, 0, 0, 0])
+    wait_for(browser, f"window.graspsimViewer.state.lastSnapshot.revision >= {revision}", "the pose without contacts")
+    assert browser.execute_script("return window.graspsimViewer.state.contacts") == expected  # not updated while off

@@ -54,6 +54,7 @@ export function buildBodies(scene) {
     const group = new THREE.Group();
     group.name = body.id;
     group.userData.bodyId = body.id;
+    group.userData.isStatic = body.motion === 'BODY_MOTION_STATIC';
     const material = new THREE.MeshStandardMaterial({ color: bodyColor(body), roughness: 0.6, metalness: 0.1 });
     for (const shape of body.collision || []) {
       const geometry = shapeGeometry(shape);

@@ -1,11 +1,8 @@
 // Overlays whose data the server does not serve yet. Each is a named slot with its source stated, so that the
 // capability that produces the data fills in `load` and nothing here pretends: no made-up geometry is drawn.
-//   contacts    contact points and force vectors: the scene snapshot carries body poses and joint positions
-//               only; they need the last step's contacts in SceneSnapshot (world/snapshot_hub.h)
 //   completion  symmetry plane and completed mesh of a shape completion (perception, issue 5)
 //   arm path    the arm path of a plan (motion planning, issue 7: PlanArmPath waypoints)
 export const overlayHooks = [
-  { id: 'contacts', label: 'Contact points and forces', source: 'not in the scene snapshot yet', load: null },
   { id: 'completion', label: 'Symmetry plane and completed mesh', source: 'shape completion (issue 5), not served yet', load: null },
   { id: 'arm-path', label: 'Arm path of a plan', source: 'motion planning (issue 7), not served yet', load: null },
 ];

@@ -3,6 +3,7 @@
 // as Server-Sent Events. Read-only: the page never changes the scene.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { ContactOverlay } from './contacts.js';
 import { buildBodies, buildPad } from './geometry.js';
 import { buildGraspGhosts } from './grasps.js';
 import { addOverlayHooks } from './hooks.js';
@@ -36,7 +37,7 @@ world.add(grid, new THREE.AxesHelper(0.1));
 
 // What the page knows, also read by the headless-browser tests (tests/python/test_viewer_browser.py).
 const state = {
-  ready: false, sceneFetches: 0, snapshots: 0, lastSnapshot: null, bodyIds: [], tactileReadings: 0,
+  ready: false, sceneFetches: 0, snapshots: 0, lastSnapshot: null, bodyIds: [], tactileReadings: 0, contacts: 0,
   bodies: new Map(), pads: null, error: null,
 };
 
@@ -49,10 +50,13 @@ function resize() {
 window.addEventListener('resize', resize);
 resize();
 
-// Frame the scene's bodies (the grid alone when there are none) once, at the first load.
+// Frame the bodies that move (objects and robots; all bodies when only static ones exist) once, at the first
+// load: the table is context, the grasp is what people look at.
 function frameScene() {
   const box = new THREE.Box3();
-  for (const group of state.bodies.values()) box.expandByObject(group);
+  const groups = [...state.bodies.values()];
+  const moving = groups.filter((group) => !group.userData.isStatic);
+  for (const group of moving.length ? moving : groups) box.expandByObject(group);
   if (box.isEmpty()) return;
   const size = Math.max(0.3, 1.5 * box.getSize(new THREE.Vector3()).length());
   const centre = box.getCenter(new THREE.Vector3());
@@ -99,6 +103,7 @@ function showTime(snapshot) {
 }
 
 let snapshotIds = [];
+let contactOverlay = null;
 let reloading = null;
 function applySnapshot(snapshot) {
   if (snapshot.body_ids) snapshotIds = snapshot.body_ids;
@@ -113,6 +118,10 @@ function applySnapshot(snapshot) {
     group.position.set(p[0], p[1], p[2]);
     group.quaternion.set(p[4], p[5], p[6], p[3]);
   });
+  if (contactOverlay && snapshot.contacts) {
+    contactOverlay.update(snapshot.contacts);
+    state.contacts = contactOverlay.count;
+  }
   state.snapshots += 1;
   state.lastSnapshot = { sequence: snapshot.sequence, revision: snapshot.revision, time: snapshot.time };
   showTime(snapshot);
@@ -155,6 +164,21 @@ async function loadGrasps(setId) {
   state.grasps = set.grasps?.length ?? 0;
 }
 
+function addContactToggle() {
+  const row = document.createElement('label');
+  row.innerHTML = '<input type="checkbox" id="show-contacts"> Contact points and forces <div class="sum" id="contact-legend"></div>';
+  $('overlays').append(row);
+  const overlay = new ContactOverlay(world, row.querySelector('#contact-legend'));
+  const box = row.querySelector('input');
+  box.checked = overlay.wanted = query.get('contacts') !== '0';
+  overlay.visible = box.checked;
+  box.onchange = () => {
+    overlay.wanted = overlay.visible = box.checked;
+    overlay.onChange?.();
+  };
+  return overlay;
+}
+
 // Body names on hover.
 const raycaster = new THREE.Raycaster();
 renderer.domElement.addEventListener('pointermove', (e) => {
@@ -191,8 +215,16 @@ async function main() {
   try {
     await loadScene();
     frameScene();
+    contactOverlay = addContactToggle();
     addOverlayHooks($('overlays'), world);
-    streamEvents('poses', 'snapshot', applySnapshot);
+    // Contacts ride on the pose events only while their overlay is on (?contacts=0 starts with it off).
+    let poses = null;
+    const connect = () => {
+      poses?.close();
+      poses = streamEvents(`poses${contactOverlay.wanted ? '?contacts=1' : ''}`, 'snapshot', applySnapshot);
+    };
+    contactOverlay.onChange = connect;
+    connect();
     if (query.get('grasp_set')) await loadGrasps(query.get('grasp_set'));
     $('status').textContent = 'live';
     state.ready = true;

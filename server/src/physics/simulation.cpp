@@ -116,6 +116,10 @@ StepStats Simulation::Step(SceneState* state, int steps) {
     throw;
   }
   stats.contacts = contacts_.size();
+  state->contacts.resize(contacts_.size());
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    state->contacts[i] = {contacts_[i].body_a, contacts_[i].body_b, contacts_[i].point, forces_[i]};
+  }
   for (size_t i = 0; i < model_->bodies.size(); ++i) {
     stats.awake_bodies += model_->bodies[i].motion == BodyMotion::kFree && !state->sleeping[i];
   }

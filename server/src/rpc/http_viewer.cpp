@@ -142,10 +142,33 @@ struct EventRelay {
   }
 };
 
+template <typename T>
+std::vector<T> Unpack(const std::string& bytes) {
+  std::vector<T> values(bytes.size() / sizeof(T));
+  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+  return values;
+}
+
+// Contacts at 4 significant digits (0.1 mm at 1 m, 0.01 % of the force): enough to draw, and a scene with
+// hundreds of contact points stays a few kB per event.
+std::string ContactsJson(const v1::SceneSnapshot& snapshot) {
+  const std::vector<double> values = Unpack<double>(snapshot.contacts());
+  const std::vector<uint32_t> bodies = Unpack<uint32_t>(snapshot.contact_bodies());
+  std::string json = ",\"contacts\":[";
+  char number[24];
+  for (size_t i = 0; i < values.size(); ++i) {
+    std::snprintf(number, sizeof number, "%s%.4g", i ? "," : "", std::isfinite(values[i]) ? values[i] : 0.0);
+    json += number;
+  }
+  json += "],\"contact_bodies\":[";
+  for (size_t i = 0; i < bodies.size(); ++i) json += (i ? "," : "") + std::to_string(bodies[i]);
+  return json + "]";
+}
+
 // Per connection: the body id list goes out with the first snapshot and again only when it changes.
-std::function<std::string(const v1::SceneSnapshot&)> SnapshotEncoder() {
+std::function<std::string(const v1::SceneSnapshot&)> SnapshotEncoder(bool contacts) {
   auto last_ids = std::make_shared<std::vector<std::string>>();
-  return [last_ids](const v1::SceneSnapshot& snapshot) {
+  return [last_ids, contacts](const v1::SceneSnapshot& snapshot) {
     std::string json = "{\"sequence\":" + std::to_string(snapshot.sequence()) +
                        ",\"revision\":" + std::to_string(snapshot.revision()) + ",\"time\":" + JsonNumber(snapshot.time());
     const std::vector<std::string> ids(snapshot.body_ids().begin(), snapshot.body_ids().end());
@@ -155,12 +178,12 @@ std::function<std::string(const v1::SceneSnapshot&)> SnapshotEncoder() {
       json += "]";
       *last_ids = ids;
     }
-    const std::string& bytes = snapshot.body_poses();
-    std::vector<double> poses(bytes.size() / sizeof(double));
-    std::memcpy(poses.data(), bytes.data(), poses.size() * sizeof(double));
+    const std::vector<double> poses = Unpack<double>(snapshot.body_poses());
     json += ",\"poses\":[";
     for (size_t i = 0; i < poses.size(); ++i) json += (i ? "," : "") + JsonNumber(poses[i]);
-    return SseEvent("snapshot", json + "]}");
+    json += "]";
+    if (contacts) json += ContactsJson(snapshot);
+    return SseEvent("snapshot", json + "}");
   };
 }
 
@@ -276,7 +299,11 @@ class ViewerRoutes {
     request.set_max_rate_hz(PositiveParam(req, "max_rate_hz", kDefaultPoseRateHz));
     relay->context = ContextFor(req, PositiveParam(req, "max_seconds", kDefaultStreamSeconds));
     relay->reader = scenes_->WatchScene(relay->context.get(), request);
-    relay->encode = SnapshotEncoder();
+    const std::string contacts = req.get_param_value("contacts");
+    if (!contacts.empty() && contacts != "0" && contacts != "1") {
+      ThrowInvalidArgument("contacts: '" + contacts.substr(0, 40) + "'; give 1 (with contact points) or 0");
+    }
+    relay->encode = SnapshotEncoder(contacts == "1");
     EventRelay<v1::SceneSnapshot>::Start(relay, res);
   }
 

@@ -7,8 +7,10 @@
 //   GET /view/<scene>/scene.json   bodies, joints, tactile arrays with inline geometry (GetScene): fetched once
 //                                  per viewer, again only when the snapshot's body list changes
 //   GET /view/<scene>/poses        Server-Sent Events: "snapshot" {sequence, revision, time, poses[7 per body],
-//                                  body_ids only when they changed on this connection}, from WatchScene —
-//                                  newest snapshot per viewer, at most max_rate_hz (default 30) per second
+//                                  body_ids only when they changed on this connection; with contacts=1 also
+//                                  contacts[6 per contact: point m, force on the first body N, world] and
+//                                  contact_bodies[2 per contact]}, from WatchScene — newest snapshot per
+//                                  viewer, at most max_rate_hz (default 30) per second
 //   GET /view/<scene>/tactile      Server-Sent Events: "reading" {sensor_id, time, rows, cols, intensities,
 //                                  intensity_sum} of every tactile array, from TactileService.Stream (rate_hz, 10)
 //   GET /view/<scene>/grasps?set_id=<id>   a stored grasp set (GetGraspSet), best ε first

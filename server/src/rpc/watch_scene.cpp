@@ -23,6 +23,8 @@ class WatchStream : public SnapshotStream<v1::SceneSnapshot> {
     message_.set_body_poses(snapshot.body_poses.data(), snapshot.body_poses.size() * sizeof(double));
     for (const auto& id : *snapshot.joint_ids) message_.add_joint_ids(id);
     message_.set_joint_positions(snapshot.joint_positions.data(), snapshot.joint_positions.size() * sizeof(double));
+    message_.set_contacts(snapshot.contacts.data(), snapshot.contacts.size() * sizeof(double));
+    message_.set_contact_bodies(snapshot.contact_bodies.data(), snapshot.contact_bodies.size() * sizeof(uint32_t));
     WriteLocked(&message_);
   }
 

@@ -256,6 +256,7 @@ uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& po
   for (const std::string& robot : moved_robots) {
     UpdateRobotLinkPoses(*model_, model_->robot_index.at(robot), &state);
   }
+  state.contacts.clear();  // they were where the bodies no longer are; the next step finds the new ones
   state_ = std::move(state);
   CommitLocked();
   return revision_;
@@ -298,6 +299,7 @@ uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, doubl
   for (const std::string& robot : moved_robots) {
     UpdateRobotLinkPoses(*model_, model_->robot_index.at(robot), &state);
   }
+  state.contacts.clear();  // they were where the bodies no longer are; the next step finds the new ones
   state_ = std::move(state);
   CommitLocked();
   return revision_;
@@ -351,6 +353,15 @@ void Scene::PublishLocked() {
     }
   }
   snapshot->joint_positions = state_.joint_positions;
+  snapshot->contacts.reserve(6 * state_.contacts.size());
+  snapshot->contact_bodies.reserve(2 * state_.contacts.size());
+  for (const auto& contact : state_.contacts) {
+    for (double v : {contact.point.x(), contact.point.y(), contact.point.z(), contact.force.x(), contact.force.y(),
+                     contact.force.z()}) {
+      snapshot->contacts.push_back(v);
+    }
+    snapshot->contact_bodies.insert(snapshot->contact_bodies.end(), {contact.body_a, contact.body_b});
+  }
   hub_.Publish(std::move(snapshot));
 }
 

@@ -19,6 +19,8 @@ struct SceneSnapshot {
   std::vector<double> body_poses;  // 7 per body: x y z qw qx qy qz
   std::shared_ptr<const std::vector<std::string>> joint_ids;
   std::vector<double> joint_positions;
+  std::vector<double> contacts;         // 6 per contact: point x y z (m), force on body_a x y z (N), world
+  std::vector<uint32_t> contact_bodies;  // 2 per contact: body_a, body_b (indices into body_ids)
 };
 
 class SnapshotWatcher {

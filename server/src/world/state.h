@@ -49,6 +49,14 @@ struct SceneState {
   // {force N, torque N m about the frame's origin}.
   // The force/torque sensor reading (sensors/readings.h). Sized by the simulation; zero before the first step.
   std::vector<std::array<Vec3, 2>> joint_wrenches;
+  // The contacts of the last sub-step, for viewers (world/snapshot_hub.h): where (world, m) and the force on the
+  // first body (world, N); body_a's sample lies inside body_b (collision/contact_finder.h). Set by the simulation.
+  struct Contact {
+    uint32_t body_a = 0, body_b = 0;  // indices into SceneModel::bodies
+    Vec3 point = Vec3::Zero();
+    Vec3 force = Vec3::Zero();
+  };
+  std::vector<Contact> contacts;
 };
 
 // Places every link of robot number `robot` (index into model.robots) from its base pose and joint positions

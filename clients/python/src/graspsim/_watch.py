@@ -1,7 +1,7 @@
 """WatchScene as a Python iterator of numpy snapshots."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import List
 
 import grpc
@@ -24,6 +24,10 @@ class Snapshot:
         poses: (N, 7) float64, one row [x y z (m), qw qx qy qz] per body, world frame.
         joint_ids: order of joint_positions.
         joint_positions: (J,) float64, rad or m.
+        contacts: (K, 6) float64, the last simulation step's contact points: [x y z (m), fx fy fz (N)], world
+            frame, the force acting on the first body of the pair.
+        contact_bodies: (K, 2) int, the pair of each contact: indices into body_ids (the first body's surface
+            sample lies inside the second).
     """
 
     sequence: int
@@ -33,6 +37,8 @@ class Snapshot:
     poses: np.ndarray
     joint_ids: List[str]
     joint_positions: np.ndarray
+    contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
+    contact_bodies: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
 
     @classmethod
     def from_proto(cls, msg: scene_pb2.SceneSnapshot) -> Snapshot:
@@ -42,8 +48,12 @@ class Snapshot:
         if poses.size != 7 * len(msg.body_ids) or joints.size != len(msg.joint_ids):
             raise ValueError(f"snapshot {msg.sequence}: {poses.size} pose values for {len(msg.body_ids)} bodies, "
                              f"{joints.size} joint values for {len(msg.joint_ids)} joints")
+        contacts = np.frombuffer(msg.contacts, dtype="<f8").astype(np.float64)
+        pairs = np.frombuffer(msg.contact_bodies, dtype="<u4").astype(np.int64)
+        if contacts.size != 3 * pairs.size:
+            raise ValueError(f"snapshot {msg.sequence}: {contacts.size} contact values for {pairs.size // 2} pairs")
         return cls(msg.sequence, msg.revision, msg.time, list(msg.body_ids), poses.reshape(-1, 7),
-                   list(msg.joint_ids), joints)
+                   list(msg.joint_ids), joints, contacts.reshape(-1, 6), pairs.reshape(-1, 2))
 
     def pose(self, body_id: str) -> Pose:
         """The world pose of one body; ValueError if the snapshot does not hold it."""
