@@ -70,7 +70,11 @@ class GatewayStream final : public grpc::ServerBidiReactor<v1::GatewayMessage, v
     }
     WriteNextLocked();
   }
-  void OnCancel() override { hub_->Close(session_, "the gateway's stream was cancelled"); }
+  void OnCancel() override {
+    hub_->Close(session_, "the gateway's stream was cancelled");
+    std::lock_guard<std::mutex> lock(mutex_);
+    FinishLocked(grpc::Status(grpc::StatusCode::CANCELLED, "the gateway's stream was cancelled"));  // OnDone needs it
+  }
   void OnDone() override {
     hub_->Close(session_, "the gateway's stream ended");  // after this the hub never calls the sink again
     Log(LogLevel::kInfo, "gateway disconnected", {{"peer", context_->peer()}});
