@@ -15,7 +15,7 @@ def test_demo_runs(server, tmp_path):
     for expected in ("pg70", "cube_5cm", "pg70/finger_left_joint", "14 rows x 6 cols", "5 bodies, 1 robot",
                      "cube at rest on the table", "PG70 closed", "held by friction",
                      "tactile work cycle", "approach > grasp > lift > hold > move_down > release > done",
-                     "peak sums", "cube lifted", "put back", "hardware gateway", "robotiq-tcp moved to 30.0 mm",
+                     "peak sums", "cube lifted", "put back", "added as 'cube_seen'", "hardware gateway", "robotiq-tcp moved to 30.0 mm",
                      "refused: INVALID_ARGUMENT", "e-stop: ", "beside its simulated twin", "surprise peak"):
         assert expected in result.stdout, f"{expected!r} missing from:\n{result.stdout}"
     pytest.importorskip("matplotlib")

@@ -151,3 +151,16 @@ def test_bad_input_names_field_and_value(start_server):
 def test_segment_scene_rejects_empty_cloud(client):
     with expect_error(IA, "cloud.points: the cloud is empty"):
         client.segment_scene(np.zeros((0, 3)))
+
+
+def test_shape_completion_example_saves_pictures(server, tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+    example = Path(__file__).resolve().parents[2] / "clients" / "python" / "examples" / "shape_completion.py"
+    result = subprocess.run([sys.executable, str(example), "--server", server.address, "--out", str(tmp_path)],
+                            capture_output=True, text=True, timeout=180)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "cube:" in result.stdout and "can:" in result.stdout
+    pytest.importorskip("matplotlib")
+    assert (tmp_path / "shape_completion.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -7,9 +7,10 @@ gateway that Matlab and browsers use, then simulate: the cube settles, the PG70 
 control with a current (force) limit, and the table is taken away while the fingers hold the cube. Last, the
 tactile work cycle in a fresh scene (a PG70 on a vertical axis: approach, grasp under tactile force control,
 lift, hold, move down, release; examples/tactile_cycle.py runs it at several coverages) with its summary, and
-its plots when matplotlib is installed. Then grasp planning: the PG70's grasp set of the cube on the table
-(examples/grasp_planning.py does all three hands and draws them; shape completion, which would give the
-object's completed mesh, is a later issue, so the cube's own geometry is planned on). Last, the hardware gateway
+its plots when matplotlib is installed. Then shape completion and grasp planning: a simulated depth camera sees
+the cube from one side, PerceptionService completes it by its symmetry (examples/shape_completion.py), the
+completed mesh joins a table scene as an object, and the PG70's grasp set is planned on it (examples/
+grasp_planning.py does all three hands on the true cube and draws them). Last, the hardware gateway
 with emulated grippers (examples/hardware_gateway.py): commands through the server, an e-stop, and a PG70 move
 beside its simulated twin with the surprise. Exits non-zero on any error.
 
@@ -28,6 +29,7 @@ import numpy as np
 import graspsim
 import grasp_planning  # examples/grasp_planning.py, next to this file
 import hardware_gateway  # examples/hardware_gateway.py, next to this file
+import shape_completion  # examples/shape_completion.py, next to this file
 import tactile_cycle  # examples/tactile_cycle.py, next to this file
 from graspsim.v1 import common_pb2
 
@@ -167,9 +169,21 @@ def run_work_cycle(client: graspsim.Client, out) -> None:
 
 
 def plan_grasps(client: graspsim.Client) -> None:
-    print("\ngrasp planning (the cube on the table, bounding-box candidates, stored for the next run):")
-    scene_id = grasp_planning.build_scene(client)
-    grasp_planning.plan(client, scene_id, "schunk_pg70")
+    print("\nshape completion (the cube seen from one side by a simulated depth camera):")
+    scene_id = client.create_scene("completed cube").id
+    client.add_object(scene_id, "table", builtin="table")
+    cube_v, cube_t = graspsim.meshes.box_mesh([CUBE_EDGE] * 3)
+    cube_v = np.asarray(cube_v) + [0, 0, TABLE_TOP_Z + CUBE_EDGE / 2]
+    camera, depth, mask = shape_completion.seen_from_one_side(cube_v, cube_t, TABLE_TOP_Z)
+    shape = client.complete_shape(camera, depth=depth, intrinsics=shape_completion.INTRINSICS, mask=mask,
+                                  table_pose=[0, 0, TABLE_TOP_Z, 1, 0, 0, 0], refinements=2,
+                                  add_to_scene_id=scene_id, object_name="cube_seen", object_mass=0.1)
+    size = shape.vertices.max(axis=0) - shape.vertices.min(axis=0)
+    print(f"  {int(mask.sum())} pixels seen; completed into {len(shape.triangles)} triangles, "
+          f"{np.round(size * 1e3).astype(int).tolist()} mm across (true: 50 mm), in {shape.timings_ms['total']:.0f} ms;"
+          f" added as {shape.body_id!r}")
+    print("grasp planning (the completed cube on the table, bounding-box candidates, stored for the next run):")
+    grasp_planning.plan(client, scene_id, "schunk_pg70", body_id=shape.body_id)
     client.delete_scene(scene_id)
 
 
