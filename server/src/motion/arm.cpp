@@ -40,6 +40,7 @@ ArmModel::ArmModel(const SceneModel& model, const SceneState& state, const std::
     const size_t body = model.body_index.at(id);
     ArmLink link;
     link.body = body;
+    link.id = id;
     const auto joint = joint_of_body.find(body);
     if (joint != joint_of_body.end()) link.parent = link_of_body.at(model.joint_bodies[joint->second][0]);
     link_joint.push_back(joint == joint_of_body.end() ? SIZE_MAX : joint->second);
@@ -138,7 +139,7 @@ VecX ArmModel::Positions(const SceneState& state) const {
   return q;
 }
 
-void ArmModel::LinkTransforms(const VecX& q, std::vector<Rigid>* out) const {
+void ArmModel::LinkTransforms(const Eigen::Ref<const VecX>& q, std::vector<Rigid>* out) const {
   out->resize(links_.size());
   for (size_t l = 0; l < links_.size(); ++l) {
     const ArmLink& link = links_[l];

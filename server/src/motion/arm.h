@@ -38,6 +38,7 @@ struct Rigid {
 // One body of the robot, placed relative to its parent body.
 struct ArmLink {
   size_t body = 0;        // index into SceneModel::bodies
+  std::string id;         // its body id, "<robot>/<link>"
   int parent = -1;        // index into ArmModel::links(); -1 for the base body
   Rigid offset;           // parent frame -> joint frame (held joints: their motion included)
   int dof = -1;           // the arm joint moving this link, -1 if rigid on its parent
@@ -75,7 +76,7 @@ class ArmModel {
   VecX Positions(const SceneState& state) const;
 
   // World transform of every link (indexed like links()); *out is resized once and reused.
-  void LinkTransforms(const VecX& q, std::vector<Rigid>* out) const;
+  void LinkTransforms(const Eigen::Ref<const VecX>& q, std::vector<Rigid>* out) const;
   Rigid TipTransform(const VecX& q) const;
   Pose TipPose(const VecX& q) const { return TipTransform(q).ToPose(); }
   // Geometric Jacobian of the tip (rows: linear velocity of the tip origin, angular velocity; world frame).

@@ -47,11 +47,15 @@ IkResult SolveIkDls(const ArmModel& arm, const Pose& target, const IkOptions& op
     } else {
       for (size_t i = 0; i < n; ++i) q[i] = arm.lower()[i] + unit(rng) * (arm.upper()[i] - arm.lower()[i]);
     }
-    double error = INFINITY;
+    double error = INFINITY, checkpoint = INFINITY;
     for (unsigned it = 0; it < options.iterations; ++it) {
       const Vec6 e = PoseError(goal, arm.TipTransform(q));
       error = ErrorNorm(e);
       if (error < options.tolerance) break;
+      if (it % 16 == 0) {  // stuck (against a limit, in a local minimum): another start is cheaper
+        if (error > 0.5 * checkpoint) break;
+        checkpoint = error;
+      }
       const Eigen::Matrix<double, 6, Eigen::Dynamic> j = arm.Jacobian(q);
       // Damping fades with the error: robust far away, Gauss-Newton's fast convergence close by.
       const double lambda2 = std::min(1e-2, 1e-2 * error * error);

@@ -24,7 +24,7 @@
 namespace graspsim::motion {
 
 struct IkOptions {
-  size_t max_solutions = 16;       // DLS only: the closed form returns every solution
+  size_t max_solutions = 8;        // DLS only: the closed form returns every solution
   uint64_t seed = 1;
   unsigned restarts = 32;          // DLS: random starts tried (after the seed configuration)
   unsigned iterations = 200;       // DLS: steps per start

@@ -1,0 +1,54 @@
+// Collision-free arm paths (PAPERS.md part C: "IK, RRT-based arm path"): RRT-Connect (Kuffner & LaValle 2000,
+// OMPL's implementation) in joint space with the sphere-model checker (collision_checker.h), then shortcutting
+// and time parameterisation (trajectory.h).
+//
+// Stages: validate (start within limits and free, at least one goal free: else FAILED_PRECONDITION naming what
+// blocks it) → try the straight segment → RRT-Connect until a path, the timeout or cancellation → shortcut
+// (greedy: from each waypoint jump to the farthest one in free sight; then random shortcuts) → time it.
+// Every segment of the result passed the conservative motion check, so the swept arm touches nothing.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "motion/collision_checker.h"
+#include "motion/ik.h"
+#include "motion/trajectory.h"
+
+namespace graspsim::motion {
+
+struct PlanOptions {
+  double timeout = 2.0;            // s of search before reporting that no path was found
+  uint64_t seed = 1;               // same seed, same problem: same path (the search is not timed)
+  double range = 0;                // RRT-Connect's longest step, rad or m (0: a quarter of the largest joint range)
+  unsigned shortcut_rounds = 24;   // random shortcut attempts after the greedy pass
+  bool try_direct = true;          // check the straight segment to each goal before searching
+  VecX acceleration;               // per joint, rad/s²; empty: twice the velocity limit per second (no datasheet value)
+  std::function<bool()> cancelled; // polled during the search
+};
+
+struct PlanResult {
+  std::vector<VecX> path;          // waypoints after shortcutting, start first
+  Trajectory trajectory;
+  size_t goal_index = 0;           // which goal it reaches
+  bool direct = false;             // the straight segment was free
+  bool cancelled = false;          // stopped by `cancelled`: path empty
+  size_t raw_waypoints = 0;        // before shortcutting
+  uint64_t checks = 0;             // configurations tested
+  double seconds = 0;              // wall time of the whole plan
+};
+
+// Throws Error(kInvalidArgument) for a start or goal of the wrong size or non-finite, Error(kFailedPrecondition)
+// when the start is outside the limits or collides, when every goal does, or when no path was found in time
+// (each message says which and why).
+PlanResult PlanPath(const CollisionChecker& checker, const VecX& start, const std::vector<VecX>& goals,
+                    const PlanOptions& options = {});
+
+// The goal as a pose of the arm's tip: every IK solution (ik.h) that is collision-free is a goal.
+// FAILED_PRECONDITION when the pose is out of reach, outside the limits, or every solution collides.
+PlanResult PlanPathToPose(const CollisionChecker& checker, const VecX& start, const Pose& goal,
+                          const PlanOptions& options = {}, IkOptions ik_options = {});
+
+}  // namespace graspsim::motion
