@@ -115,6 +115,8 @@ def test_cancel_and_deadline_stop_planning(client):
     (dict(hand="schunk_pg70", mesh=box(), preshapes=["fist"]), ["preshapes[0]", "fist"]),
     (dict(hand="schunk_pg70", mesh=box(), standoffs=[0.5]), ["standoffs[0]", "0.5"]),
     (dict(hand="schunk_pg70", scene_id="nope", body_id="cube"), ["nope"]),
+    (dict(hand="schunk_pg70", mesh=box(), friction_pairs={("a", "b"): 0.0}), ["friction_pairs[0].friction", "0"]),
+    (dict(hand="schunk_pg70", mesh=box(), link_materials={"thumb": "rubber"}), ["link_materials", "thumb"]),
 ])
 def test_bad_input_is_rejected_naming_the_field(client, kwargs, fragments):
     with pytest.raises(graspsim.GraspsimError) as info:
@@ -132,3 +134,25 @@ def test_get_grasp_set_errors(client):
     with pytest.raises(graspsim.GraspsimError) as info:
         client.get_grasp_set("0" * 64)
     assert info.value.code == grpc.StatusCode.NOT_FOUND
+
+
+def test_material_pairs_set_each_contacts_friction(client):
+    """Every PG70 link rubber on a wooden box at μ 0.8 plans exactly the set of friction=0.8, under its own
+    store key; the pair in either order and as (a, b, μ) triples is the same request."""
+    common = dict(mesh=box(), spacing=0.02, progress=False, recompute=True)
+    links = {"base_link": "rubber", "finger_left": "rubber", "finger_right": "rubber"}
+    by_pair = client.plan_grasps("schunk_pg70", object_material="wood", link_materials=links,
+                                 friction_pairs={("wood", "rubber"): 0.8}, **common)
+    plain = client.plan_grasps("schunk_pg70", friction=0.8, **common)
+    assert len(by_pair.grasps) > 0 and by_pair.set_id != plain.set_id
+    np.testing.assert_array_equal(by_pair.grasps["epsilon"], plain.grasps["epsilon"])
+    np.testing.assert_array_equal(by_pair.grasps["candidate_index"], plain.grasps["candidate_index"])
+    again = client.plan_grasps("schunk_pg70", object_material="wood", link_materials=links,
+                               friction_pairs=[("rubber", "wood", 0.8)], mesh=box(), spacing=0.02, progress=False)
+    assert again.from_store and again.set_id == by_pair.set_id
+    # A slippery left jaw (steel on the default material, μ 0.1) never raises a grasp's ε.
+    slippery = client.plan_grasps("schunk_pg70", link_materials={"finger_left": "steel"},
+                                  friction_pairs={("steel", "default"): 0.1}, **common)
+    default = client.plan_grasps("schunk_pg70", **common)
+    assert slippery.grasps["epsilon"].max() < default.grasps["epsilon"].max()
+    assert by_pair.cpu_seconds > 0

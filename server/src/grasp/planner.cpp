@@ -57,6 +57,23 @@ void ValidateSimulationParams(const SimulationParams& p) {
   CheckRange("contact_tolerance", p.contact_tolerance, 0, 0.05, " m");
   CheckRange("sample_spacing", p.sample_spacing, kMinSampleSpacing, 0.05, " m");
   CheckCount("contacts_per_link", p.contacts_per_link, 1, 4);
+  for (size_t i = 0; i < p.friction_pairs.size(); ++i) {
+    const std::string field = "friction_pairs[" + std::to_string(i) + "]";
+    const FrictionPair& pair = p.friction_pairs[i];
+    if (!std::isfinite(pair.friction) || pair.friction <= 0) {
+      ThrowInvalidArgument(field + ".friction: " + FormatNumber(pair.friction) + "; give a friction coefficient > 0");
+    }
+    CheckRange(field + ".friction", pair.friction, 0, 10, "");
+    for (size_t j = 0; j < i; ++j) {
+      SimulationParams earlier;  // μ of this pair under the earlier pair alone: > 0 when it is the same pair
+      earlier.friction = -1;
+      earlier.friction_pairs = {p.friction_pairs[j]};
+      if (PairFriction(earlier, pair.material_a, pair.material_b) > 0) {
+        ThrowInvalidArgument(field + ": the pair ('" + pair.material_a + "', '" + pair.material_b +
+                             "') is also friction_pairs[" + std::to_string(j) + "]");
+      }
+    }
+  }
 }
 
 void ValidateCandidateParams(const CandidateParams& p) {
@@ -84,6 +101,15 @@ GraspPlanner::GraspPlanner(const std::string& hand, std::shared_ptr<const Triang
     : hand_spec_(LoadHand("hand", hand)), device_(std::make_unique<RayDevice>()) {
   ValidateSimulationParams(params);
   hand_model_ = std::make_unique<HandModel>(hand_spec_, device_->get(), params.sample_spacing);
+  for (const auto& [link, material] : params.link_materials) {
+    const auto& links = hand_model_->links();
+    if (std::none_of(links.begin(), links.end(), [&](const HandLink& l) { return l.name == link; })) {
+      std::string names;
+      for (const HandLink& l : links) names += (names.empty() ? "" : ", ") + l.name;
+      ThrowInvalidArgument("link_materials: '" + link.substr(0, 80) + "' is not a link of " + hand_spec_.name +
+                           " (" + names + ")");
+    }
+  }
   object_ = std::make_unique<GraspObject>(std::move(mesh), std::move(obstacles), device_->get());
   simulator_ = std::make_unique<GraspSimulator>(*hand_model_, *object_, params);
 }
@@ -115,7 +141,7 @@ void GraspPlanner::AddVolumes(std::vector<PlannedGrasp>* grasps, int threads) co
     for (size_t i = first; i < count; i += stride) {
       PlannedGrasp& grasp = (*grasps)[i];
       ContactWrenches(grasp.contacts.data(), grasp.contacts.size(), object_->centroid(),
-                      object_->characteristic_length(), p.friction, p.cone_edges, &wrenches);
+                      object_->characteristic_length(), simulator_->link_friction(), p.cone_edges, &wrenches);
       grasp.quality.volume = HullQuality(wrenches, true).volume;
     }
   };

@@ -49,23 +49,34 @@ bool SpansR6(const std::vector<Wrench>& wrenches) {
   return values(5) > 0 && values(0) > kFlatRatio * kFlatRatio * values(5);
 }
 
+
+void AppendContactWrenches(const GraspContact& c, const Vec3& centroid, double length, double friction,
+                           int cone_edges, std::vector<Wrench>* wrenches) {
+  const int edges = friction > 0 ? cone_edges : 1;
+  Vec3 t1, t2;
+  TangentBasis(c.normal, &t1, &t2);
+  const Vec3 arm = (c.point - centroid) / length;
+  for (int k = 0; k < edges; ++k) {
+    const double theta = 2 * std::numbers::pi * k / edges;
+    const Vec3 f = friction > 0 ? Vec3(c.normal + friction * (std::cos(theta) * t1 + std::sin(theta) * t2)) : c.normal;
+    const Vec3 tau = arm.cross(f);
+    wrenches->push_back({f.x(), f.y(), f.z(), tau.x(), tau.y(), tau.z()});
+  }
+}
+
 }  // namespace
 
 void ContactWrenches(const GraspContact* contacts, size_t count, const Vec3& centroid, double length,
                      double friction, int cone_edges, std::vector<Wrench>* wrenches) {
   wrenches->clear();
-  const int edges = friction > 0 ? cone_edges : 1;
+  for (size_t i = 0; i < count; ++i) AppendContactWrenches(contacts[i], centroid, length, friction, cone_edges, wrenches);
+}
+
+void ContactWrenches(const GraspContact* contacts, size_t count, const Vec3& centroid, double length,
+                     const std::vector<double>& link_friction, int cone_edges, std::vector<Wrench>* wrenches) {
+  wrenches->clear();
   for (size_t i = 0; i < count; ++i) {
-    const GraspContact& c = contacts[i];
-    Vec3 t1, t2;
-    TangentBasis(c.normal, &t1, &t2);
-    const Vec3 arm = (c.point - centroid) / length;
-    for (int k = 0; k < edges; ++k) {
-      const double theta = 2 * std::numbers::pi * k / edges;
-      const Vec3 f = friction > 0 ? Vec3(c.normal + friction * (std::cos(theta) * t1 + std::sin(theta) * t2)) : c.normal;
-      const Vec3 tau = arm.cross(f);
-      wrenches->push_back({f.x(), f.y(), f.z(), tau.x(), tau.y(), tau.z()});
-    }
+    AppendContactWrenches(contacts[i], centroid, length, link_friction[contacts[i].link], cone_edges, wrenches);
   }
 }
 
@@ -133,6 +144,12 @@ Quality FastQuality(const std::vector<Wrench>& wrenches) {
 Quality GraspQuality(const GraspContact* contacts, size_t count, const Vec3& centroid, double length,
                      double friction, int cone_edges, std::vector<Wrench>* scratch) {
   ContactWrenches(contacts, count, centroid, length, friction, cone_edges, scratch);
+  return FastQuality(*scratch);
+}
+
+Quality GraspQuality(const GraspContact* contacts, size_t count, const Vec3& centroid, double length,
+                     const std::vector<double>& link_friction, int cone_edges, std::vector<Wrench>* scratch) {
+  ContactWrenches(contacts, count, centroid, length, link_friction, cone_edges, scratch);
   return FastQuality(*scratch);
 }
 

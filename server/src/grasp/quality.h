@@ -41,6 +41,10 @@ using Wrench = std::array<double, 6>;
 void ContactWrenches(const GraspContact* contacts, size_t count, const Vec3& centroid, double length,
                      double friction, int cone_edges, std::vector<Wrench>* wrenches);
 
+// The same with μ per hand link: contact i has μ = link_friction[contacts[i].link] (> 0).
+void ContactWrenches(const GraspContact* contacts, size_t count, const Vec3& centroid, double length,
+                     const std::vector<double>& link_friction, int cone_edges, std::vector<Wrench>* wrenches);
+
 // ε, volume and force closure of the convex hull of `wrenches` (qhull, the whole hull). Degenerate sets (fewer
 // than 7 points, or not spanning R^6) are not force closure: ε = volume = 0. `joggle` (qhull's QJ: the input
 // moved by ~1e-11 relative, with qhull's fixed seed, so repeatable) builds a simplicial hull without facet
@@ -54,5 +58,7 @@ Quality FastQuality(const std::vector<Wrench>& wrenches);
 // ContactWrenches, then FastQuality.
 Quality GraspQuality(const GraspContact* contacts, size_t count, const Vec3& centroid, double length,
                      double friction, int cone_edges, std::vector<Wrench>* scratch);
+Quality GraspQuality(const GraspContact* contacts, size_t count, const Vec3& centroid, double length,
+                     const std::vector<double>& link_friction, int cone_edges, std::vector<Wrench>* scratch);
 
 }  // namespace graspsim::grasp

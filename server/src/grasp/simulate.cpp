@@ -11,6 +11,8 @@ namespace {
 constexpr size_t kPassStride = 8;
 // Added to every ray's length: the float tfar then never rounds below a hit the double comparison keeps, m.
 constexpr double kReachMargin = 1e-6;
+// The material of everything not given one.
+const std::string kDefaultMaterial = "default";
 // Rays shorter than this are culled by a division-free test (NearBoxAndBall), m.
 constexpr double kShortReach = 0.01;
 
@@ -76,7 +78,23 @@ GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object,
   for (const HandFinger& finger : hand.fingers()) {
     for (int l : finger.links) link_moves_[l] = true;
   }
-  for (size_t l = 0; l < hand.links().size(); ++l) all_links_.push_back(static_cast<int>(l));
+  for (size_t l = 0; l < hand.links().size(); ++l) {
+    all_links_.push_back(static_cast<int>(l));
+    const auto it = params.link_materials.find(hand.links()[l].name);
+    const std::string& material = it == params.link_materials.end() ? "" : it->second;
+    link_friction_.push_back(PairFriction(params, material, params.object_material));
+  }
+}
+
+double PairFriction(const SimulationParams& params, const std::string& a, const std::string& b) {
+  const std::string& x = a.empty() ? kDefaultMaterial : a;
+  const std::string& y = b.empty() ? kDefaultMaterial : b;
+  for (const FrictionPair& pair : params.friction_pairs) {
+    const std::string& p = pair.material_a.empty() ? kDefaultMaterial : pair.material_a;
+    const std::string& q = pair.material_b.empty() ? kDefaultMaterial : pair.material_b;
+    if ((p == x && q == y) || (p == y && q == x)) return pair.friction;
+  }
+  return params.friction;
 }
 
 Quat GraspSimulator::HandOrientation(const Candidate& c) {
@@ -380,7 +398,7 @@ Outcome GraspSimulator::Simulate(const Candidate& c, SimulationWork* w) const {
   // 5. Score.
   ReduceContacts(w);
   w->quality = GraspQuality(w->contacts.data(), w->contacts.size(), object_.centroid(),
-                            object_.characteristic_length(), params_.friction, params_.cone_edges, &w->wrenches);
+                            object_.characteristic_length(), link_friction_, params_.cone_edges, &w->wrenches);
   return Outcome::kGrasp;
 }
 

@@ -15,6 +15,8 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "core/math.h"
@@ -34,13 +36,27 @@ struct Candidate {
   uint32_t preshape = 0;           // index into the hand's pre-shapes
 };
 
+// The friction coefficient of two named materials (either order).
+struct FrictionPair {
+  std::string material_a, material_b;
+  double friction = 0.4;  // μ, dimensionless, > 0
+};
+
 struct SimulationParams {
-  double friction = 0.4;            // μ, dimensionless
+  double friction = 0.4;            // μ, dimensionless: every material pair not in friction_pairs
   int cone_edges = 8;
   double contact_tolerance = 1e-3;  // m: surfaces closer than this touch
   double sample_spacing = 3e-3;     // m, of the hand's surface samples
   int contacts_per_link = 4;        // a link's contact patch is kept as its extreme points (the hull's corners)
+  // Materials: the object's, and per hand link (by name); "" and links not listed are "default". A contact's μ
+  // is its link and the object's pair in friction_pairs, else `friction`.
+  std::string object_material;
+  std::map<std::string, std::string> link_materials;
+  std::vector<FrictionPair> friction_pairs;
 };
+
+// μ of one material pair under `params` (friction_pairs in either order, else params.friction).
+double PairFriction(const SimulationParams& params, const std::string& a, const std::string& b);
 
 enum class Outcome : uint8_t {
   kGrasp,      // simulated and scored (force closure or not)
@@ -89,6 +105,8 @@ class GraspSimulator {
   static Quat HandOrientation(const Candidate& candidate);
 
   const SimulationParams& params() const { return params_; }
+  // μ of each hand link against the object (SimulationParams' materials).
+  const std::vector<double>& link_friction() const { return link_friction_; }
 
  private:
   bool CollidesWithObstacles(const std::vector<Pose>& poses) const;
@@ -108,6 +126,7 @@ class GraspSimulator {
   std::vector<double> preshape_reach_;  // per pre-shape: farthest hand sample from the hand origin, m
   std::vector<bool> link_moves_;        // per link: moved by some finger
   std::vector<int> all_links_;
+  std::vector<double> link_friction_;
 };
 
 }  // namespace graspsim::grasp

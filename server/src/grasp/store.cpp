@@ -2,6 +2,7 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -196,6 +197,19 @@ GraspSetKey MakeGraspSetKey(const std::string& hand, const std::string& mesh_has
     for (int k = 0; k < 3; ++k) text << Exact(o.centre[k]) << "," << Exact(o.half[k]) << ",";
     for (int k = 0; k < 9; ++k) text << Exact(o.axes(k)) << ",";
     text << ";";
+  }
+  // Materials only when given, so that the keys of sets planned without them stay what they were.
+  if (!s.object_material.empty() || !s.link_materials.empty() || !s.friction_pairs.empty()) {
+    text << "\nobject_material=" << s.object_material << "\nlink_materials=";
+    for (const auto& [link, material] : s.link_materials) text << link << ":" << material << ",";
+    std::vector<std::string> pairs;
+    for (const FrictionPair& p : s.friction_pairs) {
+      const auto [x, y] = std::minmax(p.material_a, p.material_b);
+      pairs.push_back(x + ":" + y + "=" + Exact(p.friction));
+    }
+    std::sort(pairs.begin(), pairs.end());
+    text << "\nfriction_pairs=";
+    for (const std::string& p : pairs) text << p << ",";
   }
   return {Sha256Hex(text.str()), text.str()};
 }

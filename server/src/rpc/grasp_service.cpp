@@ -40,13 +40,21 @@ ResolvedObject ObjectFromProto(const v1::GraspTarget& target, const SceneRegistr
   return out;
 }
 
-grasp::SimulationParams SimulationFromProto(bool has_friction, double friction) {
+// PlanGraspsRequest and EvaluateGraspRequest share these fields.
+template <class Request>
+grasp::SimulationParams SimulationFromProto(const Request& r) {
   grasp::SimulationParams params;
-  if (has_friction) {
-    if (!std::isfinite(friction) || friction <= 0) {
-      ThrowInvalidArgument("friction: " + FormatNumber(friction) + "; give a friction coefficient > 0 (absent = 0.4)");
+  if (r.has_friction()) {
+    if (!std::isfinite(r.friction()) || r.friction() <= 0) {
+      ThrowInvalidArgument("friction: " + FormatNumber(r.friction()) +
+                           "; give a friction coefficient > 0 (absent = 0.4)");
     }
-    params.friction = friction;
+    params.friction = r.friction();
+  }
+  params.object_material = r.object_material();
+  for (const auto& [link, material] : r.link_materials()) params.link_materials[link] = material;
+  for (const v1::FrictionPair& pair : r.friction_pairs()) {
+    params.friction_pairs.push_back({pair.material_a(), pair.material_b(), pair.friction()});
   }
   grasp::ValidateSimulationParams(params);
   return params;
@@ -118,7 +126,7 @@ GraspPlanJob PlanJobFromProto(const v1::PlanGraspsRequest& r, const SceneRegistr
   GraspPlanJob job;
   const grasp::HandSpec hand = grasp::LoadHand("hand", r.hand());
   job.hand = r.hand();
-  job.simulation = SimulationFromProto(r.has_friction(), r.friction());
+  job.simulation = SimulationFromProto(r);
   grasp::CandidateParams& c = job.candidates;
   const std::string method = r.method().empty() ? "bounding_box" : r.method();
   const auto parsed = grasp::ParseCandidateMethod(method);
@@ -170,6 +178,7 @@ void ToProto(const grasp::GraspSet& set, const grasp::StoredGraspSet& meta, bool
   out->set_simulated(set.simulated);
   out->set_force_closure(set.force_closure);
   out->set_seconds(set.seconds);
+  out->set_cpu_seconds(from_store ? 0.0 : set.cpu_seconds);
   for (const std::string& id : set.joint_names) out->add_joint_ids(id);
   for (const std::string& name : set.preshape_names) out->add_preshapes(name);
   for (const grasp::PlannedGrasp& g : set.grasps) GraspToProto(g, set.preshape_names, set.link_names, "grasp", out->add_grasps());
@@ -199,7 +208,7 @@ grpc::ServerUnaryReactor* GraspServiceImpl::EvaluateGrasp(Context* context, cons
                                                           v1::Grasp* response) {
   return RunUnary(context, "GraspService/EvaluateGrasp", pool_, [=, this] {
     const grasp::HandSpec hand = grasp::LoadHand("hand", request->hand());
-    const grasp::SimulationParams params = SimulationFromProto(request->has_friction(), request->friction());
+    const grasp::SimulationParams params = SimulationFromProto(*request);
     if (!request->has_candidate()) ThrowInvalidArgument("candidate: absent; give the candidate to simulate");
     const grasp::Candidate candidate = CandidateFromProto(request->candidate(), hand);
     ResolvedObject object = ObjectFromProto(request->object(), *registry_);

@@ -8,7 +8,7 @@ import grpc
 from graspsim import _build
 from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
 from graspsim._gateway import GatewayMethods
-from graspsim._grasp import GraspSetResult, grasps_to_arrays, target_proto
+from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, target_proto
 from graspsim._perception import PerceptionMethods
 from graspsim._pose import Pose, PoseLike, as_pose
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
@@ -313,7 +313,8 @@ class Client(GatewayMethods, PerceptionMethods):
                     grasp_points=None, seed: Optional[int] = None, max_candidates: int = 0, max_grasps: int = 0,
                     recompute: bool = False, progress: bool = True,
                     on_progress: Optional[Callable[[int, int], None]] = None,
-                    timeout: Optional[float] = None) -> GraspSetResult:
+                    timeout: Optional[float] = None, object_material: Optional[str] = None,
+                    link_materials: Optional[Dict[str, str]] = None, friction_pairs=None) -> GraspSetResult:
         """Plans the grasp set of an object for a built-in hand ("schunk_pg70", "barrett_bh8_282", "schunk_sdh2"),
         or returns the stored one (same hand, mesh, obstacles, parameters: .from_store is True).
 
@@ -324,6 +325,8 @@ class Client(GatewayMethods, PerceptionMethods):
         max_candidates (0 = all); max_grasps kept (0 = 50). progress=True shows a tqdm bar when tqdm is
         installed; on_progress(done, total) is called with every progress message. Returns a GraspSetResult
         whose .grasps and .contacts are numpy structured arrays (object frame). timeout (s) bounds the call.
+        Materials: object_material, link_materials {hand link: material} (None/unlisted = "default") and
+        friction_pairs {(material_a, material_b): μ} give each contact the μ of its pair (else friction).
         """
         request = grasp_pb2.PlanGraspsRequest(object=target_proto(scene_id, body_id, mesh), hand=hand,
                                               method=method, preshapes=list(preshapes), standoffs=list(standoffs),
@@ -333,6 +336,7 @@ class Client(GatewayMethods, PerceptionMethods):
                             ("circle_samples", circle_samples), ("seed", seed)):
             if value is not None:
                 setattr(request, name, value)
+        set_materials(request, object_material, link_materials, friction_pairs)
         if grasp_points is not None:
             a, b = grasp_points
             request.grasp_point_a.CopyFrom(common_pb2.Vec3(x=a[0], y=a[1], z=a[2]))
@@ -372,13 +376,17 @@ class Client(GatewayMethods, PerceptionMethods):
             self._unary("GetGraspSet", grasp_pb2.GetGraspSetRequest(set_id=set_id), self.grasp_stub))
 
     def evaluate_grasp(self, hand: str, candidate: grasp_pb2.GraspCandidate, *, scene_id: Optional[str] = None,
-                       body_id: Optional[str] = None, mesh=None, friction: Optional[float] = None):
+                       body_id: Optional[str] = None, mesh=None, friction: Optional[float] = None,
+                       object_material: Optional[str] = None, link_materials: Optional[Dict[str, str]] = None,
+                       friction_pairs=None):
         """Simulates one candidate (a grasp_pb2.GraspCandidate, object frame); returns (grasp row, contacts) as
-        structured arrays of one grasp, whatever its outcome ("grasp", "missed", "collision")."""
+        structured arrays of one grasp, whatever its outcome ("grasp", "missed", "collision"). Materials as in
+        plan_grasps."""
         request = grasp_pb2.EvaluateGraspRequest(object=target_proto(scene_id, body_id, mesh), hand=hand,
                                                  candidate=candidate)
         if friction is not None:
             request.friction = friction
+        set_materials(request, object_material, link_materials, friction_pairs)
         reply = self._unary("EvaluateGrasp", request, self.grasp_stub)
         rows, contacts = grasps_to_arrays([reply], len(reply.joint_positions))
         return rows[0], contacts

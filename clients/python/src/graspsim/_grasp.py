@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
@@ -68,17 +68,33 @@ class GraspSetResult:
     params: str
     grasps: np.ndarray      # grasp_dtype(len(joint_ids))
     contacts: np.ndarray    # CONTACT_DTYPE
+    cpu_seconds: float = 0.0  # s, the planner threads' CPU time over `seconds` (0 when from the store)
 
     @classmethod
     def from_proto(cls, message: grasp_pb2.GraspSet) -> "GraspSetResult":
         grasps, contacts = grasps_to_arrays(message.grasps, len(message.joint_ids))
         return cls(message.set_id, message.hand, message.mesh_sha256, message.from_store, message.candidates,
                    message.missed, message.collisions, message.simulated, message.force_closure, message.seconds,
-                   list(message.joint_ids), list(message.preshapes), message.params, grasps, contacts)
+                   list(message.joint_ids), list(message.preshapes), message.params, grasps, contacts,
+                   message.cpu_seconds)
 
     @property
     def candidates_per_s(self) -> float:
         return self.candidates / self.seconds if self.seconds > 0 else float("inf")
+
+
+def set_materials(request, object_material: Optional[str], link_materials: Optional[Dict[str, str]],
+                  friction_pairs) -> None:
+    """Fills the material fields of a PlanGraspsRequest or EvaluateGraspRequest. friction_pairs: a mapping
+    {(material_a, material_b): μ} or a sequence of (material_a, material_b, μ)."""
+    if object_material is not None:
+        request.object_material = object_material
+    for link, material in (link_materials or {}).items():
+        request.link_materials[link] = material
+    pairs = friction_pairs.items() if isinstance(friction_pairs, dict) else (friction_pairs or ())
+    for pair in pairs:
+        (a, b), mu = (pair[0], pair[1]) if isinstance(friction_pairs, dict) else (pair[:2], pair[2])
+        request.friction_pairs.add(material_a=a, material_b=b, friction=float(mu))
 
 
 def target_proto(scene_id: Optional[str], body_id: Optional[str], mesh) -> grasp_pb2.GraspTarget:
