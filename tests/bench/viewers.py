@@ -2,8 +2,9 @@
 
 The scene: the PG70 holding the 5 cm cube on the table with a 2 A closing current (contacts in every step, so
 no body sleeps). A client steps it in 0.1 s requests as fast as it can; the figure is its step rate (simulated
-steps per wall second). Phases of PHASE_S alternate without viewers and with VIEWERS + 1 viewers, ROUNDS
-times, so that drift in the machine's load hits both alike; "viewer_slowdown_pct" compares the medians.
+steps per wall second). Phases of PHASE_S alternate without viewers, with VIEWERS + 1 viewers as the page
+asks (contacts on), and with as many asking for poses only, ROUNDS times, so that drift in the machine's load
+hits all alike; "viewer_slowdown_pct" compares the medians.
 
 A viewer is what a browser's EventSource is: a GET /view/<scene>/poses?contacts=1 Server-Sent Events stream
 as the page asks for it (30 Hz, with the step's contact points: a few hundred while the PG70 holds the cube),
@@ -62,13 +63,13 @@ def cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
 
 
-def open_viewer(http_url: str, scene: str, receive_buffer: int = 0) -> socket.socket:
+def open_viewer(http_url: str, scene: str, receive_buffer: int = 0, contacts: bool = True) -> socket.socket:
     host, port = urlsplit(http_url).hostname, urlsplit(http_url).port
     sock = socket.socket()
     if receive_buffer:
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, receive_buffer)
     sock.connect((host, port))
-    sock.sendall(f"GET /view/{scene}/poses?contacts=1 HTTP/1.1\r\nHost: {host}\r\nAccept: text/event-stream\r\n\r\n".encode())
+    sock.sendall(f"GET /view/{scene}/poses?contacts={int(contacts)} HTTP/1.1\r\nHost: {host}\r\nAccept: text/event-stream\r\n\r\n".encode())
     return sock
 
 
@@ -95,19 +96,21 @@ def run():
         url = http_url(server)
         scene = build_scene(client)
         pid = server.process.pid
-        alone, watched = [], []
+        alone, watched, poses_only = [], [], []
         for round_number in range(ROUNDS):
             alone.append(step_phase(client, scene, pid))
             log(f"round {round_number + 1}: no viewers: {alone[-1]['steps_per_s']:.0f} steps/s")
-            stalled = open_viewer(url, scene, receive_buffer=4096)
-            viewers = [open_viewer(url, scene) for _ in range(VIEWERS)]
-            time.sleep(0.5)  # every stream is open and sending before the phase starts
-            watched.append(step_phase(client, scene, pid, viewers))
-            log(f"round {round_number + 1}: {VIEWERS} + 1 viewers: {watched[-1]['steps_per_s']:.0f} steps/s, "
-                f"{watched[-1]['snapshots_per_viewer_per_s']:.1f} snapshots/s per viewer")
-            for sock in viewers + [stalled]:
-                sock.close()
-            time.sleep(0.5)
+            for contacts, phases in ((True, watched), (False, poses_only)):
+                stalled = open_viewer(url, scene, receive_buffer=4096, contacts=contacts)
+                viewers = [open_viewer(url, scene, contacts=contacts) for _ in range(VIEWERS)]
+                time.sleep(0.5)  # every stream is open and sending before the phase starts
+                phases.append(step_phase(client, scene, pid, viewers))
+                log(f"round {round_number + 1}: {VIEWERS} + 1 viewers{'' if contacts else ' (poses only)'}: "
+                    f"{phases[-1]['steps_per_s']:.0f} steps/s, "
+                    f"{phases[-1]['snapshots_per_viewer_per_s']:.1f} snapshots/s per viewer")
+                for sock in viewers + [stalled]:
+                    sock.close()
+                time.sleep(0.5)
 
     def median(phases, key):
         return statistics.median(p[key] for p in phases)
@@ -124,5 +127,9 @@ def run():
                "server_cpu_us_per_step_alone": round(median(alone, "server_cpu_us_per_step"), 1),
                "server_cpu_us_per_step_watched": round(median(watched, "server_cpu_us_per_step"), 1),
                "snapshots_per_viewer_per_s": round(median(watched, "snapshots_per_viewer_per_s"), 1),
+               # The same viewers without the contact overlay (?contacts=0): what the contacts cost.
+               "steps_per_s_poses_only": round(median(poses_only, "steps_per_s")),
+               "viewer_slowdown_pct_poses_only": round(100 * (1 - median(poses_only, "steps_per_s") / rate_alone), 1),
+               "server_cpu_us_per_step_poses_only": round(median(poses_only, "server_cpu_us_per_step"), 1),
                "loadavg_1min_after": round(os.getloadavg()[0], 2)}
     return figures, server.exit_code

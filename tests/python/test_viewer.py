@@ -1,5 +1,6 @@
 """The browser viewer's HTTP routes (GET /view...) against the real server, without a browser; and the Python
 helpers graspsim.viewer_url and graspsim.viewer (matplotlib snapshot view)."""
+import base64
 import json
 import socket
 import threading
@@ -273,12 +274,13 @@ def test_pose_events_carry_contacts_when_asked(server, client, resting_cube):
         event, snapshot = events.next()
     finally:
         events.close()
-    contacts = np.array(snapshot["contacts"]).reshape(-1, 6)
-    np.testing.assert_allclose(contacts, reference.contacts, rtol=1e-3, atol=1e-6)  # 4 significant digits
-    np.testing.assert_array_equal(np.array(snapshot["contact_bodies"]).reshape(-1, 2), reference.contact_bodies)
+    contacts = np.frombuffer(base64.b64decode(snapshot["contacts_f32"]), dtype="<f4").reshape(-1, 6)
+    np.testing.assert_allclose(contacts, reference.contacts, rtol=1e-6, atol=1e-9)  # float32
+    pairs = np.frombuffer(base64.b64decode(snapshot["contact_bodies_u32"]), dtype="<u4").reshape(-1, 2)
+    np.testing.assert_array_equal(pairs, reference.contact_bodies)
     events = Events(server, f"/view/{resting_cube}/poses?max_seconds=30")
     try:
-        assert "contacts" not in events.next()[1]
+        assert "contacts_f32" not in events.next()[1]
     finally:
         events.close()
     status, _, text = get(server, f"/view/{resting_cube}/poses?contacts=yes")

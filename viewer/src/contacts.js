@@ -1,5 +1,5 @@
-// Contact points and force vectors of the last simulation step, from the pose events (contacts=1): 6 numbers
-// per contact, point (m) and force on the first body (N), world frame. Arrows are scaled per snapshot so that
+// Contact points and force vectors of the last simulation step, from the pose events (contacts=1, packed
+// float32): 6 numbers per contact, point (m) and force on the first body (N), world frame. Arrows are scaled per snapshot so that
 // the largest force is kArrow long; the legend says how many newtons that is.
 import * as THREE from 'three';
 

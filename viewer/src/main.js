@@ -4,7 +4,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { ContactOverlay } from './contacts.js';
-import { buildBodies, buildPad } from './geometry.js';
+import { buildBodies, buildPad, decodeBase64 } from './geometry.js';
 import { buildGraspGhosts } from './grasps.js';
 import { addOverlayHooks } from './hooks.js';
 import { TactilePanels } from './tactile.js';
@@ -118,8 +118,8 @@ function applySnapshot(snapshot) {
     group.position.set(p[0], p[1], p[2]);
     group.quaternion.set(p[4], p[5], p[6], p[3]);
   });
-  if (contactOverlay && snapshot.contacts) {
-    contactOverlay.update(snapshot.contacts);
+  if (contactOverlay && snapshot.contacts_f32 !== undefined) {
+    contactOverlay.update(new Float32Array(decodeBase64(snapshot.contacts_f32)));
     state.contacts = contactOverlay.count;
   }
   state.snapshots += 1;

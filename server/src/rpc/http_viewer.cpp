@@ -149,20 +149,30 @@ std::vector<T> Unpack(const std::string& bytes) {
   return values;
 }
 
-// Contacts at 4 significant digits (0.1 mm at 1 m, 0.01 % of the force): enough to draw, and a scene with
-// hundreds of contact points stays a few kB per event.
+std::string Base64(const void* data, size_t size) {
+  static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  std::string out;
+  out.reserve((size + 2) / 3 * 4);
+  for (size_t i = 0; i < size; i += 3) {
+    const uint32_t chunk = (bytes[i] << 16) | (i + 1 < size ? bytes[i + 1] << 8 : 0) | (i + 2 < size ? bytes[i + 2] : 0);
+    out += kDigits[(chunk >> 18) & 63];
+    out += kDigits[(chunk >> 12) & 63];
+    out += i + 1 < size ? kDigits[(chunk >> 6) & 63] : '=';
+    out += i + 2 < size ? kDigits[chunk & 63] : '=';
+  }
+  return out;
+}
+
+// Contacts travel packed — float32 little-endian (6 per contact, 0.1 µm at 1 m) and uint32 pairs, base64 — as
+// a held object has hundreds of contact points: formatting them as JSON numbers for every viewer cost the
+// server more than the simulation (tests/bench/run viewers).
 std::string ContactsJson(const v1::SceneSnapshot& snapshot) {
   const std::vector<double> values = Unpack<double>(snapshot.contacts());
-  const std::vector<uint32_t> bodies = Unpack<uint32_t>(snapshot.contact_bodies());
-  std::string json = ",\"contacts\":[";
-  char number[24];
-  for (size_t i = 0; i < values.size(); ++i) {
-    std::snprintf(number, sizeof number, "%s%.4g", i ? "," : "", std::isfinite(values[i]) ? values[i] : 0.0);
-    json += number;
-  }
-  json += "],\"contact_bodies\":[";
-  for (size_t i = 0; i < bodies.size(); ++i) json += (i ? "," : "") + std::to_string(bodies[i]);
-  return json + "]";
+  std::vector<float> packed(values.begin(), values.end());
+  const std::string& bodies = snapshot.contact_bodies();
+  return ",\"contacts_f32\":\"" + Base64(packed.data(), packed.size() * sizeof(float)) + "\",\"contact_bodies_u32\":\"" +
+         Base64(bodies.data(), bodies.size()) + "\"";
 }
 
 // Per connection: the body id list goes out with the first snapshot and again only when it changes.

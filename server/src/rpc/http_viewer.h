@@ -8,9 +8,10 @@
 //                                  per viewer, again only when the snapshot's body list changes
 //   GET /view/<scene>/poses        Server-Sent Events: "snapshot" {sequence, revision, time, poses[7 per body],
 //                                  body_ids only when they changed on this connection; with contacts=1 also
-//                                  contacts[6 per contact: point m, force on the first body N, world] and
-//                                  contact_bodies[2 per contact]}, from WatchScene — newest snapshot per
-//                                  viewer, at most max_rate_hz (default 30) per second
+//                                  contacts_f32 (base64 of float32 LE, 6 per contact: point m, force on the
+//                                  first body N, world) and contact_bodies_u32 (base64 of uint32 LE pairs)},
+//                                  from WatchScene — newest snapshot per viewer, at most max_rate_hz
+//                                  (default 30) per second
 //   GET /view/<scene>/tactile      Server-Sent Events: "reading" {sensor_id, time, rows, cols, intensities,
 //                                  intensity_sum} of every tactile array, from TactileService.Stream (rate_hz, 10)
 //   GET /view/<scene>/grasps?set_id=<id>   a stored grasp set (GetGraspSet), best ε first
