@@ -10,6 +10,7 @@ import shutil
 import threading
 import time
 
+import numpy as np
 import pytest
 
 import graspsim
@@ -158,3 +159,18 @@ def test_contact_overlay_shows_the_steps_contacts(browser, server, client, scene
     revision = client.set_body_pose(scene_id, "cube", [0, 0, 0.9, 1, 0, 0, 0])
     wait_for(browser, f"window.graspsimViewer.state.lastSnapshot.revision >= {revision}", "the pose without contacts")
     assert browser.execute_script("return window.graspsimViewer.state.contacts") == expected  # not updated while off
+
+
+def test_planned_grasps_are_listed_best_first(browser, server, client, scene_id):
+    client.add_object(scene_id, "table", builtin="table")
+    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + CUBE / 2, 1, 0, 0, 0])
+    planned = client.plan_grasps("schunk_pg70", scene_id=scene_id, body_id="cube", spacing=0.02, max_grasps=5,
+                                 progress=False, timeout=600)
+    assert len(planned.grasps) > 0
+    browser.get(graspsim.viewer_url(scene_id, server.http_url, grasp_set=planned.set_id, grasp_object="cube"))
+    wait_for(browser, "window.graspsimViewer && window.graspsimViewer.state.ready", "the viewer with the grasp set")
+    assert browser.execute_script("return window.graspsimViewer.state.error") is None
+    items = [li.text for li in browser.find_elements("css selector", "#grasps li")]
+    assert len(items) == len(planned.grasps)
+    shown = [float(text.split("ε = ")[1].split(" ")[0]) for text in items]
+    np.testing.assert_allclose(shown, planned.grasps["epsilon"], atol=5e-5)  # printed to 4 decimals, best first
