@@ -136,9 +136,9 @@ void GatewayClient::Run() {
       }
       Serve(link);
       {
+        // Not cancelled here: the server's status (e.g. a refused registration) is what Finish reports.
         std::lock_guard<std::mutex> lock(link_mutex_);
         link_ = nullptr;
-        link.context.TryCancel();  // a write blocked on a stalled server returns now
       }
       { std::lock_guard<std::mutex> wait_for_writers(write_mutex_); }
       const grpc::Status status = link.stream->Finish();

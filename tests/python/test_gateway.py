@@ -232,3 +232,31 @@ def test_gateway_reconnects_after_the_server_restarts(tmp_path):
                 rig.stop()
             server.terminate()
             server.wait(timeout=30)
+
+
+def test_a_second_gateway_cannot_take_a_registered_id(client, rig, server, tmp_path):
+    with GatewayRig(server.address, kinds=["robotiq-tcp"], name="intruder", log_path=tmp_path / "gateway.log") as other:
+        deadline = time.monotonic() + 10
+        while "already registered" not in other.log_tail() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert "register_device.id: 'robotiq-tcp' is already registered by gateway 'pytest-rig'" in other.log_tail()
+        assert [d.gateway for d in client.list_devices() if d.id == "robotiq-tcp"] == ["pytest-rig"]
+
+
+def test_devices_leave_with_their_gateway_and_return_with_it(start_server, tmp_path):
+    own = start_server()
+    with graspsim.connect(own.address) as client, \
+            GatewayRig(own.address, kinds=["robotiq-tcp"], name="restarted", log_path=tmp_path / "gateway.log") as rig:
+        rig.wait_for_devices(client)
+        rig.gateway.kill()  # no goodbye: the server notices the broken stream
+        rig.gateway.wait()
+        deadline = time.monotonic() + 10
+        while any(d.gateway == "restarted" for d in client.list_devices()) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not any(d.gateway == "restarted" for d in client.list_devices())
+        with expect_error(grpc.StatusCode.NOT_FOUND, "no device 'robotiq-tcp'"):
+            client.send_command("robotiq-tcp", read=True)
+        rig.start_gateway()
+        rig.wait_for_devices(client)
+        assert client.send_command("robotiq-tcp", move=(0.04, 0.1, 60)).ok
+        assert wait_stopped(client, "robotiq-tcp").opening == pytest.approx(0.04, abs=RESOLUTION)
