@@ -7,7 +7,6 @@ to seconds, and the first start of Chromium takes several seconds.
 """
 import io
 import shutil
-import threading
 import time
 
 import numpy as np
@@ -112,35 +111,25 @@ def test_a_new_body_is_fetched_and_drawn(browser, server, client, scene_id):
 
 
 def test_tactile_heat_map_appears_during_a_work_cycle(browser, server, client, scene_id):
+    """The pads' panels draw pressure at a simulation time inside the cycle's grasp. Judged in simulation time:
+    a cycle may run many times faster than real time, so the page's strongest reading is kept, not polled."""
     client.add_object(scene_id, "table", builtin="table")
     client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + CUBE / 2, 1, 0, 0, 0])
     client.add_robot(scene_id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, BASE_Z, 1, 0, 0, 0])
     pads = [a.id for a in client.get_scene(scene_id).tactile_arrays]
     open_viewer(browser, server, scene_id)
     before = browser.execute_script("return window.graspsimViewer.state.pads.stats()")
-    assert sorted(before) == sorted(pads) and all(p["maxIntensity"] == 0 for p in before.values())  # open pads
+    assert sorted(before) == sorted(pads) and all(p["peakIntensity"] == 0 for p in before.values())  # open pads
 
-    result = {}
-    cycle = threading.Thread(target=lambda: result.update(
-        r=client.run_work_cycle(scene_id, "cell", "cube", hold_time=3.0, timeout=300)))
-    cycle.start()
-    try:
-        # While the cycle runs, each pad's panel shows a heat map with pressure on it.
-        seen = wait_for(browser, "(() => { const s = window.graspsimViewer.state.pads.stats();"
-                                 " return Object.values(s).every((p) => p.maxIntensity > 0) && s; })()",
-                        "pressure on both pads", timeout=240)
-        during = cycle.is_alive()
-        # The panel's canvas pixels are the heat map: some texel is not black.
-        brightest = browser.execute_script(
-            "const c = document.querySelector(`canvas[data-sensor='${arguments[0]}']`);"
-            "const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;"
-            "let m = 0; for (let i = 0; i < d.length; i += 4) m = Math.max(m, d[i]); return m;", pads[0])
-    finally:
-        cycle.join()
-    assert set(seen) == set(pads)
-    assert during, "the pads showed pressure only after the work cycle had ended"
-    assert brightest > 0
-    assert "r" in result  # the cycle itself succeeded
+    # A long hold (20 s simulated) gives the 10 Hz tactile stream many readings while the pads press.
+    result = client.run_work_cycle(scene_id, "cell", "cube", hold_time=20.0, timeout=600)
+    stats = wait_for(browser, "(() => { const s = window.graspsimViewer.state.pads.stats();"
+                              " return Object.values(s).every((p) => p.peakIntensity > 0) && s; })()",
+                     "pressure on both pads")
+    pressed = result.time[(result.left_sum > 0) | (result.right_sum > 0)]
+    for pad in pads:
+        assert pressed.min() - 0.05 <= stats[pad]["peakTime"] <= pressed.max() + 0.05, (pad, stats[pad], pressed[[0, -1]])
+        assert stats[pad]["peakRed"] > 0  # the heat map's pixels show it
 
 
 def test_contact_overlay_shows_the_steps_contacts(browser, server, client, scene_id):

@@ -27,7 +27,8 @@ export class TactilePanels {
       chart.height = 60;
       box.append(image, chart);
       container.append(box);
-      this.pads.set(array.id, { array, image, chart, sum: box.querySelector('.sum'), history: [], frames: 0, maxIntensity: 0 });
+      this.pads.set(array.id, { array, image, chart, sum: box.querySelector('.sum'), history: [], frames: 0, maxIntensity: 0,
+                                peakIntensity: 0, peakTime: null, peakRed: 0 });
     }
   }
 
@@ -48,6 +49,12 @@ export class TactilePanels {
     context.putImageData(pixels, 0, 0);
     pad.frames += 1;
     pad.maxIntensity = max;
+    if (max > pad.peakIntensity) {  // the strongest touch so far, and what the panel drew for it
+      pad.peakIntensity = max;
+      pad.peakTime = reading.time;
+      const drawn = context.getImageData(0, 0, reading.cols, reading.rows).data;
+      pad.peakRed = drawn.reduce((m, v, i) => (i % 4 === 0 ? Math.max(m, v) : m), 0);
+    }
     pad.sum.textContent = `Σ = ${reading.intensity_sum}`;
     pad.history.push([reading.time, reading.intensity_sum]);
     while (pad.history.length && pad.history[0][0] < reading.time - kHistorySeconds) pad.history.shift();
@@ -78,6 +85,8 @@ export class TactilePanels {
   }
 
   stats() {
-    return Object.fromEntries([...this.pads].map(([id, pad]) => [id, { frames: pad.frames, maxIntensity: pad.maxIntensity }]));
+    return Object.fromEntries([...this.pads].map(([id, pad]) => [id, {
+      frames: pad.frames, maxIntensity: pad.maxIntensity, peakIntensity: pad.peakIntensity, peakTime: pad.peakTime, peakRed: pad.peakRed,
+    }]));
   }
 }
