@@ -5,8 +5,8 @@ import pytest
 from graspsim.v1 import grasp_pb2, grasp_pb2_grpc
 
 CALLS = {
-    "GraspService.PlanArmPath": lambda ch: grasp_pb2_grpc.GraspServiceStub(ch).PlanArmPath(
-        grasp_pb2.PlanArmPathRequest(scene_id="s", arm_id="a"), timeout=10),
+    "GraspService.PickAndPlace": lambda ch: list(grasp_pb2_grpc.GraspServiceStub(ch).PickAndPlace(
+        grasp_pb2.PickAndPlaceRequest(scene_id="s", arm_id="a"), timeout=10)),
 }
 
 

@@ -9,6 +9,7 @@
 #include "grasp/scene_object.h"
 #include "rpc/call.h"
 #include "rpc/convert.h"
+#include "rpc/plan_arm_path.h"
 #include "rpc/unimplemented_services.h"
 
 namespace graspsim::rpc {
@@ -221,9 +222,11 @@ grpc::ServerUnaryReactor* GraspServiceImpl::EvaluateGrasp(Context* context, cons
   });
 }
 
-grpc::ServerUnaryReactor* GraspServiceImpl::PlanArmPath(Context* context, const v1::PlanArmPathRequest*,
-                                                        v1::PlanArmPathResponse*) {
-  return NotBuiltYetUnary(context, "GraspService/PlanArmPath", kMotionPlanning);
+grpc::ServerUnaryReactor* GraspServiceImpl::PlanArmPath(Context* context, const v1::PlanArmPathRequest* request,
+                                                        v1::PlanArmPathResponse* response) {
+  return RunUnary(context, "GraspService/PlanArmPath", pool_, [=, this] {
+    rpc::PlanArmPath(*request, *registry_, [context] { return context->IsCancelled(); }, response);
+  });
 }
 
 grpc::ServerWriteReactor<v1::PickAndPlaceProgress>* GraspServiceImpl::PickAndPlace(Context* context,

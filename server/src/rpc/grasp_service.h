@@ -1,6 +1,7 @@
 // graspsim.v1.GraspService: translation between messages and the grasp library (server/src/grasp). PlanGrasps is
 // a reactor that plans on the worker pool and streams progress (plan_grasps_stream.cpp); grasp sets are kept in
-// the SQLite store under --grasp-data-dir. PlanArmPath and PickAndPlace belong to the motion-planning issue.
+// the SQLite store under --grasp-data-dir. PlanArmPath plans arm paths (rpc/plan_arm_path.cpp, docs/motion.md);
+// PickAndPlace is not built yet.
 #pragma once
 
 #include <memory>

@@ -9,6 +9,7 @@ from graspsim import _build
 from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
 from graspsim._gateway import GatewayMethods
 from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, target_proto
+from graspsim._motion import MotionMethods
 from graspsim._perception import PerceptionMethods
 from graspsim._pose import Pose, PoseLike, as_pose
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
@@ -39,7 +40,7 @@ def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_time
     return Client(channel, call_timeout)
 
 
-class Client(GatewayMethods, PerceptionMethods):
+class Client(GatewayMethods, PerceptionMethods, MotionMethods):
     """A connection to one graspsim server (see connect()); a context manager that closes the channel.
 
     Units are SI: m, kg, s, rad; poses are Pose, [x y z qw qx qy qz] or (position, quaternion (w, x, y, z)).

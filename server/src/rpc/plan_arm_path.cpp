@@ -1,0 +1,76 @@
+#include "rpc/plan_arm_path.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "motion/planner.h"
+#include "rpc/convert.h"
+
+namespace graspsim::rpc {
+namespace {
+
+motion::VecX Positions(const std::string& field, const google::protobuf::RepeatedField<double>& values,
+                       const motion::ArmModel& arm) {
+  if (static_cast<size_t>(values.size()) != arm.dof()) {
+    ThrowInvalidArgument(field + ": " + std::to_string(values.size()) + " values for the " +
+                         std::to_string(arm.dof()) + " joints of arm '" + arm.robot_id() + "'");
+  }
+  motion::VecX q(arm.dof());
+  for (int i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      ThrowInvalidArgument(field + "[" + std::to_string(i) + "]: " + FormatNumber(values[i]) + " is not finite");
+    }
+    q[i] = values[i];
+  }
+  return q;
+}
+
+std::string Bytes(const std::vector<double>& values) {
+  return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double));
+}
+
+}  // namespace
+
+void PlanArmPath(const v1::PlanArmPathRequest& request, const SceneRegistry& registry,
+                 const std::function<bool()>& cancelled, v1::PlanArmPathResponse* response) {
+  if (request.arm_id().empty()) ThrowInvalidArgument("arm_id: empty; name a robot of the scene");
+  const bool has_pose = request.has_goal(), has_positions = request.goal_positions_size() > 0;
+  if (has_pose == has_positions) {
+    ThrowInvalidArgument(has_pose ? "goal, goal_positions: both given; give one"
+                                  : "goal: absent; give a goal pose or goal_positions");
+  }
+  if (!std::isfinite(request.timeout()) || request.timeout() < 0 || request.timeout() > 60) {
+    ThrowInvalidArgument("timeout: " + FormatNumber(request.timeout()) + " s is outside [0, 60] (0 = 2 s)");
+  }
+  const SceneView view = registry.Get(request.scene_id())->View();
+  const std::string tip = request.tip_body().empty() ? "" : request.tip_body();
+  const motion::ArmModel arm(*view.model, view.state, request.arm_id(), tip);
+  const motion::VecX start = request.start_positions_size() > 0
+                                 ? Positions("start_positions", request.start_positions(), arm)
+                                 : arm.Positions(view.state);
+  const motion::CollisionChecker checker(arm, motion::BuildSphereModel(*view.model, arm),
+                                         motion::CollectObstacles(*view.model, view.state, request.arm_id()));
+  motion::PlanOptions options;
+  if (request.timeout() > 0) options.timeout = request.timeout();
+  options.seed = request.has_seed() ? request.seed() : 1;
+  options.cancelled = cancelled;
+  const motion::PlanResult plan =
+      has_pose ? motion::PlanPathToPose(checker, start, PoseFromProto("goal", request.goal()), options)
+               : motion::PlanPath(checker, start, {Positions("goal_positions", request.goal_positions(), arm)},
+                                  options);
+  if (plan.cancelled) throw Error(ErrorCode::kFailedPrecondition, "cancelled");  // the call is gone anyway
+  for (const std::string& id : arm.joint_ids()) response->add_joint_ids(id);
+  std::vector<double> waypoints;
+  for (const motion::VecX& q : plan.trajectory.waypoints()) waypoints.insert(waypoints.end(), q.data(), q.data() + q.size());
+  response->set_waypoints(Bytes(waypoints));
+  response->set_times(Bytes(plan.trajectory.times()));
+  response->set_tip_body(arm.tip_body());
+  response->set_direct(plan.direct);
+  response->set_checks(plan.checks);
+  response->set_seconds(plan.seconds);
+  response->set_duration(plan.trajectory.duration());
+}
+
+}  // namespace graspsim::rpc
