@@ -1,5 +1,7 @@
 #include "grasp/simulate.h"
 
+#include "grasp/hand_collision.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -67,7 +69,8 @@ bool BallMeetsBox(const Vec3& centre, double radius, const Vec3& lo, const Vec3&
 }  // namespace
 
 GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object, const SimulationParams& params)
-    : hand_(hand), object_(object), params_(params), link_moves_(hand.links().size(), false) {
+    : hand_(hand), object_(object), params_(params), link_moves_(hand.links().size(), false),
+      self_collision_(hand, -params.contact_tolerance) {
   std::vector<Pose> poses(hand.links().size());
   for (size_t p = 0; p < hand.preshape_names().size(); ++p) {
     hand.LinkPoses(Pose(), hand.PreshapeJoints(p), &poses);
@@ -389,10 +392,15 @@ Outcome GraspSimulator::Simulate(const Candidate& c, SimulationWork* w) const {
   KeepContacts(fraction, c.standoff, true, w);
   hand_.LinkPoses(w->hand_pose, w->q, &w->poses);
   if (CollidesWithObstacles(w->poses)) return Outcome::kCollision;
+  // The way there: the open hand swept back to where the sweep started (the object itself cannot be in the
+  // way: the sweep stopped at the first contact with it).
+  if (HandOverlapsObstacles(hand_, w->poses, -advance * z, object_.obstacles(), -params_.contact_tolerance)) {
+    return Outcome::kCollision;
+  }
 
   // 4. Close the fingers one after the other; each stops at its own first contact.
   for (size_t f = 0; f < hand_.fingers().size(); ++f) CloseFinger(f, w->hand_pose, w);
-  if (CollidesWithObstacles(w->poses)) return Outcome::kCollision;
+  if (CollidesWithObstacles(w->poses) || self_collision_.Collides(w->poses)) return Outcome::kCollision;
   w->joints = w->q;
 
   // 5. Score.

@@ -4,7 +4,8 @@
 //   3. back off by the standoff;
 //   4. close each finger (its joints and the joints coupled to them) until a link touches or a joint limit;
 //   5. collect the contacts (point, normal, link) and score them (quality.h).
-// A candidate whose hand (open before closing, or closed) overlaps an obstacle box is discarded.
+// A candidate whose hand overlaps an obstacle box (open before closing, on its way there along the approach, or
+// closed), or whose closed fingers overlap each other or the palm, is discarded (Outcome::kCollision).
 //
 // Sweeps are ray casts on BVHs built once: each moving surface sample of the hand casts a ray along its motion
 // against the object's BVH, and each sharp vertex of the object casts the opposite ray against the link's BVH
@@ -21,6 +22,7 @@
 
 #include "core/math.h"
 #include "grasp/grasp_object.h"
+#include "grasp/hand_collision.h"
 #include "grasp/hand_model.h"
 #include "grasp/quality.h"
 #include "grasp/ray_scene.h"
@@ -61,7 +63,7 @@ double PairFriction(const SimulationParams& params, const std::string& a, const 
 enum class Outcome : uint8_t {
   kGrasp,      // simulated and scored (force closure or not)
   kMissed,     // the hand moved along the whole approach line without touching the object
-  kCollision,  // the hand overlaps an obstacle (table, other body) open or closed
+  kCollision,  // the hand overlaps an obstacle (table, other body) open, approaching or closed, or itself closed
 };
 
 // Everything one simulation writes; reused between candidates (one per thread), so a warm one allocates nothing
@@ -127,6 +129,7 @@ class GraspSimulator {
   std::vector<bool> link_moves_;        // per link: moved by some finger
   std::vector<int> all_links_;
   std::vector<double> link_friction_;
+  SelfCollision self_collision_;
 };
 
 }  // namespace graspsim::grasp
