@@ -8,6 +8,8 @@ sizes (cylinder, boxes, spheres) and "objects" says so.
 - grasps_per_s_<hand>: candidates simulated and scored per second of the planner's own wall time (GraspSet
   .seconds: closing simulation + ε of every candidate, 2 threads, the qhull volumes of the kept grasps not
   included), over all objects: bounding-box candidates at δ = 1 cm, every pre-shape, 4 rolls, standoff 0.
+- grasps_per_cpu_s_<hand>: the same candidates per second of the planner threads' CPU time (GraspSet
+  .cpu_seconds): per core, and far less sensitive to the machine's load than the wall-clock rate.
 - force_closure_fraction: force-closure grasps / simulated candidates, all hands and objects (per hand too).
 - epsilon_max_rel_error: the kept grasps' ε (the server's nearest-facet search) against an independent float64
   reference: the wrenches rebuilt in numpy from the reported contacts, hulled by scipy.spatial.ConvexHull.
@@ -98,11 +100,12 @@ def run():
             fc_total = simulated_total = 0
             worst = 0.0
             for key, hand in HANDS.items():
-                candidates = seconds = fc = simulated = 0
+                candidates = seconds = cpu_seconds = fc = simulated = 0
                 for name, mesh in meshes_by_name.items():
                     result = plan(client, hand, mesh)
                     candidates += result.candidates
                     seconds += result.seconds
+                    cpu_seconds += result.cpu_seconds
                     fc += result.force_closure
                     simulated += result.simulated
                     log(f"{hand} {name}: {result.candidates} candidates in {result.seconds:.2f} s "
@@ -113,6 +116,7 @@ def run():
                         ref = reference_epsilon(contacts["point"], contacts["normal"], centroid, length)
                         worst = max(worst, abs(grasp["epsilon"] - ref) / ref)
                 figures[f"grasps_per_s_{key}"] = round(candidates / seconds)
+                figures[f"grasps_per_cpu_s_{key}"] = round(candidates / cpu_seconds)
                 figures[f"candidates_{key}"] = candidates
                 figures[f"force_closure_fraction_{key}"] = round(fc / max(simulated, 1), 4)
                 fc_total += fc
