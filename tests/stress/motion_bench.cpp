@@ -23,6 +23,7 @@
 #include <ompl/util/Console.h>
 
 #include "core/error.h"
+#include "cpp/motion/motion_test_scenes.h"
 #include "core/limits.h"
 #include "motion/exact_checker.h"
 #include "motion/planner.h"
@@ -44,15 +45,7 @@ double CpuSeconds() {
 
 double Ms(Clock::time_point since) { return std::chrono::duration<double, std::milli>(Clock::now() - since).count(); }
 
-void AddStatic(Scene* scene, const std::string& id, const Geometry& geometry, const Pose& pose) {
-  BodySpec body;
-  body.id = id;
-  body.motion = BodyMotion::kStatic;
-  body.collision.push_back(geometry);
-  body.inertial.mass = 1;
-  body.inertial.inertia = Mat3::Identity() * 1e-3;
-  scene->AddObject(body, pose);
-}
+using motion_test::AddStatic;
 
 Geometry Shape(Geometry::Kind kind, const Vec3& size) {
   Geometry g;

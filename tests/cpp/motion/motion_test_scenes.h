@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "cpp/collision/collision_fixtures.h"
 #include "collision/tessellation.h"
 #include "core/limits.h"
 #include "motion/arm.h"
@@ -43,27 +44,10 @@ inline void AddStatic(Scene* scene, const std::string& id, const Geometry& geome
   scene->AddObject(body, pose);
 }
 
-inline Geometry Box(const Vec3& size) {
-  Geometry g;
-  g.kind = Geometry::Kind::kBox;
-  g.box_size = size;
-  return g;
-}
-
-inline Geometry Ball(double radius) {
-  Geometry g;
-  g.kind = Geometry::Kind::kSphere;
-  g.radius = radius;
-  return g;
-}
-
-inline Geometry Cylinder(double radius, double length) {
-  Geometry g;
-  g.kind = Geometry::Kind::kCylinder;
-  g.radius = radius;
-  g.length = length;
-  return g;
-}
+// Primitive shapes: the collision suites' builders.
+using collision_fixtures::BoxGeometry;
+using collision_fixtures::CylinderGeometry;
+using collision_fixtures::SphereGeometry;
 
 inline Pose At(double x, double y, double z) { return {Vec3(x, y, z), Quat::Identity()}; }
 
@@ -83,10 +67,10 @@ inline Geometry MeshBall(double radius) {
 // Clutter: a tall box, a ball, a cylinder and a mesh ball on the table ahead of the arm.
 inline ArmScene TableScene(const std::string& model) {
   return MakeArmScene(model, At(-0.45, 0, 0.75), [](Scene* scene) {
-    AddStatic(scene, "table", Box(Vec3(1.2, 0.8, 0.04)), At(0, 0, 0.73));
-    AddStatic(scene, "post", Box(Vec3(0.06, 0.06, 0.40)), At(0.0, 0.0, 0.95));
-    AddStatic(scene, "ball", Ball(0.06), At(0.05, 0.25, 0.81));
-    AddStatic(scene, "can", Cylinder(0.04, 0.16), At(0.05, -0.25, 0.83));
+    AddStatic(scene, "table", BoxGeometry(Vec3(1.2, 0.8, 0.04)), At(0, 0, 0.73));
+    AddStatic(scene, "post", BoxGeometry(Vec3(0.06, 0.06, 0.40)), At(0.0, 0.0, 0.95));
+    AddStatic(scene, "ball", SphereGeometry(0.06), At(0.05, 0.25, 0.81));
+    AddStatic(scene, "can", CylinderGeometry(0.04, 0.16), At(0.05, -0.25, 0.83));
     AddStatic(scene, "melon", MeshBall(0.07), At(0.25, 0.1, 0.82));
   });
 }
