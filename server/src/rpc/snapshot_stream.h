@@ -9,6 +9,7 @@
 // while holding mutex_.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -38,9 +39,13 @@ class SnapshotStream : public SnapshotWatcher, public std::enable_shared_from_th
     }
     TrySendLocked();
   }
+  // Called on the publishing thread, the simulation's, under the scene's lock: the send (a message built for
+  // this reader, its write) runs later on a gRPC thread, so fifty watchers cost the simulation fifty alarms per
+  // snapshot rather than fifty messages.
   void OnSnapshotAvailable() override {
     std::lock_guard<std::mutex> lock(mutex_);
-    TrySendLocked();
+    if (!reactor_ || finished_ || write_in_flight_ || alarm_pending_ || BusyLocked()) return;
+    SendAtLocked(std::max(std::chrono::steady_clock::now(), next_send_));
   }
   void OnHubClosed(const std::string& reason) override {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -91,18 +96,23 @@ class SnapshotStream : public SnapshotWatcher, public std::enable_shared_from_th
     if (!snapshot || snapshot->sequence <= last_sequence_) return;
     const auto now = std::chrono::steady_clock::now();
     if (now < next_send_) {
-      alarm_pending_ = true;
-      alarm_ = std::make_unique<grpc::Alarm>();
-      alarm_->Set(std::chrono::system_clock::now() + (next_send_ - now), [self = this->shared_from_this()](bool) {
-        std::lock_guard<std::mutex> lock(self->mutex_);
-        self->alarm_pending_ = false;
-        self->TrySendLocked();
-      });
+      SendAtLocked(next_send_);
       return;
     }
     last_sequence_ = snapshot->sequence;
     next_send_ = now + min_interval_;
     SendLocked(*snapshot);
+  }
+  // An alarm that tries the send again at `when` (at once, on a gRPC thread, when `when` has passed).
+  void SendAtLocked(std::chrono::steady_clock::time_point when) {
+    alarm_pending_ = true;
+    alarm_ = std::make_unique<grpc::Alarm>();
+    alarm_->Set(std::chrono::system_clock::now() + (when - std::chrono::steady_clock::now()),
+                [self = this->shared_from_this()](bool) {
+                  std::lock_guard<std::mutex> lock(self->mutex_);
+                  self->alarm_pending_ = false;
+                  self->TrySendLocked();
+                });
   }
   // Finishing waits for an outstanding write, so the reactor never has a write and a finish in flight at once.
   void FinishLocked(grpc::Status status) {
