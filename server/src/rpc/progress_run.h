@@ -1,7 +1,7 @@
 // The shared state of a long job's server stream (a pool job writing progress, then one last message): progress
 // is newest-only (a slow reader sees fewer updates, never a queue), the last message is written after any pending
 // progress, then the status. A cancel (the client's, or its deadline passing) marks the run so the job can stop
-// at its next progress call. Used behind RunReactor (run_reactor.h) by PerceptionService.CompleteShape.
+// at its next progress call. Used behind RunReactor (run_reactor.h) by PerceptionService.CompleteShape and GraspService.PlanGrasps.
 #pragma once
 
 #include <atomic>
