@@ -22,31 +22,17 @@
 #include "perception/normals.h"
 #include "perception/poisson.h"
 #include "perception/shapes.h"
+#include "perception/mesh_deviation.h"
 #include "test_util.h"
 
 namespace graspsim {
 namespace {
 
+using test_shapes::Deviation;
+using test_shapes::Measure;
+
 using test_shapes::OrientedCloud;
 
-struct Deviation {
-  double mesh_to_shape = 0, shape_to_mesh = 0;
-  double Mean() const { return (mesh_to_shape + shape_to_mesh) / 2; }
-};
-
-// Both directions of Bohg et al.'s mesh deviation: samples of the mesh against the exact distance, and points of
-// the exact surface (the cloud itself: it is a uniform sampling) against the mesh.
-Deviation Measure(const TriangleMesh& mesh, const std::function<double(const Vec3&)>& distance,
-                  const std::vector<Vec3>& surface) {
-  Deviation d;
-  const std::vector<Vec3> samples = SampleSurface(mesh, 20000, 7);
-  for (const Vec3& p : samples) d.mesh_to_shape += std::abs(distance(p));
-  d.mesh_to_shape /= double(samples.size());
-  const MeshDistance to_mesh(mesh);
-  for (const Vec3& p : surface) d.shape_to_mesh += to_mesh.Distance(p);
-  d.shape_to_mesh /= double(surface.size());
-  return d;
-}
 
 void ExpectClosed(const TriangleMesh& mesh) {
   const EdgeCounts edges = CountEdges(mesh);

@@ -21,9 +21,13 @@
 #include "perception/render_view.h"
 #include "perception/shape_completion.h"
 #include "perception/shapes.h"
+#include "perception/mesh_deviation.h"
 
 namespace graspsim {
 namespace {
+
+using test_shapes::Deviation;
+using test_shapes::Measure;
 
 constexpr double kDeg = M_PI / 180;
 
@@ -51,21 +55,6 @@ double AxisAngleDeg(const Vec3& a, const Vec3& b) {
   return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) / kDeg;
 }
 
-struct Deviation {
-  double mesh_to_shape = 0, shape_to_mesh = 0;
-  double Mean() const { return (mesh_to_shape + shape_to_mesh) / 2; }
-};
-Deviation Measure(const TriangleMesh& mesh, const std::function<double(const Vec3&)>& distance,
-                  const std::vector<Vec3>& surface) {
-  Deviation d;
-  const std::vector<Vec3> samples = SampleSurface(mesh, 20000, 7);
-  for (const Vec3& p : samples) d.mesh_to_shape += std::abs(distance(p));
-  d.mesh_to_shape /= double(samples.size());
-  const MeshDistance to_mesh(mesh);
-  for (const Vec3& p : surface) d.shape_to_mesh += to_mesh.Distance(p);
-  d.shape_to_mesh /= double(surface.size());
-  return d;
-}
 
 struct BoxScene {
   Vec3 size{0.08, 0.12, 0.10};
