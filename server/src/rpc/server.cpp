@@ -14,7 +14,6 @@
 #include "rpc/perception_service.h"
 #include "rpc/scene_service.h"
 #include "rpc/tactile_service.h"
-#include "rpc/unimplemented_services.h"
 
 namespace graspsim::rpc {
 
