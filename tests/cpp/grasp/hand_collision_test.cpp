@@ -38,9 +38,15 @@ TEST(GraspHandCollisionTest, SweptBoxMatchesTheBoxPlacedAlongItsPath) {
       deep = deep || BoxesOverlap(moved, b, -1e-3);
     }
     // Exact sweep: every placed overlap is found; whatever it finds overlaps somewhere by the step's margin.
-    if (touched) EXPECT_TRUE(SweptBoxOverlaps(a, motion, b, 0.0)) << trial;
-    if (SweptBoxOverlaps(a, motion, b, -1e-3)) EXPECT_TRUE(touched) << trial;
-    if (!SweptBoxOverlaps(a, motion, b, 0.0)) EXPECT_FALSE(deep) << trial;
+    if (touched) {
+      EXPECT_TRUE(SweptBoxOverlaps(a, motion, b, 0.0)) << trial;
+    }
+    if (SweptBoxOverlaps(a, motion, b, -1e-3)) {
+      EXPECT_TRUE(touched) << trial;
+    }
+    if (!SweptBoxOverlaps(a, motion, b, 0.0)) {
+      EXPECT_FALSE(deep) << trial;
+    }
     (touched ? overlapping : separate)++;
   }
   EXPECT_GT(overlapping, 50);
