@@ -117,7 +117,9 @@ TEST(GraspHandCollisionTest, ClosedFingersOverlappingEachOtherAreFound) {
           reference = reference || SamplesInside(hand, poses, l, m, 2e-3) || SamplesInside(hand, poses, m, l, 2e-3);
         }
         const bool collides = self.Collides(poses);
-        if (reference) EXPECT_TRUE(collides) << name << " " << p << " " << step;
+        if (reference) {
+          EXPECT_TRUE(collides) << name << " " << p << " " << step;
+        }
         found += collides;
       }
     }
