@@ -33,13 +33,13 @@ struct DeviceReading {
   double opening = 0;       // m
   double current = 0;       // A
   bool moving = false, object_detected = false, estopped = false;
-  std::string fault;
+  std::string fault{};
 };
 
 struct DeviceInfo {
   std::string id, kind, gateway, link;
-  DeviceLimits limits;
-  std::optional<DeviceReading> last_reading;
+  DeviceLimits limits{};
+  std::optional<DeviceReading> last_reading{};
 };
 
 struct Move {

@@ -104,10 +104,14 @@ TEST(MotionCollisionCheckerTest, NeverFreeWhereTheExactGeometryCollides) {
       for (size_t j = 0; j < arm.dof(); ++j) q[j] = arm.lower()[j] + unit(rng) * (arm.upper()[j] - arm.lower()[j]);
       const bool sphere_free = checker.IsValid(q);
       const std::string exact_why = exact.Explain(q);
-      if (sphere_free) EXPECT_EQ(exact_why, "") << model << " q = " << q.transpose();
+      if (sphere_free) {
+        EXPECT_EQ(exact_why, "") << model << " q = " << q.transpose();
+      }
       free += sphere_free;
       exact_collisions += !exact_why.empty();
-      if (!sphere_free) EXPECT_NE(checker.Explain(q), "");
+      if (!sphere_free) {
+        EXPECT_NE(checker.Explain(q), "");
+      }
     }
     EXPECT_GT(free, 20) << model;              // the test sees both outcomes
     EXPECT_GT(exact_collisions, 10) << model;
