@@ -8,6 +8,8 @@
 #include <memory>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "collision/tessellation.h"
 #include "core/mesh.h"
 #include "grasp/planner.h"
@@ -70,6 +72,18 @@ inline double MaxPenetration(const GraspPlanner& planner, const PlannedGrasp& gr
     }
   }
   return deepest;
+}
+
+// A small seeded set (1.5 cm spacing, two pre-shapes, 300 candidates) planned on 2 threads, every grasp kept.
+inline GraspSet PlanSmallSet(const GraspPlanner& planner, uint64_t seed = CandidateParams{}.seed) {
+  CandidateParams params;
+  params.seed = seed;
+  params.spacing = 0.015;
+  params.preshapes = {0, 1};
+  params.max_candidates = 300;
+  const auto set = planner.Plan(planner.Candidates(params), 2, 0, [](size_t, size_t) { return true; });
+  EXPECT_TRUE(set);
+  return *set;
 }
 
 }  // namespace graspsim::grasp::testing

@@ -11,17 +11,8 @@
 namespace graspsim::grasp {
 namespace {
 
+using testing::PlanSmallSet;
 using testing::ToMesh;
-
-GraspSet Plan(const GraspPlanner& planner) {
-  CandidateParams params;
-  params.spacing = 0.015;
-  params.preshapes = {0, 1};
-  params.max_candidates = 300;
-  const auto set = planner.Plan(planner.Candidates(params), 2, 0, [](size_t, size_t) { return true; });
-  EXPECT_TRUE(set);
-  return *set;
-}
 
 std::shared_ptr<const TriangleMesh> Box() { return ToMesh(collision::BoxMesh(Vec3(0.02, 0.03, 0.025))); }
 
@@ -72,8 +63,8 @@ TEST(GraspMaterialsTest, OnePairForEveryLinkEqualsThatFriction) {
   materials.friction_pairs = {{"wood", "rubber", 0.8}, {"steel", "rubber", 0.1}};
   SimulationParams plain;
   plain.friction = 0.8;
-  const GraspSet a = Plan(GraspPlanner("schunk_pg70", Box(), {}, materials));
-  const GraspSet b = Plan(GraspPlanner("schunk_pg70", Box(), {}, plain));
+  const GraspSet a = PlanSmallSet(GraspPlanner("schunk_pg70", Box(), {}, materials));
+  const GraspSet b = PlanSmallSet(GraspPlanner("schunk_pg70", Box(), {}, plain));
   ASSERT_GT(a.grasps.size(), 3u);
   ASSERT_EQ(a.grasps.size(), b.grasps.size());
   for (size_t i = 0; i < a.grasps.size(); ++i) {
@@ -90,7 +81,7 @@ TEST(GraspMaterialsTest, OneSlipperyJawLowersEpsilonToTheReference) {
   params.link_materials = {{"finger_left", "steel"}};
   params.friction_pairs = {{"steel", "default", 0.1}};
   const GraspPlanner planner("schunk_pg70", Box(), {}, params);
-  const GraspSet set = Plan(planner);
+  const GraspSet set = PlanSmallSet(planner);
   ASSERT_GT(set.grasps.size(), 0u);
   int left = -1;
   for (size_t l = 0; l < set.link_names.size(); ++l) left = set.link_names[l] == "finger_left" ? int(l) : left;

@@ -15,18 +15,8 @@
 namespace graspsim::grasp {
 namespace {
 
+using testing::PlanSmallSet;
 using testing::ToMesh;
-
-GraspSet PlanOnce(const GraspPlanner& planner, uint64_t seed) {
-  CandidateParams params;
-  params.seed = seed;
-  params.spacing = 0.015;
-  params.preshapes = {0, 1};
-  params.max_candidates = 300;
-  const auto set = planner.Plan(planner.Candidates(params), 2, 0, [](size_t, size_t) { return true; });
-  EXPECT_TRUE(set);
-  return *set;
-}
 
 bool SameGrasps(const GraspSet& a, const GraspSet& b) {
   if (a.grasps.size() != b.grasps.size()) return false;
@@ -46,7 +36,7 @@ bool SameGrasps(const GraspSet& a, const GraspSet& b) {
 
 TEST(GraspPlannerTest, SameSeedGivesTheSameGraspSet) {
   GraspPlanner planner("schunk_pg70", ToMesh(collision::BoxMesh(Vec3(0.02, 0.03, 0.025))), {}, SimulationParams());
-  const GraspSet a = PlanOnce(planner, 42), b = PlanOnce(planner, 42), c = PlanOnce(planner, 43);
+  const GraspSet a = PlanSmallSet(planner, 42), b = PlanSmallSet(planner, 42), c = PlanSmallSet(planner, 43);
   ASSERT_GT(a.grasps.size(), 3u);
   EXPECT_TRUE(SameGrasps(a, b));
   EXPECT_FALSE(SameGrasps(a, c));  // the seed matters: jittered samples and the candidate subset differ
@@ -57,7 +47,7 @@ TEST(GraspPlannerTest, GraspsNeverOverlapTheTable) {
   const LinkBox table{Vec3(0, 0, -0.025 - 0.02), Mat3::Identity(), Vec3(0.6, 0.4, 0.02)};
   SimulationParams params;
   GraspPlanner planner("schunk_pg70", ToMesh(collision::BoxMesh(Vec3::Constant(0.025))), {table}, params);
-  const GraspSet set = PlanOnce(planner, 1);
+  const GraspSet set = PlanSmallSet(planner, 1);
   EXPECT_GT(set.collisions, 0u);  // approaches from below and low sides were discarded
   ASSERT_GT(set.grasps.size(), 0u);
   for (const PlannedGrasp& grasp : set.grasps) {
@@ -116,7 +106,7 @@ TEST(GraspStoreTest, SetsSurviveReopeningAndKeysSeparateParameters) {
   std::filesystem::remove_all(dir);
   auto mesh = ToMesh(collision::BoxMesh(Vec3(0.02, 0.03, 0.025)));
   GraspPlanner planner("schunk_pg70", mesh, {}, SimulationParams());
-  const GraspSet set = PlanOnce(planner, 42);
+  const GraspSet set = PlanSmallSet(planner, 42);
   CandidateParams params;
   params.seed = 42;
   const GraspSetKey key = MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, params, SimulationParams(), 0);
