@@ -1,5 +1,6 @@
 #include "grasp/scene_object.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "collision/tessellation.h"
@@ -44,7 +45,7 @@ collision::LocalMesh GeometryMesh(const Geometry& g) {
 }  // namespace
 
 SceneObject ObjectFromScene(const SceneModel& model, const SceneState& state, const std::string& field,
-                            const std::string& body_id) {
+                            const std::string& body_id, const std::vector<std::string>& skip_robots) {
   const auto found = model.body_index.find(body_id);
   if (found == model.body_index.end()) ThrowNotFound(field + ": no body '" + body_id.substr(0, 80) + "' in the scene");
   const BodySpec& body = model.bodies[found->second];
@@ -62,6 +63,10 @@ SceneObject ObjectFromScene(const SceneModel& model, const SceneState& state, co
   const Pose to_object = out.pose.Inverse();
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     if (b == found->second) continue;
+    if (!model.bodies[b].robot_id.empty() &&
+        std::find(skip_robots.begin(), skip_robots.end(), model.bodies[b].robot_id) != skip_robots.end()) {
+      continue;
+    }
     const Pose in_object = to_object * state.body_poses[b];
     for (const Geometry& g : model.bodies[b].collision) {
       const LinkBox local = GeometryBox(g);

@@ -20,8 +20,8 @@ struct SceneObject {
 };
 
 // Throws Error(kNotFound) naming `field` when the body does not exist, kInvalidArgument when it has no
-// collision geometry.
+// collision geometry. Bodies of the robots in `skip_robots` are no obstacles (the arm that will carry the hand).
 SceneObject ObjectFromScene(const SceneModel& model, const SceneState& state, const std::string& field,
-                            const std::string& body_id);
+                            const std::string& body_id, const std::vector<std::string>& skip_robots = {});
 
 }  // namespace graspsim::grasp

@@ -32,7 +32,8 @@ DcMotorParams ZAxisDriveParams() {
 }
 
 DcMotorParams BuiltinDrive(const RobotSpec& robot, const JointSpec& joint) {
-  const bool pg70 = robot.source == "builtin:schunk_pg70" || robot.source == "builtin:schunk_pg70_on_z_axis";
+  // The PG70 alone, on the z axis, or on an arm's flange ("builtin:<arm>_pg70").
+  const bool pg70 = robot.source.ends_with("pg70") || robot.source == "builtin:schunk_pg70_on_z_axis";
   if (robot.source == "builtin:schunk_pg70_on_z_axis" && joint.id == robot.id + "/z_axis") return ZAxisDriveParams();
   if (pg70 && joint.type == JointType::kPrismatic) return Pg70DriveParams();
   return DcMotorParams();
