@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -223,12 +224,15 @@ std::string Json(const StageTimings& t) {
 }
 
 // Median per stage over `repeats` runs.
-StageTimings TimeCompletion(const PartialView& view, const CompletionOptions& options, int repeats, size_t* points) {
+// `last`: the last run's result (point counts, the reconstruction's own stages).
+StageTimings TimeCompletion(const PartialView& view, const CompletionOptions& options, int repeats, size_t* points,
+                            CompletionResult* last) {
   std::vector<StageTimings> runs;
   for (int i = 0; i < repeats; ++i) {
-    const auto result = CompleteShape(view, options);
+    auto result = CompleteShape(view, options);
     runs.push_back(result->ms);
     *points = result->input_points;
+    *last = std::move(*result);
   }
   const auto median = [&](double StageTimings::*field) {
     std::vector<double> v;
@@ -248,8 +252,22 @@ int Main(int argc, char** argv) {
   std::vector<Object> objects = {{"box_80x60x120mm", Box(Vec3(0.08, 0.06, 0.12))},
                                  {"cylinder_r35_h110mm", Cylinder(0.035, 0.11)}};
   for (auto& o : objects) StandOnTable(&o.mesh);
+  // --timing[=LABEL[,REPEATS]]: only the timing runs (seconds, for profiling a change; one label, e.g. 2k or
+  // 39k_d5, and more repeats for a profiler), not the 15-minute accuracy protocol.
+  bool timing_only = false;
+  std::string timing_label;
+  int repeats = 3;
   for (int i = 1; i < argc; ++i) {
     std::string name = argv[i];
+    if (name.rfind("--timing", 0) == 0) {
+      timing_only = true;
+      if (name.size() > 9) timing_label = name.substr(9);
+      if (timing_label.find(',') != std::string::npos) {
+        repeats = std::max(1, std::atoi(timing_label.c_str() + timing_label.find(',') + 1));
+        timing_label = timing_label.substr(0, timing_label.find(','));
+      }
+      continue;
+    }
     name = name.substr(name.find_last_of('/') + 1);
     name = name.substr(0, name.find_last_of('.'));
     objects.push_back({name, ReadStl(argv[i])});
@@ -257,7 +275,7 @@ int Main(int argc, char** argv) {
   }
   RTCDevice device = rtcNewDevice("threads=1");
   std::printf("{\"objects\": [");
-  for (size_t o = 0; o < objects.size(); ++o) {
+  for (size_t o = 0; o < (timing_only ? 0 : objects.size()); ++o) {
     std::cerr << "shape_eval: " << objects[o].name << "\n";
     std::printf("%s{\"name\": \"%s\", \"views\": [", o ? ", " : "", objects[o].name.c_str());
     for (int view_index = 0; view_index < 8; ++view_index) {
@@ -290,6 +308,7 @@ int Main(int argc, char** argv) {
   for (uint8_t m : base.image->mask) base_points += m;
   for (auto [label, target, depth] : {std::tuple{"2k", 2100.0, 5}, {"2k_d7", 2100.0, 7}, {"39k", 39416.0, 7},
                                       {"39k_d5", 39416.0, 5}}) {
+    if (!timing_label.empty() && timing_label != label) continue;
     CameraIntrinsics k = kKinect;
     const double scale = std::sqrt(target / double(base_points));
     k.fx = k.fy = kKinect.fx * scale;
@@ -300,10 +319,21 @@ int Main(int argc, char** argv) {
     PartialView view = base;
     view.image = Render(device, Turned(objects[1].mesh, 0), base.camera_pose, k, kNoise, 7);
     size_t points = 0;
-    const StageTimings t = TimeCompletion(view, Options(CompletionMethod::kMirror, depth), 3, &points);
-    std::printf(", \"timing_%s\": {\"points\": %zu, \"depth\": %d, \"ms\": %s}", label, points, depth, Json(t).c_str());
+    CompletionResult last;
+    const StageTimings t = TimeCompletion(view, Options(CompletionMethod::kMirror, depth), repeats, &points, &last);
+    const PoissonStats& ps = last.poisson;
+    std::printf(", \"timing_%s\": {\"points\": %zu, \"filtered_points\": %zu, \"surface_points\": %zu, "
+                "\"depth\": %d, \"ms\": %s, \"surface_ms\": {\"splat\": %.3f, \"solve\": %.3f, \"iso\": %.3f, "
+                "\"extract\": %.3f, \"iterations\": %d, \"solved_depth\": %d}}",
+                label, points, last.filtered_points, last.surface_points, depth, Json(t).c_str(), ps.ms_grid_splat,
+                ps.ms_solve, ps.ms_iso, ps.ms_extract, ps.solver_iterations, ps.solved_depth);
   }
 
+  if (timing_only) {
+    std::printf("}\n");
+    rtcReleaseDevice(device);
+    return 0;
+  }
   // Run time against error.
   std::printf(", \"runtime_vs_error\": [");
   bool first = true;

@@ -44,9 +44,22 @@ Eigen::Vector3i NeighborGrid::CellOf(const Vec3& p) const {
 void NeighborGrid::Nearest(const Vec3& query, int k, std::vector<uint32_t>* out) const {
   out->clear();
   if (k <= 0) return;
-  // A max-heap of the best k so far on (squared distance, index): the pair order makes ties deterministic.
-  std::vector<std::pair<double, uint32_t>> heap;
-  heap.reserve(k + 1);
+  // The best k so far, sorted ascending by (squared distance, index) — the pair order makes ties deterministic.
+  // Insertion into a short sorted array beats a heap for the k of normals and outlier tests (≈ 10) and allocates
+  // nothing for k ≤ 32.
+  struct Item {
+    double d;
+    uint32_t i;
+    bool operator<(const Item& o) const { return d < o.d || (d == o.d && i < o.i); }
+  };
+  Item local[32];
+  std::vector<Item> spill;
+  Item* best = local;
+  if (k > 32) {
+    spill.resize(k);
+    best = spill.data();
+  }
+  int count = 0;
   const Eigen::Vector3i center = CellOf(query);
   const int max_ring = dims_.maxCoeff();
   for (int ring = 0; ring <= max_ring; ++ring) {
@@ -63,24 +76,21 @@ void NeighborGrid::Nearest(const Vec3& query, int k, std::vector<uint32_t>* out)
           const int64_t c = CellIndex(x, y, z);
           for (uint32_t j = cell_start_[c]; j < cell_start_[c + 1]; ++j) {
             const uint32_t i = order_[j];
-            const std::pair<double, uint32_t> item((points_[i] - query).squaredNorm(), i);
-            if (int(heap.size()) < k) {
-              heap.push_back(item);
-              std::push_heap(heap.begin(), heap.end());
-            } else if (item < heap.front()) {
-              std::pop_heap(heap.begin(), heap.end());
-              heap.back() = item;
-              std::push_heap(heap.begin(), heap.end());
-            }
+            const Item item{(points_[i] - query).squaredNorm(), i};
+            if (count == k && !(item < best[k - 1])) continue;
+            int at = count < k ? count++ : k - 1;
+            for (; at > 0 && item < best[at - 1]; --at) best[at] = best[at - 1];
+            best[at] = item;
           }
         }
       }
     }
     // Every cell of ring r + 1 lies at least r cell sizes from the query (it sits inside the centre cell).
-    if (int(heap.size()) == k && heap.front().first <= std::pow(ring * cell_size_, 2)) break;
+    const double reach = ring * cell_size_;
+    if (count == k && best[k - 1].d <= reach * reach) break;
   }
-  std::sort_heap(heap.begin(), heap.end());
-  for (const auto& item : heap) out->push_back(item.second);
+  out->resize(count);
+  for (int j = 0; j < count; ++j) (*out)[j] = best[j].i;
 }
 
 double NeighborGrid::SuggestCellSize(const std::vector<Vec3>& points, int k) {

@@ -35,12 +35,23 @@ void CheckSpread(const std::vector<Vec3>& points, size_t input_points) {
   if (!(spread(1) > 1e-12 * spread(2))) ThrowInvalidArgument("points: all " + what + " lie on one line");
 }
 
-// Filter: statistical outliers, then optional voxels.
+// Filter: voxels (given, or automatic above target_points), then statistical outliers. Voxels first: the outlier
+// test then runs on ~3k points instead of 39k, and an isolated outlier stays alone in its voxel, still isolated.
 std::vector<Vec3> FilterCloud(const std::vector<Vec3>& points, const CompletionOptions& options) {
-  std::vector<Vec3> kept =
-      options.outlier_std > 0 ? RemoveStatisticalOutliers(points, options.outlier_k, options.outlier_std) : points;
-  if (options.voxel_size > 0) kept = VoxelDownsample(kept, options.voxel_size);
-  return kept;
+  double voxel = options.voxel_size;
+  std::vector<Vec3> merged;
+  if (voxel > 0) {
+    merged = VoxelDownsample(points, voxel);
+  } else if (options.target_points > 0 && points.size() > options.target_points) {
+    // A first guess from the spacing (noise makes the nearest neighbour closer than the surface's sampling, so it
+    // overshoots the count), then one correction by the count it gave.
+    const double target = double(options.target_points);
+    voxel = NeighborGrid::MedianSpacing(points) * std::sqrt(1.5 * double(points.size()) / target);
+    merged = VoxelDownsample(points, voxel);
+    if (double(merged.size()) > 1.2 * target) merged = VoxelDownsample(points, voxel * std::sqrt(merged.size() / target));
+  }
+  const std::vector<Vec3>& cloud = merged.empty() ? points : merged;
+  return options.outlier_std > 0 ? RemoveStatisticalOutliers(cloud, options.outlier_k, options.outlier_std) : cloud;
 }
 
 // Normals: the seen points' towards the camera; each mirrored point takes its source's normal reflected.

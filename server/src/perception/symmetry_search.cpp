@@ -83,6 +83,7 @@ void ValidateSymmetryParams(const SymmetryParams& p) {
   CheckRange("max_angle_deg", p.max_angle_deg, 0, 90);
   CheckRange("shift_range", p.shift_range, 0, 4);
   CheckRange("depth_tolerance", p.depth_tolerance, 0, 1);
+  if (p.score_points != 0) CheckCount("score_points", p.score_points, 50, 100000);
 }
 
 Vec3 MirrorPoint(const SymmetryPlane& plane, const Vec3& p) {
@@ -93,14 +94,31 @@ Vec3 MirrorDirection(const SymmetryPlane& plane, const Vec3& d) { return d - 2 *
 
 SymmetrySearch::SymmetrySearch(const Observation& observation) : observation_(observation) {
   const CameraIntrinsics& k = observation.intrinsics;
-  cv::Mat outside(k.height, k.width, CV_8U);
-  for (size_t i = 0; i < observation.mask.size(); ++i) outside.data[i] = observation.mask[i] ? 0 : 255;
+  int lo_x = k.width, hi_x = -1, lo_y = k.height, hi_y = -1;
+  for (int y = 0; y < k.height; ++y) {
+    const uint8_t* row = observation.mask.data() + size_t(y) * size_t(k.width);
+    for (int x = 0; x < k.width; ++x) {
+      if (!row[x]) continue;
+      lo_x = std::min(lo_x, x), hi_x = std::max(hi_x, x), lo_y = std::min(lo_y, y), hi_y = std::max(hi_y, y);
+    }
+  }
+  if (hi_x < 0) lo_x = hi_x = lo_y = hi_y = 0;  // no mask pixel (Observe refuses that): a one-pixel window
+  const int margin = std::max({16, (hi_x - lo_x + 1) / 2, (hi_y - lo_y + 1) / 2});
+  x0_ = std::max(0, lo_x - margin), y0_ = std::max(0, lo_y - margin);
+  w_ = std::min(k.width, hi_x + margin + 1) - x0_, h_ = std::min(k.height, hi_y + margin + 1) - y0_;
+  cv::Mat outside(h_, w_, CV_8U);
+  for (int y = 0; y < h_; ++y) {
+    const uint8_t* row = observation.mask.data() + size_t(y + y0_) * size_t(k.width) + x0_;
+    for (int x = 0; x < w_; ++x) outside.at<uint8_t>(y, x) = row[x] ? 0 : 255;
+  }
   cv::Mat distance;
   cv::distanceTransform(outside, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-  outside_sq_.resize(observation.mask.size());
-  for (size_t i = 0; i < outside_sq_.size(); ++i) {
-    const float d = distance.ptr<float>()[i];
-    outside_sq_[i] = d * d;
+  outside_sq_.resize(size_t(w_) * size_t(h_));
+  for (int y = 0; y < h_; ++y) {
+    for (int x = 0; x < w_; ++x) {
+      const float d = distance.at<float>(y, x);
+      outside_sq_[size_t(y) * w_ + x] = d * d;
+    }
   }
 }
 
@@ -125,17 +143,18 @@ double SymmetrySearch::Score(const std::vector<Vec3>& points, const SymmetryPlan
       continue;
     }
     const double u = k.fx * c.x() / c.z() + k.cx, v = k.fy * c.y() / c.z() + k.cy;
-    const double ur = std::round(u), vr = std::round(v);
-    const double uc = std::clamp(ur, 0.0, double(k.width - 1)), vc = std::clamp(vr, 0.0, double(k.height - 1));
-    const size_t pixel = size_t(vc) * size_t(k.width) + size_t(uc);
+    // Rounded to the window (every mask pixel lies inside it); beyond, its edge value plus the overshoot².
+    const double ur = std::round(u) - x0_, vr = std::round(v) - y0_;
+    const double uc = std::clamp(ur, 0.0, double(w_ - 1)), vc = std::clamp(vr, 0.0, double(h_ - 1));
     const double overshoot = (ur - uc) * (ur - uc) + (vr - vc) * (vr - vc);
+    const size_t pixel = (size_t(vc) + y0_) * size_t(k.width) + size_t(uc) + x0_;
     if (overshoot == 0 && obs.mask[pixel]) {
       ++n_in;
       const double in_front = ObservedDepth(obs, u, v, pixel) - c.z() - depth_tolerance;
       if (in_front > 0) sum_in += in_front * k.fx / c.z();
     } else {
       ++n_out;
-      sum_out += outside_sq_[pixel] + overshoot;
+      sum_out += outside_sq_[size_t(vc) * size_t(w_) + size_t(uc)] + overshoot;
     }
   }
   // Both sums over every mirrored point (see the header: eq. 3's per-subset means jump when one point crosses).
@@ -174,6 +193,15 @@ SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const Symmet
   double reach = 0;
   for (const Vec3& p : points) reach = std::max(reach, (p - centroid).dot(n0));
   const double max_shift = params.shift_range * reach;
+  // The points the hypotheses are scored on: every stride-th (see score_points).
+  const size_t stride = params.score_points > 0
+                            ? (points.size() + size_t(params.score_points) - 1) / size_t(params.score_points) : 1;
+  std::vector<Vec3> subset;
+  if (stride > 1) {
+    subset.reserve(points.size() / stride + 1);
+    for (size_t i = 0; i < points.size(); i += stride) subset.push_back(points[i]);
+  }
+  const std::vector<Vec3>& scored = stride > 1 ? subset : points;
 
   const auto plane_at = [&](double alpha, double shift) {
     SymmetryPlane plane;
@@ -192,7 +220,7 @@ SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const Symmet
     for (double alpha : AnglesByDistance(angle_centre, angle_half, params.orientations)) {
       for (double shift : Steps(shift_lo, shift_hi, params.shifts)) {
         SymmetryPlane plane = plane_at(alpha, shift);
-        plane.score = Score(points, plane, params.depth_tolerance);  // 3. and 4.
+        plane.score = Score(scored, plane, params.depth_tolerance);  // 3. and 4.
         ++hypotheses;
         if (plane.score < best.score - kTieTolerance || !std::isfinite(best.score)) best = plane;
       }
