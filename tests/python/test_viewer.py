@@ -112,6 +112,26 @@ def test_poses_follow_the_scene_and_ids_come_once(server, client, cube_scene):
         events.close()
 
 
+def test_a_viewer_joining_a_watched_scene_gets_the_body_ids_first(server, client, cube_scene):
+    """Viewers asking the same share one encoded stream; one that joins late still gets the id list first."""
+    path = f"/view/{cube_scene}/poses?max_seconds=30"
+    watching, joining = Events(server, path), None
+    try:
+        assert watching.next()[1]["body_ids"] == ["cube"]
+        revision = client.set_body_pose(cube_scene, "cube", [0.05, 0, 0.3, 1, 0, 0, 0])
+        while (snapshot := watching.next()[1])["revision"] < revision:
+            pass
+        assert "body_ids" not in snapshot  # the stream's newest event carries no ids
+        joining = Events(server, path)
+        event, first = joining.next()
+        assert event == "snapshot" and first["body_ids"] == ["cube"] and first["revision"] >= revision
+        np.testing.assert_allclose(first["poses"], [0.05, 0, 0.3, 1, 0, 0, 0], atol=1e-7)
+    finally:
+        watching.close()
+        if joining:
+            joining.close()
+
+
 def test_stream_ends_with_a_status_after_max_seconds(server, cube_scene):
     events = Events(server, f"/view/{cube_scene}/poses?max_seconds=0.5")
     try:
@@ -161,7 +181,8 @@ def test_tactile_stream_reads_every_pad(server, client, scene_id):
         assert reading["intensity_sum"] == sum(reading["intensities"]) == 0  # nothing touches the open pads
 
 
-def test_a_stalled_viewer_does_not_stop_the_others(server, client, scene_id):
+@pytest.mark.parametrize("stalled_rate_hz", [1000, 30])  # 30: the same stream as the reading viewer's
+def test_a_stalled_viewer_does_not_stop_the_others(server, client, scene_id, stalled_rate_hz):
     """One viewer never reads its socket while the scene steps; another still gets the newest snapshots."""
     client.add_object(scene_id, "table", builtin="table")
     client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, 0.75 + CUBE / 2, 1, 0, 0, 0])
@@ -169,7 +190,7 @@ def test_a_stalled_viewer_does_not_stop_the_others(server, client, scene_id):
     host, port = server.http_url.removeprefix("http://").split(":")
     stalled = socket.create_connection((host, int(port)))
     stalled.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-    stalled.sendall(f"GET /view/{cube_scene}/poses?max_rate_hz=1000 HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+    stalled.sendall(f"GET /view/{cube_scene}/poses?max_rate_hz={stalled_rate_hz} HTTP/1.1\r\nHost: x\r\n\r\n".encode())
     stop = threading.Event()
 
     def step():

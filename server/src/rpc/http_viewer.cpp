@@ -21,6 +21,7 @@
 #include "graspsim/v1/scene.grpc.pb.h"
 #include "graspsim/v1/tactile.grpc.pb.h"
 #include "rpc/call.h"
+#include "rpc/event_feed.h"
 #include "rpc/http_json.h"
 
 namespace graspsim::rpc {
@@ -108,39 +109,52 @@ std::unique_ptr<grpc::ClientContext> ContextFor(const httplib::Request& req, dou
   return context;
 }
 
-// One server stream relayed as Server-Sent Events on the HTTP thread that owns it. The first message is read
-// before answering, so a request that fails at once gets a plain error with its HTTP status. While the
-// browser does not read, this thread blocks in the socket write and stops reading the gRPC stream; the
-// server-side stream (rpc/snapshot_stream.h) then skips snapshots rather than queueing them, so the scene and
-// the other viewers go on at their pace. A browser that went away ends the gRPC stream.
+// A gRPC server stream as the source of a feed. The call has no deadline: it lasts while viewers watch, and
+// each viewer's own max_seconds ends only that viewer.
 template <typename Message>
-struct EventRelay {
-  std::unique_ptr<grpc::ClientContext> context;
-  std::unique_ptr<grpc::ClientReader<Message>> reader;
-  std::function<std::string(const Message&)> encode;  // one "event: ...\ndata: ...\n\n"
-  Message first;
+FeedSource StreamSource(const httplib::Request& req,
+                        const std::function<std::unique_ptr<grpc::ClientReader<Message>>(grpc::ClientContext*)>& start,
+                        std::function<void(const Message&, FeedEvent*)> encode) {
+  struct Call {
+    std::unique_ptr<grpc::ClientContext> context;
+    std::unique_ptr<grpc::ClientReader<Message>> reader;
+  };
+  auto call = std::make_shared<Call>();
+  call->context = ContextFor(req, 0);
+  call->reader = start(call->context.get());
+  return {[call, encode = std::move(encode)](FeedEvent* event) {
+            Message message;
+            if (!call->reader->Read(&message)) return false;
+            encode(message, event);
+            return true;
+          },
+          [call] { return call->reader->Finish(); },
+          [call] { call->context->TryCancel(); }};
+}
 
-  static void Start(std::shared_ptr<EventRelay> relay, httplib::Response& res) {
-    if (!relay->reader->Read(&relay->first)) return ReplyError(relay->reader->Finish(), res);
-    res.set_header("Cache-Control", "no-cache");
-    res.set_chunked_content_provider("text/event-stream", [relay](size_t, httplib::DataSink& sink) {
-      auto write = [&sink](const std::string& text) { return sink.write(text.data(), text.size()); };
-      bool open = write("retry: 2000\n\n" + relay->encode(relay->first));
-      Message next;
-      while (open && relay->reader->Read(&next)) open = write(relay->encode(next));
-      if (!open) {
-        relay->context->TryCancel();
-        relay->reader->Finish();
-        return false;
-      }
-      grpc::Status status = relay->reader->Finish();
-      if (status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) status = grpc::Status(grpc::StatusCode::OK, "max_seconds reached");
-      write(SseEvent("status", StatusJson(status)));
-      sink.done();
-      return true;
-    });
-  }
-};
+// Viewers share a feed only when they asked for the same stream with the same credentials.
+std::string FeedKey(const std::string& stream, const httplib::Request& req, const std::string& options) {
+  return stream + "\n" + std::string(req.matches[1]) + "\n" + options + "\n" + req.get_header_value("Authorization");
+}
+
+// Relays a feed to one browser as Server-Sent Events. The first event is awaited before answering, so a
+// request that fails at once gets a plain error with its HTTP status.
+void ServeFeed(std::unique_ptr<FeedTicket> ticket, double max_seconds, httplib::Response& res) {
+  grpc::Status status;
+  if (!ticket->feed().WaitFirst(&status)) return ReplyError(status, res);
+  const auto until = EventFeed::Clock::now() + std::chrono::duration_cast<EventFeed::Clock::duration>(
+                                                   std::chrono::duration<double>(max_seconds));
+  res.set_header("Cache-Control", "no-cache");
+  std::shared_ptr<FeedTicket> held(std::move(ticket));
+  res.set_chunked_content_provider("text/event-stream", [held, until](size_t, httplib::DataSink& sink) {
+    auto write = [&sink](const std::string& text) { return sink.write(text.data(), text.size()); };
+    grpc::Status ended;
+    if (!write("retry: 2000\n\n") || !held->feed().Serve(write, until, &ended)) return false;
+    write(SseEvent("status", StatusJson(ended)));
+    sink.done();
+    return true;
+  });
+}
 
 template <typename T>
 std::vector<T> Unpack(const std::string& bytes) {
@@ -175,25 +189,32 @@ std::string ContactsJson(const v1::SceneSnapshot& snapshot) {
          Base64(bodies.data(), bodies.size()) + "\"";
 }
 
-// Per connection: the body id list goes out with the first snapshot and again only when it changes.
-std::function<std::string(const v1::SceneSnapshot&)> SnapshotEncoder(bool contacts) {
+// Per feed: the event names the body ids only when they changed since the feed's previous snapshot;
+// `with_header` always names them, for viewers that have not seen this list yet (rpc/event_feed.h).
+std::function<void(const v1::SceneSnapshot&, FeedEvent*)> SnapshotEncoder(bool contacts) {
   auto last_ids = std::make_shared<std::vector<std::string>>();
-  return [last_ids, contacts](const v1::SceneSnapshot& snapshot) {
-    std::string json = "{\"sequence\":" + std::to_string(snapshot.sequence()) +
-                       ",\"revision\":" + std::to_string(snapshot.revision()) + ",\"time\":" + JsonNumber(snapshot.time());
-    const std::vector<std::string> ids(snapshot.body_ids().begin(), snapshot.body_ids().end());
-    if (ids != *last_ids) {
-      json += ",\"body_ids\":[";
-      for (size_t i = 0; i < ids.size(); ++i) json += (i ? "," : "") + JsonString(ids[i]);
-      json += "]";
-      *last_ids = ids;
+  auto epoch = std::make_shared<uint64_t>(0);
+  return [last_ids, epoch, contacts](const v1::SceneSnapshot& snapshot, FeedEvent* event) {
+    const std::string head = "{\"sequence\":" + std::to_string(snapshot.sequence()) +
+                             ",\"revision\":" + std::to_string(snapshot.revision()) + ",\"time\":" + JsonNumber(snapshot.time());
+    std::vector<std::string> ids(snapshot.body_ids().begin(), snapshot.body_ids().end());
+    std::string ids_json = ",\"body_ids\":[";
+    for (size_t i = 0; i < ids.size(); ++i) ids_json += (i ? "," : "") + JsonString(ids[i]);
+    ids_json += "]";
+    const bool changed = ids != *last_ids;
+    if (changed) {
+      *last_ids = std::move(ids);
+      ++*epoch;
     }
     const std::vector<double> poses = Unpack<double>(snapshot.body_poses());
-    json += ",\"poses\":[";
-    for (size_t i = 0; i < poses.size(); ++i) json += (i ? "," : "") + JsonNumber(poses[i]);
-    json += "]";
-    if (contacts) json += ContactsJson(snapshot);
-    return SseEvent("snapshot", json + "}");
+    std::string body = ",\"poses\":[";
+    for (size_t i = 0; i < poses.size(); ++i) body += (i ? "," : "") + JsonNumber(poses[i]);
+    body += "]";
+    if (contacts) body += ContactsJson(snapshot);
+    body += "}";
+    event->with_header = SseEvent("snapshot", head + ids_json + body);
+    event->text = changed ? event->with_header : SseEvent("snapshot", head + body);
+    event->header_epoch = *epoch;
   };
 }
 
@@ -303,18 +324,20 @@ class ViewerRoutes {
   }
 
   void Poses(const httplib::Request& req, httplib::Response& res) {
-    auto relay = std::make_shared<EventRelay<v1::SceneSnapshot>>();
-    v1::WatchSceneRequest request;
-    request.set_scene_id(req.matches[1]);
-    request.set_max_rate_hz(PositiveParam(req, "max_rate_hz", kDefaultPoseRateHz));
-    relay->context = ContextFor(req, PositiveParam(req, "max_seconds", kDefaultStreamSeconds));
-    relay->reader = scenes_->WatchScene(relay->context.get(), request);
     const std::string contacts = req.get_param_value("contacts");
     if (!contacts.empty() && contacts != "0" && contacts != "1") {
       ThrowInvalidArgument("contacts: '" + contacts.substr(0, 40) + "'; give 1 (with contact points) or 0");
     }
-    relay->encode = SnapshotEncoder(contacts == "1");
-    EventRelay<v1::SceneSnapshot>::Start(relay, res);
+    v1::WatchSceneRequest request;
+    request.set_scene_id(req.matches[1]);
+    request.set_max_rate_hz(PositiveParam(req, "max_rate_hz", kDefaultPoseRateHz));
+    const double max_seconds = PositiveParam(req, "max_seconds", kDefaultStreamSeconds);
+    auto ticket = feeds_.Join(FeedKey("poses", req, JsonNumber(request.max_rate_hz()) + (contacts == "1" ? "c" : "")), [&] {
+      return StreamSource<v1::SceneSnapshot>(
+          req, [&](grpc::ClientContext* context) { return scenes_->WatchScene(context, request); },
+          SnapshotEncoder(contacts == "1"));
+    });
+    ServeFeed(std::move(ticket), max_seconds, res);
   }
 
   void Tactile(const httplib::Request& req, httplib::Response& res) {
@@ -329,11 +352,16 @@ class ViewerRoutes {
     request.set_scene_id(req.matches[1]);
     for (const auto& array : scene.tactile_arrays()) request.add_sensor_ids(array.id());
     request.set_rate_hz(PositiveParam(req, "rate_hz", kDefaultTactileRateHz));
-    auto relay = std::make_shared<EventRelay<v1::SensorReading>>();
-    relay->context = ContextFor(req, PositiveParam(req, "max_seconds", kDefaultStreamSeconds));
-    relay->reader = tactile_->Stream(relay->context.get(), request);
-    relay->encode = TactileEvent;
-    EventRelay<v1::SensorReading>::Start(relay, res);
+    const double max_seconds = PositiveParam(req, "max_seconds", kDefaultStreamSeconds);
+    auto ticket = feeds_.Join(FeedKey("tactile", req, JsonNumber(request.rate_hz())), [&] {
+      return StreamSource<v1::SensorReading>(
+          req, [&](grpc::ClientContext* context) { return tactile_->Stream(context, request); },
+          [](const v1::SensorReading& reading, FeedEvent* event) {
+            event->slot = reading.sensor_id();
+            event->text = TactileEvent(reading);
+          });
+    });
+    ServeFeed(std::move(ticket), max_seconds, res);
   }
 
   void Grasps(const httplib::Request& req, httplib::Response& res) {
@@ -353,6 +381,7 @@ class ViewerRoutes {
   std::unique_ptr<v1::TactileService::Stub> tactile_;
   std::unique_ptr<v1::GraspService::Stub> grasps_;
   const std::string dir_;
+  FeedRegistry feeds_;
 };
 
 }  // namespace

@@ -11,7 +11,8 @@
 //                                  contacts_f32 (base64 of float32 LE, 6 per contact: point m, force on the
 //                                  first body N, world) and contact_bodies_u32 (base64 of uint32 LE pairs)},
 //                                  from WatchScene — newest snapshot per viewer, at most max_rate_hz
-//                                  (default 30) per second
+//                                  (default 30) per second; viewers asking the same share one encoding
+//                                  (rpc/event_feed.h)
 //   GET /view/<scene>/tactile      Server-Sent Events: "reading" {sensor_id, time, rows, cols, intensities,
 //                                  intensity_sum} of every tactile array, from TactileService.Stream (rate_hz, 10)
 //   GET /view/<scene>/grasps?set_id=<id>   a stored grasp set (GetGraspSet), best ε first
