@@ -3,6 +3,8 @@
 #include <grpcpp/grpcpp.h>
 
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <optional>
 
 #include "core/error.h"
@@ -71,9 +73,36 @@ struct GatewayClient::Worker {
   std::thread thread;
 };
 
+namespace {
+
+std::string ReadPem(const std::string& flag, const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) ThrowInvalidArgument("--" + flag + ": cannot read '" + path + "'");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+// TLS when a CA is given (with the client certificate, if any); plaintext otherwise, for loopback servers.
+std::shared_ptr<grpc::ChannelCredentials> ChannelCredentials(const GatewayOptions& options) {
+  if (options.tls_ca.empty()) return grpc::InsecureChannelCredentials();
+  grpc::SslCredentialsOptions ssl;
+  ssl.pem_root_certs = ReadPem("tls-ca", options.tls_ca);
+  if (!options.tls_cert.empty()) {
+    ssl.pem_cert_chain = ReadPem("tls-cert", options.tls_cert);
+    ssl.pem_private_key = ReadPem("tls-key", options.tls_key);
+  }
+  return grpc::SslCredentials(ssl);
+}
+
+}  // namespace
+
 class GatewayClient::Link {
  public:
-  explicit Link(v1::GatewayService::Stub* stub) : stream(stub->Connect(&context)) {}
+  Link(v1::GatewayService::Stub* stub, const std::string& token) {
+    if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
+    stream = stub->Connect(&context);
+  }
   grpc::ClientContext context;
   std::unique_ptr<grpc::ClientReaderWriter<v1::GatewayMessage, v1::GatewayCommand>> stream;
   bool broken = false;
@@ -116,7 +145,7 @@ void GatewayClient::Run() {
   arguments.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, static_cast<int>(options_.backoff_initial.count()));
   arguments.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, static_cast<int>(options_.backoff_initial.count()));
   arguments.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, static_cast<int>(options_.backoff_max.count()));
-  auto channel = grpc::CreateCustomChannel(options_.server, grpc::InsecureChannelCredentials(), arguments);
+  auto channel = grpc::CreateCustomChannel(options_.server, ChannelCredentials(options_), arguments);
   auto stub = v1::GatewayService::NewStub(channel);
   auto backoff = options_.backoff_initial;
   while (!stop_) {
@@ -128,7 +157,7 @@ void GatewayClient::Run() {
     }
     const int64_t before = last_rx_ns_.load();
     {
-      Link link(stub.get());
+      Link link(stub.get(), options_.token);
       {
         std::lock_guard<std::mutex> lock(link_mutex_);
         link_ = &link;

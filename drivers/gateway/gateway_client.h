@@ -35,6 +35,9 @@ struct GatewayOptions {
   std::chrono::milliseconds reading_period{20};
   std::chrono::milliseconds backoff_initial{100};
   std::chrono::milliseconds backoff_max{5000};
+  // Security (docs/security.md): PEM files; tls_ca set = TLS to the server, tls_cert + tls_key = the client
+  // certificate the server requires for Connect when it has --tls-client-ca. token: a bearer token (role gateway).
+  std::string tls_ca, tls_cert, tls_key, token;
 };
 
 class GatewayClient {

@@ -1,7 +1,7 @@
 // graspsim-gateway: runs on the robot PC, puts its grippers behind the server's GatewayService.
 //   graspsim-gateway --server=HOST:PORT --device=SPEC [--device=SPEC ...] [--name=NAME] [--limits=LIST]
 //                    [--watchdog-ms=200] [--reading-ms=20] [--device-timeout-ms=200] [--backoff-max-ms=5000]
-//                    [--no-initialize] [--log-level=info]
+//                    [--no-initialize] [--log-level=info] [--tls-ca=PEM [--tls-cert=PEM --tls-key=PEM]] [--token-file=FILE]
 // SPEC: [ID=]robotiq-tcp:HOST:PORT | [ID=]robotiq-rtu:DEVICE | [ID=]pg70-can:IFACE[:MODULE] | [ID=]pg70-fd:FD[:MODULE]
 // LIST: name=value,... narrowing every device's limits (min_opening, max_opening m; min_speed, max_speed m/s;
 // min_force, max_force N). Runs until SIGINT or SIGTERM, then stops every device and exits 0.
@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -24,12 +25,21 @@ namespace {
 using namespace graspsim;
 using namespace graspsim::drivers::gateway;
 
+// The first word of the file: a token on the command line would show in every process listing.
+std::string ReadToken(const std::string& path) {
+  std::ifstream file(path);
+  std::string token;
+  if (!file || !(file >> token)) ThrowInvalidArgument("--token-file: cannot read a token from '" + path + "'");
+  return token;
+}
+
 int Usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "graspsim-gateway: %s\n", error.c_str());
   std::fprintf(stderr,
                "usage: graspsim-gateway --server=HOST:PORT --device=SPEC [--device=SPEC ...] [--name=NAME]\n"
                "         [--limits=name=value,...] [--watchdog-ms=200] [--reading-ms=20] [--device-timeout-ms=200]\n"
                "         [--backoff-max-ms=5000] [--no-initialize] [--log-level=info]\n"
+               "         [--tls-ca=PEM [--tls-cert=PEM --tls-key=PEM]] [--token-file=FILE]\n"
                "  SPEC: [ID=]robotiq-tcp:HOST:PORT | [ID=]robotiq-rtu:DEVICE | [ID=]pg70-can:IFACE[:MODULE]\n"
                "        | [ID=]pg70-fd:FD[:MODULE]\n");
   return 2;
@@ -69,6 +79,10 @@ int main(int argc, char** argv) {
       if (name == "--help") return Usage("");
       if (name == "--server") options.server = value;
       else if (name == "--name") options.name = value;
+      else if (name == "--tls-ca") options.tls_ca = value;
+      else if (name == "--tls-cert") options.tls_cert = value;
+      else if (name == "--tls-key") options.tls_key = value;
+      else if (name == "--token-file") options.token = ReadToken(value);
       else if (name == "--device") device_flags.push_back(value);
       else if (name == "--limits") limits = value;
       else if (name == "--watchdog-ms") options.watchdog = std::chrono::milliseconds(Milliseconds("watchdog-ms", value, 10, 60000));

@@ -134,6 +134,25 @@ const FlagSpec& Find(const std::string& name) {
   for (const auto& spec : Specs()) {
     if (spec.name == name) return spec;
   }
+      // Security (docs/security.md).
+      {"tls-cert", "PEM certificate (chain) of the gRPC and HTTP ports; with --tls-key turns TLS on",
+       [](const ServerFlags& f) { return f.server.tls.cert; },
+       [](const std::string& v, ServerFlags* f) { f->server.tls.cert = v; }},
+      {"tls-key", "PEM private key of --tls-cert",
+       [](const ServerFlags& f) { return f.server.tls.key; },
+       [](const std::string& v, ServerFlags* f) { f->server.tls.key = v; }},
+      {"tls-client-ca", "PEM CA of client certificates: requested from every client, required for GatewayService/Connect",
+       [](const ServerFlags& f) { return f.server.tls.client_ca; },
+       [](const std::string& v, ServerFlags* f) { f->server.tls.client_ca = v; }},
+      {"insecure", "true: serve plaintext on purpose (loopback addresses only; also the default there without --tls-cert)",
+       [](const ServerFlags& f) { return std::string(f.server.insecure ? "true" : "false"); },
+       [](const std::string& v, ServerFlags* f) {
+         if (v != "true" && v != "false") ThrowInvalidArgument("--insecure: '" + v + "' is not true or false");
+         f->server.insecure = v == "true";
+       }},
+      {"token-file", "bearer tokens and roles ('<role> <name> <token>' lines, docs/security.md); empty = auth off",
+       [](const ServerFlags& f) { return f.server.token_file; },
+       [](const std::string& v, ServerFlags* f) { f->server.token_file = v; }},
   ThrowInvalidArgument("--" + name + ": unknown flag (see --help)");
 }
 
@@ -184,6 +203,8 @@ ServerFlags ParseFlags(int argc, char** argv) {
   }
   ServerFlags flags;
   // The config file first, so that the command line overrides it wherever it appears.
+    } else if (arg == "insecure") {  // the one flag that may stand alone
+      given.emplace_back(arg, "true");
   for (const auto& [name, value] : given) {
     if (name == "config") ApplyConfigFile(value, &flags);
   }

@@ -8,6 +8,7 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "auth/grpc_auth.h"
 #include "core/error.h"
 #include "core/worker_pool.h"
 
@@ -20,11 +21,13 @@ grpc::Status ToStatus(const Error& error);
 void LogRequest(const char* method, const grpc::ServerContextBase& context, const grpc::Status& status,
                 std::chrono::steady_clock::duration elapsed);
 
-// Runs a handler body; an Error becomes its status, anything else INTERNAL (never a crash).
+// Runs a handler body; an Error becomes its status, anything else INTERNAL (never a crash). A call the auth
+// interceptor refused (auth/grpc_auth.h) ends with that refusal and the body does not run.
 template <typename Body>
 grpc::Status Handle(const char* method, const grpc::ServerContextBase& context, Body&& body) {
   const auto start = std::chrono::steady_clock::now();
   grpc::Status status;
+  if (auto refused = auth::RefusedCall(context)) return *refused;
   try {
     body();
   } catch (const Error& error) {

@@ -48,6 +48,7 @@ grpc::ServerUnaryReactor* GatewayServiceImpl::SendCommand(Context* context, cons
 grpc::ServerUnaryReactor* GatewayServiceImpl::EmergencyStop(Context* context, const v1::EmergencyStopRequest* request,
                                                             v1::EmergencyStopResponse* response) {
   constexpr char kMethod[] = "GatewayService/EmergencyStop";
+  if (auto refused = auth::RefusedCall(*context)) return FailedUnary(context, *refused);
   if (!request->device_id().empty() && !hub_->Find(request->device_id())) {
     const grpc::Status status(grpc::StatusCode::NOT_FOUND,
                               "device_id: no device '" + request->device_id() + "' is registered");

@@ -8,6 +8,7 @@
 #include "grasp/hand.h"
 #include "grasp/scene_object.h"
 #include "rpc/call.h"
+#include "rpc/failed_call.h"
 #include "rpc/convert.h"
 #include "rpc/plan_arm_path.h"
 #include "rpc/unimplemented_services.h"
@@ -187,6 +188,7 @@ void ToProto(const grasp::GraspSet& set, const grasp::StoredGraspSet& meta, bool
 }
 
 grpc::ServerWriteReactor<v1::PlanGraspsProgress>* GraspServiceImpl::PlanGrasps(Context* context,
+  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::PlanGraspsProgress>(*refused);
                                                                                const v1::PlanGraspsRequest* request) {
   return StartPlanGraspsStream(*request, registry_, store_, pool_, context);
 }

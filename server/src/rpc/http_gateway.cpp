@@ -111,7 +111,8 @@ std::string SseEvent(const char* event, const std::string& json) {
 }  // namespace
 
 struct HttpGateway::Impl {
-  Impl(std::shared_ptr<grpc::Channel> channel, const HttpGatewayOptions& options) : stub(channel) {
+  Impl(std::shared_ptr<grpc::Channel> channel, const HttpGatewayOptions& options)
+      : stub(channel), server_ptr(MakeServer(options)), server(*server_ptr) {
     server.new_task_queue = [threads = options.threads] { return new httplib::ThreadPool(threads); };
     server.set_payload_max_length(options.max_body_bytes);
     server.Get("/v1", [](const httplib::Request&, httplib::Response& res) {
@@ -136,8 +137,20 @@ struct HttpGateway::Impl {
   void Stream(std::shared_ptr<GenericCall> call, const pb::MethodDescriptor& method, const CallOptions& options,
               httplib::Response& res);
 
+  // TLS when a certificate is given (the same files as the gRPC port), else plain HTTP.
+  static std::unique_ptr<httplib::Server> MakeServer(const HttpGatewayOptions& options) {
+    if (options.tls_cert.empty()) return std::make_unique<httplib::Server>();
+    auto server = std::make_unique<httplib::SSLServer>(options.tls_cert.c_str(), options.tls_key.c_str());
+    if (!server->is_valid()) {
+      throw Error(ErrorCode::kInvalidArgument, "--tls-cert/--tls-key: OpenSSL cannot use '" + options.tls_cert +
+                                                   "' with '" + options.tls_key + "' for the HTTP port");
+    }
+    return server;
+  }
+
   grpc::GenericStub stub;
-  httplib::Server server;
+  std::unique_ptr<httplib::Server> server_ptr;
+  httplib::Server& server;
   std::thread thread;
   int port = 0;
 };
@@ -169,7 +182,9 @@ void HttpGateway::Impl::HandleCall(const httplib::Request& req, const std::strin
                                 std::chrono::duration<double>(timeout)));
     }
     // Credentials travel as they would over gRPC, for the one interceptor that checks them.
-    if (req.has_header("Authorization")) context->AddMetadata("authorization", req.get_header_value("Authorization"));
+    if (const std::string authorization = AuthorizationOf(req); !authorization.empty()) {
+      context->AddMetadata("authorization", authorization);
+    }
     const std::vector<grpc::ByteBuffer> requests = RequestsFromHttp(method, req.get_header_value("Content-Type"), body);
 
     auto call = std::make_shared<GenericCall>(&stub, "/" + service + "/" + method.name(), std::move(context));

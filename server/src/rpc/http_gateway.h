@@ -27,6 +27,7 @@ struct HttpGatewayOptions {
                                           // page holds two)
   size_t max_body_bytes = 64 << 20;
   std::string viewer_dir;                 // the browser viewer's files (rpc/http_viewer.h); empty = beside the binary
+  std::string tls_cert, tls_key;          // PEM files: HTTPS (cpp-httplib's SSLServer); empty = plain HTTP
 };
 
 class HttpGateway {

@@ -98,9 +98,36 @@ double PositiveParam(const httplib::Request& req, const std::string& name, doubl
   return value;
 }
 
+}  // namespace
+
+std::string AuthorizationOf(const httplib::Request& req) {
+  if (req.has_header("Authorization")) return req.get_header_value("Authorization");
+  if (req.has_param("token")) return "Bearer " + req.get_param_value("token");
+  // Cookie: a; graspsim_token=<token>; b
+  const std::string cookies = req.get_header_value("Cookie");
+  constexpr std::string_view kName = "graspsim_token=";
+  for (size_t at = cookies.find(kName); at != std::string::npos; at = cookies.find(kName, at + 1)) {
+    if (at != 0 && cookies[at - 1] != ' ' && cookies[at - 1] != ';') continue;
+    const size_t begin = at + kName.size();
+    return "Bearer " + cookies.substr(begin, cookies.find(';', begin) - begin);
+  }
+  return "";
+}
+
+void RememberToken(const httplib::Request& req, httplib::Response& res) {
+  const std::string token = req.get_param_value("token");
+  if (token.empty() || token.find_first_of(";, \r\n") != std::string::npos) return;
+  res.set_header("Set-Cookie", "graspsim_token=" + token + "; Path=/; HttpOnly; SameSite=Strict" +
+                                   (req.ssl != nullptr ? "; Secure" : ""));
+}
+
+namespace {
+
 std::unique_ptr<grpc::ClientContext> ContextFor(const httplib::Request& req, double seconds) {
   auto context = std::make_unique<grpc::ClientContext>();
-  if (req.has_header("Authorization")) context->AddMetadata("authorization", req.get_header_value("Authorization"));
+  if (const std::string authorization = AuthorizationOf(req); !authorization.empty()) {
+    context->AddMetadata("authorization", authorization);
+  }
   if (seconds > 0) {
     context->set_deadline(std::chrono::system_clock::now() +
                           std::chrono::duration_cast<std::chrono::system_clock::duration>(
@@ -134,7 +161,7 @@ FeedSource StreamSource(const httplib::Request& req,
 
 // Viewers share a feed only when they asked for the same stream with the same credentials.
 std::string FeedKey(const std::string& stream, const httplib::Request& req, const std::string& options) {
-  return stream + "\n" + std::string(req.matches[1]) + "\n" + options + "\n" + req.get_header_value("Authorization");
+  return stream + "\n" + std::string(req.matches[1]) + "\n" + options + "\n" + AuthorizationOf(req);
 }
 
 // Relays a feed to one browser as Server-Sent Events. The first event is awaited before answering, so a
@@ -292,6 +319,7 @@ class ViewerRoutes {
     v1::ListScenesResponse list;
     const grpc::Status status = scenes_->ListScenes(ContextFor(req, 30).get(), v1::ListScenesRequest(), &list);
     if (!status.ok()) return ReplyError(status, res);
+    RememberToken(req, res);
     std::string rows;
     for (const auto& scene : list.scenes()) {
       const std::string id = HtmlEscape(scene.id());
@@ -311,6 +339,7 @@ class ViewerRoutes {
     v1::Scene scene;
     const grpc::Status status = GetScene(req, false, &scene);
     if (!status.ok()) return ReplyError(status, res);
+    RememberToken(req, res);
     std::string page;
     if (PageFile("index.html", res, &page)) res.set_content(page, "text/html; charset=utf-8");
   }

@@ -28,6 +28,8 @@
 
 namespace httplib {
 class Server;
+struct Request;
+struct Response;
 }
 
 namespace graspsim::rpc {
@@ -35,6 +37,13 @@ namespace graspsim::rpc {
 // Adds the routes. `viewer_dir` holds index.html, viewer.js, viewer.css; empty = DefaultViewerDir(). A
 // missing directory is logged and the pages answer 503 naming it; the event and JSON routes still work.
 void AddViewerRoutes(httplib::Server* server, std::shared_ptr<grpc::Channel> channel, const std::string& viewer_dir);
+
+// The caller's credentials as an authorization metadata value ("Bearer <token>"): the Authorization header, else
+// a ?token= query parameter (a link that opens the viewer), else the graspsim_token cookie that such a link sets.
+// Empty when there are none. The interceptor checks them (auth/grpc_auth.h), as for any gRPC client.
+std::string AuthorizationOf(const httplib::Request& req);
+// A ?token= query parameter becomes an HttpOnly, SameSite=Strict cookie, so the page's own fetches carry it.
+void RememberToken(const httplib::Request& req, httplib::Response& res);
 
 // <directory of the running binary>/../share/graspsim/viewer: where the build and an install put the files.
 std::string DefaultViewerDir();

@@ -15,6 +15,7 @@
 #include "perception/segmentation.h"
 #include "perception/shape_completion.h"
 #include "rpc/call.h"
+#include "rpc/failed_call.h"
 #include "rpc/convert.h"
 #include "rpc/progress_run.h"
 #include "rpc/run_reactor.h"
@@ -218,6 +219,7 @@ grpc::ServerWriteReactor<v1::CompleteShapeProgress>* PerceptionServiceImpl::Comp
 grpc::ServerUnaryReactor* PerceptionServiceImpl::SegmentScene(Context* context, const v1::SegmentSceneRequest* request,
                                                               v1::SegmentSceneResponse* response) {
   return RunUnary(context, "PerceptionService/SegmentScene", pool_, [=, this] {
+  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::CompleteShapeProgress>(*refused);
     SegmentationParams params;
     if (request->cluster_tolerance() != 0) params.cluster_tolerance = request->cluster_tolerance();
     if (request->plane_threshold() != 0) params.plane_threshold = request->plane_threshold();

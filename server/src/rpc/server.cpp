@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/log.h"
+#include "rpc/auth_service.h"
 #include "rpc/gateway_service.h"
 #include "rpc/grasp_service.h"
 #include "rpc/perception_service.h"
@@ -23,8 +24,42 @@ std::string DefaultGraspDataDir() {
   return "graspsim-data";
 }
 
+namespace {
+
+bool IsLoopback(const std::string& address) {
+  if (address.starts_with("unix:")) return true;  // a socket file: local by construction
+  const size_t colon = address.rfind(':');
+  std::string host = colon == std::string::npos ? address : address.substr(0, colon);
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+  return host == "localhost" || host == "::1" || host.starts_with("127.");
+}
+
+}  // namespace
+
+void CheckListenSecurity(const ServerOptions& options) {
+  const auth::TlsFiles& tls = options.tls;
+  if (tls.cert.empty() != tls.key.empty()) ThrowInvalidArgument("--tls-cert and --tls-key: give both or neither");
+  if (!tls.client_ca.empty() && tls.cert.empty()) ThrowInvalidArgument("--tls-client-ca: needs --tls-cert and --tls-key");
+  if (options.insecure && !tls.cert.empty()) ThrowInvalidArgument("--insecure: contradicts --tls-cert");
+  std::vector<std::pair<std::string, std::string>> addresses = {{"listen", options.listen}};
+  if (options.http_enabled) addresses.emplace_back("http-listen", options.http.listen);
+  for (const auto& [flag, address] : addresses) {
+    if (IsLoopback(address)) continue;
+    if (options.insecure || tls.cert.empty()) {
+      ThrowInvalidArgument("--" + flag + ": '" + address + "' is not a loopback address; serving it needs " +
+                           "--tls-cert and --tls-key (--insecure is accepted only for 127.0.0.1, ::1 and localhost)");
+    }
+    if (options.token_file.empty()) {
+      ThrowInvalidArgument("--" + flag + ": '" + address + "' is not a loopback address; serving it needs " +
+                           "--token-file (docs/security.md), so that only callers with a token get in");
+    }
+  }
+}
+
 GraspsimServer::GraspsimServer(const ServerOptions& options)
     : options_(options), registry_(options.limits), pool_(options.worker_threads) {
+  CheckListenSecurity(options);
+  if (!options.token_file.empty()) authorizer_.LoadTokenFile(options.token_file);
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
 
@@ -37,10 +72,26 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
   services_.push_back(
       std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<GatewayServiceImpl>(&gateways_, &registry_, &pool_));
+  services_.push_back(std::make_unique<AuthServiceImpl>(&authorizer_, !options.token_file.empty(), &pool_));
 
   grpc::ServerBuilder builder;
-  // Loopback by default; wider addresses get TLS with the security issue.
-  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &port_);
+  // Loopback by default; wider addresses need TLS (CheckListenSecurity). docs/security.md.
+  builder.AddListeningPort(options.listen, auth::ServerCredentials(options.tls), &port_);
+  {
+    std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+    interceptors.push_back(auth::MakeInterceptorFactory(
+        &authorizer_, {.tokens = !options.token_file.empty(), .gateway_needs_cert = !options.tls.client_ca.empty()}));
+    builder.experimental().SetInterceptorCreators(std::move(interceptors));
+  }
+  if (options.tls.cert.empty()) {
+    Log(LogLevel::kWarn, "INSECURE: no TLS (no --tls-cert); plaintext on loopback only, never expose this port",
+        {{"listen", options.listen}});
+  }
+  if (options.token_file.empty()) {
+    Log(LogLevel::kWarn, "AUTH OFF: no --token-file; every caller may do everything", {});
+  } else {
+    Log(LogLevel::kInfo, "tokens loaded", {{"file", options.token_file}, {"tokens", std::to_string(authorizer_.token_count())}});
+  }
   // Without this a second server on the same port would start and silently share its traffic (SO_REUSEPORT).
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(options.max_message_bytes);
@@ -54,7 +105,10 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
   if (options.http_enabled) {
     grpc::ChannelArguments arguments;
     arguments.SetMaxReceiveMessageSize(-1);  // the server's own limits apply; the gateway adds none
-    http_ = std::make_unique<HttpGateway>(server_->InProcessChannel(arguments), options.http);
+    HttpGatewayOptions http = options.http;
+    http.tls_cert = options.tls.cert;
+    http.tls_key = options.tls.key;
+    http_ = std::make_unique<HttpGateway>(server_->InProcessChannel(arguments), http);
   }
 }
 

@@ -6,6 +6,8 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "auth/auth.h"
+#include "auth/grpc_auth.h"
 #include "core/limits.h"
 #include "core/worker_pool.h"
 #include "gateway/gateway_hub.h"
@@ -29,7 +31,16 @@ struct ServerOptions {
   std::string grasp_data_dir = DefaultGraspDataDir();
   bool http_enabled = true;
   HttpGatewayOptions http;
+  // Security (docs/security.md): TLS on both ports from these PEM files; without them only loopback addresses
+  // are served (plaintext, with a warning), and `insecure` says so explicitly. A token file turns on bearer
+  // tokens and roles.
+  auth::TlsFiles tls;
+  bool insecure = false;
+  std::string token_file;
 };
+
+// Throws Error(kInvalidArgument) when the listen addresses and the TLS flags do not go together.
+void CheckListenSecurity(const ServerOptions& options);
 
 class GraspsimServer {
  public:
@@ -44,6 +55,7 @@ class GraspsimServer {
 
  private:
   ServerOptions options_;
+  auth::Authorizer authorizer_;  // tokens, roles, scene owners: read by the interceptor of every call
   SceneRegistry registry_;
   WorkerPool pool_;
   SimulationCache simulations_;  // one Simulation per scene, shared by the services that step scenes

@@ -93,6 +93,7 @@ grpc::ServerWriteReactor<v1::SensorReading>* TactileServiceImpl::Stream(Context*
 
 grpc::ServerWriteReactor<v1::WorkCycleProgress>* TactileServiceImpl::RunWorkCycle(
     Context* context, const v1::RunWorkCycleRequest* request) {
+  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::WorkCycleProgress>(*refused);
   // 0 means the default, as the message documents; every other value is checked by the cycle (ranges, and
   // the ids against the scene's model on the pool, since reading the model takes the scene's lock).
   auto or_default = [](double value, double fallback) { return value == 0 ? fallback : value; };

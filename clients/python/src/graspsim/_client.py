@@ -6,6 +6,7 @@ from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence
 import grpc
 
 from graspsim import _build
+from graspsim._auth import AuthMethods, PemLike, open_channel
 from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
 from graspsim._gateway import GatewayMethods
 from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, target_proto
@@ -24,13 +25,18 @@ _CHANNEL_OPTIONS = [
 ]
 
 
-def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_timeout: float = 60.0) -> Client:
+def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_timeout: float = 60.0,
+            token: Optional[str] = None, tls: bool = False, root_certificates: PemLike = None,
+            private_key: PemLike = None, certificate_chain: PemLike = None) -> Client:
     """Connects to a graspsim server at "host:port", waiting up to timeout (s) for the channel to be ready.
 
     call_timeout (s) is the deadline of every unary call. Raises GraspsimError(UNAVAILABLE) when no server
-    answers in time.
+    answers in time. token: the bearer token sent with every call. tls=True (or root_certificates, PEM bytes
+    or a file path: the CA of the server's certificate) connects over TLS; private_key + certificate_chain add
+    a client certificate (docs/security.md).
     """
-    channel = grpc.insecure_channel(target, options=_CHANNEL_OPTIONS)
+    channel = open_channel(target, _CHANNEL_OPTIONS, token=token, tls=tls, root_certificates=root_certificates,
+                           private_key=private_key, certificate_chain=certificate_chain)
     try:
         grpc.channel_ready_future(channel).result(timeout=timeout)
     except grpc.FutureTimeoutError:
@@ -40,7 +46,7 @@ def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_time
     return Client(channel, call_timeout)
 
 
-class Client(GatewayMethods, PerceptionMethods, MotionMethods):
+class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods):
     """A connection to one graspsim server (see connect()); a context manager that closes the channel.
 
     Units are SI: m, kg, s, rad; poses are Pose, [x y z qw qx qy qz] or (position, quaternion (w, x, y, z)).

@@ -1,0 +1,224 @@
+#include "auth/grpc_auth.h"
+
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <unordered_map>
+
+#include <google/protobuf/message.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "graspsim/v1/scene.pb.h"
+
+namespace graspsim::auth {
+namespace {
+
+using grpc::experimental::InterceptionHookPoints;
+
+// Calls whose state a handler may ask for: refused calls and AuthService calls. Others are not stored, so an
+// allowed call costs no lock here. Entries live exactly as long as the call's interceptor.
+struct CallState {
+  std::optional<grpc::Status> refused;
+  std::optional<Identity> who;
+};
+std::mutex calls_mutex;
+std::unordered_map<const grpc::ServerContextBase*, CallState> calls;
+
+std::string FieldText(const google::protobuf::Message& message, const std::string& name) {
+  const auto* field = message.GetDescriptor()->FindFieldByName(name);
+  if (field == nullptr || field->type() != google::protobuf::FieldDescriptor::TYPE_STRING || field->is_repeated()) {
+    return "";
+  }
+  return message.GetReflection()->GetString(message, field);
+}
+
+// The scene a request names: its scene_id, or its header's (UploadFile's first chunk).
+std::string SceneIdOf(const google::protobuf::Message& message) {
+  std::string id = FieldText(message, "scene_id");
+  if (!id.empty()) return id;
+  const auto* header = message.GetDescriptor()->FindFieldByName("header");
+  if (header != nullptr && header->type() == google::protobuf::FieldDescriptor::TYPE_MESSAGE &&
+      !header->is_repeated() && message.GetReflection()->HasField(message, header)) {
+    return FieldText(message.GetReflection()->GetMessage(message, header), "scene_id");
+  }
+  return "";
+}
+
+grpc::Status StatusOf(const Decision& decision) {
+  return grpc::Status(decision.verdict == Verdict::kUnauthenticated ? grpc::StatusCode::UNAUTHENTICATED
+                                                                     : grpc::StatusCode::PERMISSION_DENIED,
+                      decision.message);
+}
+
+class AuthInterceptor : public grpc::experimental::Interceptor {
+ public:
+  AuthInterceptor(grpc::experimental::ServerRpcInfo* info, Authorizer* authorizer, const InterceptorOptions& options)
+      : context_(info->server_context()), method_(info->method()), authorizer_(authorizer), options_(options) {
+    const auto& table = RoleTable();
+    const auto rule = table.find(method_);
+    if (rule != table.end()) rule_ = &rule->second;
+    keep_state_ = method_.starts_with("/graspsim.v1.AuthService/");
+    graspsim_method_ = method_.starts_with("/graspsim.v1.");
+  }
+  ~AuthInterceptor() override {
+    if (!stored_) return;
+    std::lock_guard lock(calls_mutex);
+    calls.erase(context_);
+  }
+
+  void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
+    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::POST_RECV_INITIAL_METADATA)) {
+      OnMetadata(*methods->GetRecvInitialMetadata());
+    }
+    // Only graspsim's own services are sure to carry protobuf messages (the health service reads raw bytes).
+    if (graspsim_method_ && methods->QueryInterceptionHookPoint(InterceptionHookPoints::POST_RECV_MESSAGE)) {
+      if (const void* message = methods->GetRecvMessage()) OnRequest(*static_cast<const google::protobuf::Message*>(message));
+    }
+    if (graspsim_method_ && methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_MESSAGE)) {
+      OnResponse(methods);
+    }
+    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS) && !refused_ &&
+        method_ == "/graspsim.v1.SceneService/DeleteScene" && methods->GetSendStatus().ok() && options_.tokens) {
+      authorizer_->ForgetScene(scene_id_);
+    }
+    methods->Proceed();
+  }
+
+ private:
+  void OnMetadata(const std::multimap<grpc::string_ref, grpc::string_ref>& metadata) {
+    std::string cert_name;
+    if (const auto auth_context = context_->auth_context(); auth_context && auth_context->IsPeerAuthenticated()) {
+      const auto names = auth_context->FindPropertyValues("x509_common_name");
+      if (!names.empty()) cert_name.assign(names.front().data(), names.front().size());
+    }
+    if (options_.gateway_needs_cert && method_ == "/graspsim.v1.GatewayService/Connect" && cert_name.empty()) {
+      return Refuse(grpc::Status(grpc::StatusCode::UNAUTHENTICATED,
+                                 "GatewayService/Connect needs a client certificate signed by --tls-client-ca"));
+    }
+    if (!options_.tokens) return Store();
+    std::string_view token;
+    if (const auto it = metadata.find("authorization"); it != metadata.end()) {
+      token = BearerToken(std::string_view(it->second.data(), it->second.size()));
+    }
+    const Decision decision = authorizer_->Authorize(method_, token, cert_name);
+    if (decision.verdict != Verdict::kAllow) return Refuse(StatusOf(decision));
+    who_ = decision.who;
+    Store();
+  }
+
+  void OnRequest(const google::protobuf::Message& request) {
+    const std::string device_id = FieldText(request, "device_id");
+    if (!refused_ && options_.tokens && rule_ != nullptr && !request_checked_) {
+      request_checked_ = true;  // the first message names the scene (UploadFile's header); later chunks carry data
+      scene_id_ = SceneIdOf(request);
+      const Decision decision = authorizer_->AuthorizeRequest(who_, *rule_, scene_id_, device_id);
+      if (decision.verdict != Verdict::kAllow) Refuse(StatusOf(decision));
+    }
+    if (rule_ != nullptr && (rule_->device_grant || method_ == "/graspsim.v1.GatewayService/EmergencyStop")) {
+      // Every command to hardware is logged with its sender (the token's name, never the secret).
+      Log(LogLevel::kInfo, "gateway command",
+          {{"method", method_}, {"device_id", device_id}, {"by", options_.tokens ? who_.name : "anyone (tokens off)"},
+           {"refused", refused_ ? "yes" : "no"}});
+    }
+  }
+
+  void OnResponse(grpc::experimental::InterceptorBatchMethods* methods) {
+    if (refused_ || !options_.tokens) return;
+    const void* message = methods->GetSendMessage();
+    if (message == nullptr) return;
+    if (method_ == "/graspsim.v1.SceneService/CreateScene") {
+      authorizer_->SetOwner(static_cast<const v1::Scene*>(message)->summary().id(), who_.name);
+    } else if (method_ == "/graspsim.v1.SceneService/ListScenes" && who_.role != Role::kAdmin) {
+      for (const auto& scene : static_cast<const v1::ListScenesResponse*>(message)->scenes()) {
+        if (authorizer_->CanRead(who_, scene.id())) *visible_.add_scenes() = scene;
+      }
+      methods->ModifySendMessage(&visible_);
+    }
+  }
+
+  void Refuse(const grpc::Status& status) {
+    refused_ = true;
+    Log(LogLevel::kInfo, "refused", {{"method", method_}, {"code", std::to_string(status.error_code())},
+                                     {"message", status.error_message()}, {"peer", context_->peer()}});
+    std::lock_guard lock(calls_mutex);
+    calls[context_].refused = status;
+    stored_ = true;
+  }
+
+  void Store() {
+    if (!keep_state_) return;
+    std::lock_guard lock(calls_mutex);
+    if (options_.tokens) calls[context_].who = who_;
+    else calls[context_];
+    stored_ = true;
+  }
+
+  grpc::ServerContextBase* context_;
+  std::string method_;
+  Authorizer* authorizer_;
+  InterceptorOptions options_;
+  const MethodRule* rule_ = nullptr;
+  bool graspsim_method_ = false, keep_state_ = false, stored_ = false, refused_ = false, request_checked_ = false;
+  Identity who_;
+  std::string scene_id_;
+  v1::ListScenesResponse visible_;
+};
+
+class Factory : public grpc::experimental::ServerInterceptorFactoryInterface {
+ public:
+  Factory(Authorizer* authorizer, const InterceptorOptions& options) : authorizer_(authorizer), options_(options) {}
+  grpc::experimental::Interceptor* CreateServerInterceptor(grpc::experimental::ServerRpcInfo* info) override {
+    return new AuthInterceptor(info, authorizer_, options_);
+  }
+
+ private:
+  Authorizer* authorizer_;
+  InterceptorOptions options_;
+};
+
+}  // namespace
+
+std::string ReadPemFile(const std::string& flag, const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) ThrowInvalidArgument("--" + flag + ": cannot read '" + path + "'");
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (text.str().find("-----BEGIN ") == std::string::npos) {
+    ThrowInvalidArgument("--" + flag + ": '" + path + "' is not a PEM file (no -----BEGIN line)");
+  }
+  return text.str();
+}
+
+std::shared_ptr<grpc::ServerCredentials> ServerCredentials(const TlsFiles& tls) {
+  if (tls.cert.empty()) return grpc::InsecureServerCredentials();
+  // One port for everyone: client certificates are requested and verified when presented, and the
+  // interceptor requires one for GatewayService/Connect (scripts and viewers come with tokens only).
+  grpc::SslServerCredentialsOptions options(tls.client_ca.empty()
+                                                ? GRPC_SSL_DONT_REQUEST_CLIENT_CERTIFICATE
+                                                : GRPC_SSL_REQUEST_CLIENT_CERTIFICATE_AND_VERIFY);
+  if (!tls.client_ca.empty()) options.pem_root_certs = ReadPemFile("tls-client-ca", tls.client_ca);
+  options.pem_key_cert_pairs.push_back({ReadPemFile("tls-key", tls.key), ReadPemFile("tls-cert", tls.cert)});
+  return grpc::SslServerCredentials(options);
+}
+
+std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface> MakeInterceptorFactory(
+    Authorizer* authorizer, const InterceptorOptions& options) {
+  return std::make_unique<Factory>(authorizer, options);
+}
+
+std::optional<grpc::Status> RefusedCall(const grpc::ServerContextBase& context) {
+  std::lock_guard lock(calls_mutex);
+  const auto it = calls.find(&context);
+  if (it == calls.end()) return std::nullopt;
+  return it->second.refused;
+}
+
+std::optional<Identity> CallerOf(const grpc::ServerContextBase& context) {
+  std::lock_guard lock(calls_mutex);
+  const auto it = calls.find(&context);
+  if (it == calls.end()) return std::nullopt;
+  return it->second.who;
+}
+
+}  // namespace graspsim::auth
