@@ -6,8 +6,11 @@ server=${1:?usage: run-demo.sh SERVER_BINARY PYTHON}
 python=${2:?usage: run-demo.sh SERVER_BINARY PYTHON}
 top=$(cd "$(dirname "$0")/.." && pwd)
 log=$(mktemp -t graspsim-demo-server.XXXXXX.log)
+# The demo's scenes go to a store of this run, not the user's (~/.local/share/graspsim): each run creates its
+# scenes anew, and runs must not pile them up in the user's store (docs/durability.md).
+data=$(mktemp -d -t graspsim-demo-data.XXXXXX)
 
-"$server" > "$log" 2>&1 &
+"$server" --data-dir="$data" > "$log" 2>&1 &
 pid=$!
 stop_server() {
   kill -TERM "$pid" 2>/dev/null || true
@@ -35,3 +38,4 @@ if [[ $demo_status -ne 0 || $server_status -ne 0 ]]; then
   exit 1
 fi
 rm -f "$log"
+rm -rf "$data"

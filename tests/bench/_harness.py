@@ -1,6 +1,7 @@
 """Shared by the benchmarks: a graspsim-server of their own, machine facts, percentiles, channels."""
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -29,6 +30,12 @@ class Server:
 
     def __init__(self, *flags: str):
         self.log_path = Path(tempfile.mkstemp(prefix="graspsim-bench-", suffix=".log")[1])
+        # Scenes and grasp sets go to a directory of this run, never the user's store (a benchmark may pass its
+        # own --data-dir, e.g. to restart on the same data); removed when the server stops.
+        self.data_dir = None
+        if not any(f.startswith("--data-dir") for f in flags):
+            self.data_dir = tempfile.mkdtemp(prefix="graspsim-bench-data-")
+            flags = (f"--data-dir={self.data_dir}", *flags)
         with open(self.log_path, "wb") as out:
             self.process = subprocess.Popen([str(SERVER_BIN), "--listen=127.0.0.1:0", "--http-listen=off",
                                              "--log-level=info", *flags], stdout=out, stderr=subprocess.STDOUT)
@@ -74,6 +81,8 @@ class Server:
                     f"{self.log_tail()}")
             else:
                 self.log_path.unlink()
+            if self.data_dir:
+                shutil.rmtree(self.data_dir, ignore_errors=True)
         return self.exit_code
 
     def __enter__(self):

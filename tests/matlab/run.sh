@@ -37,8 +37,9 @@ while [[ "$http_port" == "$grpc_port" ]]; do http_port="$(free_port)"; done
 url="http://127.0.0.1:$http_port"
 log="$(mktemp /tmp/graspsim-matlab-tests.XXXXXX.log)"
 
-grasp_dir=$(mktemp -d -t graspsim-matlab-grasps.XXXXXX)  # the tests' grasp sets, never the user's store
+grasp_dir=$(mktemp -d -t graspsim-matlab-grasps.XXXXXX)  # the tests' grasp sets and scenes, never the user's store
 "$server" --listen="127.0.0.1:$grpc_port" --http-listen="127.0.0.1:$http_port" --grasp-data-dir="$grasp_dir" \
+  --data-dir="$grasp_dir" \
   >"$log" 2>&1 &
 server_pid=$!
 # never leave a server behind (interrupted runs)

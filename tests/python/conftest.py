@@ -47,9 +47,12 @@ class ServerProcess:
         self.http_url = f"http://127.0.0.1:{self.http_port}"
         self.log_path = log_dir / f"graspsim-server-{self.port}.log"
         with open(self.log_path, "wb") as log:
-            # Grasp sets go to the test's own directory, never the user's (a test may pass its own flag).
+            # Grasp sets and scenes go to the test's own directories, never the user's (a test may pass its own
+            # flags: a restart test passes the same --data-dir to the second server).
             data_dir = [] if any(f.startswith("--grasp-data-dir") for f in self.flags) else \
                 [f"--grasp-data-dir={log_dir / f'grasps-{self.port}'}"]
+            if not any(f.startswith("--data-dir") for f in self.flags):
+                data_dir.append(f"--data-dir={log_dir / f'scenes-{self.port}'}")
             self.process = subprocess.Popen([str(server_binary()), f"--listen={self.address}",
                                              f"--http-listen=127.0.0.1:{self.http_port}", *data_dir, *self.flags],
                                             stdout=log, stderr=subprocess.STDOUT)

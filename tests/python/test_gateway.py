@@ -166,7 +166,7 @@ def test_predict_action_refusals(client, rig, scene_id):
 
 def _start_server(address, log):
     process = subprocess.Popen([str(server_binary()), f"--listen={address}", "--http-listen=off",
-                                "--grasp-data-dir=off"], stdout=log, stderr=subprocess.STDOUT)
+                                "--grasp-data-dir=off", "--data-dir=off"], stdout=log, stderr=subprocess.STDOUT)
     with grpc.insecure_channel(address) as channel:
         grpc.channel_ready_future(channel).result(timeout=30)
     return process

@@ -120,7 +120,15 @@ const std::vector<FlagSpec>& Specs() {
       {"drain-timeout-s", "on SIGTERM, how long in-flight requests may finish before they are cancelled, s",
        [](const ServerFlags& f) { return FormatNumber(f.server.drain_timeout_s); },
        [](const std::string& v, ServerFlags* f) { f->server.drain_timeout_s = ParsePositive("drain-timeout-s", v); }},
-      {"grasp-data-dir", "directory of the grasp-set store (grasp_sets.sqlite), or off to store nothing",
+      {"data-dir", "directory of the scene store (scenes.sqlite: scenes survive restarts and crashes, "
+                   "docs/durability.md), or off to keep scenes in memory only",
+       [](const ServerFlags& f) { return f.server.data_dir; },
+       [](const std::string& v, ServerFlags* f) {
+         if (v.empty()) ThrowInvalidArgument("--data-dir: empty; give a directory or off");
+         f->server.data_dir = v;
+       }},
+      {"grasp-data-dir", "directory of the grasp-set store (grasp_sets.sqlite), or off to store nothing "
+                         "(empty = --data-dir)",
        [](const ServerFlags& f) { return f.server.grasp_data_dir; },
        [](const std::string& v, ServerFlags* f) {
          if (v.empty()) ThrowInvalidArgument("--grasp-data-dir: empty; give a directory or off");

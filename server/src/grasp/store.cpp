@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "core/bytes.h"
 #include "core/error.h"
 #include "core/sha256.h"
 
@@ -19,46 +20,6 @@ constexpr int kFormat = 1;
 [[noreturn]] void ThrowStore(const std::string& path, const std::string& what) {
   throw Error(ErrorCode::kFailedPrecondition, "grasp store " + path + ": " + what);
 }
-
-// Little-endian packing of the grasps (x86 and ARM are little-endian; the format is ours alone).
-class Writer {
- public:
-  template <typename T>
-  void Put(T value) {
-    const size_t at = bytes_.size();
-    bytes_.resize(at + sizeof(T));
-    std::memcpy(bytes_.data() + at, &value, sizeof(T));
-  }
-  void Put(const Vec3& v) {
-    for (int k = 0; k < 3; ++k) Put(v[k]);
-  }
-  const std::string& bytes() const { return bytes_; }
-
- private:
-  std::string bytes_;
-};
-
-class Reader {
- public:
-  Reader(const void* data, size_t size) : data_(static_cast<const char*>(data)), size_(size) {}
-  template <typename T>
-  T Get() {
-    T value{};
-    if (at_ + sizeof(T) > size_) throw Error(ErrorCode::kInternal, "grasp store: truncated grasp set");
-    std::memcpy(&value, data_ + at_, sizeof(T));
-    at_ += sizeof(T);
-    return value;
-  }
-  Vec3 GetVec3() {
-    Vec3 v;
-    for (int k = 0; k < 3; ++k) v[k] = Get<double>();
-    return v;
-  }
-
- private:
-  const char* data_;
-  size_t size_, at_ = 0;
-};
 
 std::string Join(const std::vector<std::string>& names) {
   std::string out;
@@ -74,7 +35,7 @@ std::vector<std::string> Split(const std::string& text) {
 }
 
 std::string Pack(const GraspSet& set) {
-  Writer w;
+  ByteWriter w;
   w.Put<uint64_t>(set.grasps.size());
   for (const PlannedGrasp& g : set.grasps) {
     w.Put<uint32_t>(g.candidate_index);
@@ -105,7 +66,7 @@ std::string Pack(const GraspSet& set) {
 }
 
 std::vector<PlannedGrasp> Unpack(const void* data, size_t size) {
-  Reader r(data, size);
+  ByteReader r(data, size, "grasp store: a grasp set");
   std::vector<PlannedGrasp> grasps(r.Get<uint64_t>());
   for (PlannedGrasp& g : grasps) {
     g.candidate_index = r.Get<uint32_t>();

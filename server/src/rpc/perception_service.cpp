@@ -19,6 +19,7 @@
 #include "rpc/convert.h"
 #include "rpc/progress_run.h"
 #include "rpc/run_reactor.h"
+#include "rpc/scene_edits.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -122,28 +123,35 @@ PartialView ViewFromProto(const v1::CompleteShapeRequest& request, const Limits&
   return view;
 }
 
-// The completed mesh as a free object: body frame at the solid's centroid, uniform density.
-std::string AddToScene(Scene* scene, const std::string& requested_name, double mass, const TriangleMesh& mesh) {
+// The completed mesh as a free object: body frame at the solid's centroid, uniform density. Added as the
+// AddObject request it amounts to (inline mesh, inertial, pose), through AddObject's own code, so the scene's
+// journal stores it like any other object and a restart rebuilds it the same way.
+std::string AddToScene(Scene* scene, const std::string& requested_name, double mass, const TriangleMesh& mesh,
+                       const Limits& limits) {
   static std::atomic<uint64_t> counter{0};
   const std::string name = requested_name.empty() ? "completed_" + std::to_string(++counter) : requested_name;
   const SolidProperties solid = ComputeSolidProperties(mesh);
   if (!(solid.volume > 0)) ThrowInvalidArgument("add_to_scene_id: the completed mesh encloses no volume");
-  auto local = std::make_shared<TriangleMesh>(mesh);
-  for (auto& v : local->vertices) v -= solid.centroid.cast<float>();
-  BodySpec body;
-  body.id = name;
-  body.motion = BodyMotion::kFree;
-  Geometry geometry;
-  geometry.kind = Geometry::Kind::kMesh;
-  geometry.mesh = std::move(local);
-  body.collision.push_back(std::move(geometry));
-  body.inertial.mass = mass;
+  TriangleMesh local = mesh;
+  for (auto& v : local.vertices) v -= solid.centroid.cast<float>();
   const double density = mass / solid.volume;
-  body.inertial.inertia =
-      density * (solid.second_moment.trace() * Mat3::Identity() - solid.second_moment);
+  const Mat3 inertia = density * (solid.second_moment.trace() * Mat3::Identity() - solid.second_moment);
+  v1::AddObjectRequest request;
+  request.set_name(name);
+  ToProto(local, request.mutable_geometry()->mutable_mesh());
+  auto* inertial = request.mutable_inertial();
+  inertial->set_mass(mass);
+  inertial->set_ixx(inertia(0, 0));
+  inertial->set_iyy(inertia(1, 1));
+  inertial->set_izz(inertia(2, 2));
+  inertial->set_ixy(inertia(0, 1));
+  inertial->set_ixz(inertia(0, 2));
+  inertial->set_iyz(inertia(1, 2));
   Pose pose;
   pose.position = solid.centroid;
-  return scene->AddObject(std::move(body), pose).id;
+  ToProto(pose, request.mutable_pose());
+  AddObjectFromRequest(scene, request, limits, nullptr);
+  return name;
 }
 
 v1::CompleteShapeProgress Stage(const std::string& stage, double fraction) {
@@ -199,7 +207,7 @@ void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* regis
     ResultToProto(*result, &last);
     if (scene) {
       const double mass = request.object_mass() > 0 ? request.object_mass() : kDefaultMass;
-      last.set_body_id(AddToScene(scene.get(), request.object_name(), mass, result->mesh));
+      last.set_body_id(AddToScene(scene.get(), request.object_name(), mass, result->mesh, limits));
     }
     run->Finish(std::move(last), grpc::Status::OK);
   } catch (...) {
@@ -211,6 +219,7 @@ void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* regis
 
 grpc::ServerWriteReactor<v1::CompleteShapeProgress>* PerceptionServiceImpl::CompleteShape(
     Context* context, const v1::CompleteShapeRequest* request) {
+  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::CompleteShapeProgress>(*refused);
   auto* reactor = new RunReactor<v1::CompleteShapeProgress, CompletionRun>(context, kCompleteShape);
   pool_->Post([request, registry = registry_, run = reactor->run()] { RunCompletion(*request, registry, run); });
   return reactor;
@@ -219,7 +228,6 @@ grpc::ServerWriteReactor<v1::CompleteShapeProgress>* PerceptionServiceImpl::Comp
 grpc::ServerUnaryReactor* PerceptionServiceImpl::SegmentScene(Context* context, const v1::SegmentSceneRequest* request,
                                                               v1::SegmentSceneResponse* response) {
   return RunUnary(context, "PerceptionService/SegmentScene", pool_, [=, this] {
-  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::CompleteShapeProgress>(*refused);
     SegmentationParams params;
     if (request->cluster_tolerance() != 0) params.cluster_tolerance = request->cluster_tolerance();
     if (request->plane_threshold() != 0) params.plane_threshold = request->plane_threshold();

@@ -6,34 +6,12 @@
 #include "core/validate.h"
 #include "rpc/call.h"
 #include "rpc/convert.h"
+#include "rpc/scene_edits.h"
 #include "rpc/upload_file.h"
 #include "rpc/watch_scene.h"
 
 namespace graspsim::rpc {
 namespace {
-
-// Built-in models carry no mesh files.
-const std::string* NoFile(const std::string&) { return nullptr; }
-
-FileLookup LookupIn(const std::map<std::string, StoredFile>& files) {
-  return [&files](const std::string& path) -> const std::string* {
-    auto it = files.find(path);
-    return it == files.end() ? nullptr : it->second.bytes.get();
-  };
-}
-
-const BuiltinModelInfo& FindBuiltin(const std::string& name, const std::string& kind) {
-  for (const auto& info : BuiltinModels()) {
-    if (info.name != name) continue;
-    if (info.kind != kind) {
-      ThrowInvalidArgument("builtin: '" + name + "' is a " + info.kind + " model; add it with " +
-                           (info.kind == "robot" ? "AddRobot" : "AddObject"));
-    }
-    return info;
-  }
-  BuiltinModelUrdf(name);  // throws kNotFound listing the known models
-  ThrowNotFound("builtin: '" + name + "' is not known");
-}
 
 // The body an id names for pose reads: an object, a robot (its base body) or any body.
 size_t BodyIndexForRead(const SceneView& view, const std::string& id) {
@@ -97,81 +75,21 @@ grpc::ServerUnaryReactor* SceneServiceImpl::ListBuiltinModels(grpc::CallbackServ
 grpc::ServerUnaryReactor* SceneServiceImpl::AddObject(grpc::CallbackServerContext* context, const v1::AddObjectRequest* request,
                                          v1::Body* response) {
   return RunUnary(context, "AddObject", pool_, [=, this] {
-    auto scene = registry_->Get(request->scene_id());
-    CheckName("name", request->name());
-    const Pose pose = PoseFromProto("pose", request->pose());
-    BodySpec body;
-    body.id = request->name();
-    body.motion = request->is_static() ? BodyMotion::kStatic : BodyMotion::kFree;
-    switch (request->source_case()) {
-      case v1::AddObjectRequest::kGeometry: {
-        if (!request->has_inertial()) ThrowInvalidArgument("inertial: required when the object is given by geometry");
-        const auto files = scene->Files();  // meshes are parsed outside the scene's lock
-        body.collision.push_back(
-            GeometryFromProto("geometry", request->geometry(), LookupIn(files), registry_->limits()));
-        break;
-      }
-      case v1::AddObjectRequest::kBuiltin: {
-        const BuiltinModelInfo& info = FindBuiltin(request->builtin(), "object");
-        RobotDescription model = LoadUrdf(BuiltinModelUrdf(info.name), NoFile, registry_->limits());
-        body.collision = std::move(model.links.front().collision);
-        body.inertial = model.links.front().inertial;
-        if (info.is_static) body.motion = BodyMotion::kStatic;
-        break;
-      }
-      case v1::AddObjectRequest::SOURCE_NOT_SET:
-        ThrowInvalidArgument("source: give geometry or builtin");
-    }
-    if (request->has_inertial()) body.inertial = InertialFromProto("inertial", request->inertial());
-    if (request->has_material()) body.material = MaterialFromProto("material", request->material(), body.material);
-    ToProto(scene->AddObject(std::move(body), pose), pose, false, response);
+    AddObjectFromRequest(registry_->Get(request->scene_id()).get(), *request, registry_->limits(), response);
   });
 }
 
 grpc::ServerUnaryReactor* SceneServiceImpl::AddRobot(grpc::CallbackServerContext* context, const v1::AddRobotRequest* request,
                                         v1::AddRobotResponse* response) {
   return RunUnary(context, "AddRobot", pool_, [=, this] {
-    auto scene = registry_->Get(request->scene_id());
-    CheckName("name", request->name());
-    const Pose base_pose = PoseFromProto("base_pose", request->base_pose());
-    auto files = scene->Files();
-    for (int i = 0; i < request->files_size(); ++i) {
-      const auto& file = request->files(i);
-      CheckRelativePath("files[" + std::to_string(i) + "].path", file.path());
-      files[file.path()] = {std::make_shared<const std::string>(file.data()), ""};
-    }
-    std::string source;
-    RobotDescription description;
-    switch (request->source_case()) {
-      case v1::AddRobotRequest::kUrdf:
-        source = "urdf";
-        description = LoadUrdf(request->urdf(), LookupIn(files), registry_->limits());
-        break;
-      case v1::AddRobotRequest::kBuiltin:
-        source = "builtin:" + FindBuiltin(request->builtin(), "robot").name;
-        description = LoadUrdf(BuiltinModelUrdf(request->builtin()), LookupIn(files), registry_->limits());
-        break;
-      case v1::AddRobotRequest::SOURCE_NOT_SET:
-        ThrowInvalidArgument("source: give urdf or builtin");
-    }
-    const AddedRobot added = scene->AddRobot(request->name(), source, description, base_pose);
-    // Report the placed links as the scene holds them now.
-    const SceneView view = scene->View();
-    ToProto(added.robot, response->mutable_robot());
-    for (const auto& body : added.bodies) {
-      ToProto(body, view.state.body_poses[view.model->body_index.at(body.id)], false, response->add_bodies());
-    }
-    for (const auto& joint : added.joints) {
-      ToProto(joint, view.state.joint_positions[view.model->joint_index.at(joint.id)], response->add_joints());
-    }
-    for (const auto& pad : added.tactile_arrays) ToProto(pad, response->add_tactile_arrays());
+    AddRobotFromRequest(registry_->Get(request->scene_id()).get(), *request, registry_->limits(), response);
   });
 }
 
 grpc::ServerUnaryReactor* SceneServiceImpl::RemoveBody(grpc::CallbackServerContext* context, const v1::RemoveBodyRequest* request,
                                           v1::RemoveBodyResponse* response) {
   return RunUnary(context, "RemoveBody", pool_, [=, this] {
-    for (const auto& id : registry_->Get(request->scene_id())->Remove(request->id())) {
+    for (const auto& id : RemoveBodyFromRequest(registry_->Get(request->scene_id()).get(), *request)) {
       response->add_removed_body_ids(id);
     }
   });

@@ -13,6 +13,7 @@
 #include "rpc/gateway_service.h"
 #include "rpc/grasp_service.h"
 #include "rpc/perception_service.h"
+#include "rpc/scene_replay.h"
 #include "rpc/scene_service.h"
 #include "rpc/tactile_service.h"
 
@@ -60,6 +61,15 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
     : options_(options), registry_(options.limits), pool_(options.worker_threads) {
   CheckListenSecurity(options);
   if (!options.token_file.empty()) authorizer_.LoadTokenFile(options.token_file);
+  if (options.data_dir != "off") {
+    // Before any service exists: a store that cannot be opened or replayed stops the start, naming the file.
+    const auto start = std::chrono::steady_clock::now();
+    scene_store_ = std::make_unique<persistence::SceneStore>(options.data_dir);
+    const size_t restored = RestoreScenes(scene_store_.get(), &registry_);
+    Log(LogLevel::kInfo, "scenes restored",
+        {{"path", scene_store_->path()}, {"scenes", std::to_string(restored)},
+         {"ms", FormatNumber(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count())}});
+  }
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
 
@@ -67,7 +77,8 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
       std::make_unique<SceneServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<PerceptionServiceImpl>(&registry_, &pool_));
   std::shared_ptr<grasp::GraspStore> grasp_store;
-  if (options.grasp_data_dir != "off") grasp_store = std::make_shared<grasp::GraspStore>(options.grasp_data_dir);
+  const std::string grasp_dir = options.grasp_data_dir.empty() ? options.data_dir : options.grasp_data_dir;
+  if (grasp_dir != "off") grasp_store = std::make_shared<grasp::GraspStore>(grasp_dir);
   services_.push_back(std::make_unique<GraspServiceImpl>(&registry_, &pool_, std::move(grasp_store)));
   services_.push_back(
       std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));

@@ -12,6 +12,7 @@
 #include "core/worker_pool.h"
 #include "gateway/gateway_hub.h"
 #include "physics/simulation_cache.h"
+#include "persistence/scene_store.h"
 #include "rpc/http_gateway.h"
 #include "world/scene_registry.h"
 
@@ -26,9 +27,12 @@ struct ServerOptions {
   double drain_timeout_s = 10;
   int worker_threads = 16;  // request bodies run here, off gRPC's threads
   Limits limits;
-  // Grasp sets survive restarts here (SQLite); "off" stores nothing. The default follows the XDG base
-  // directories: $XDG_DATA_HOME/graspsim, else $HOME/.local/share/graspsim, else ./graspsim-data.
-  std::string grasp_data_dir = DefaultGraspDataDir();
+  // Scenes survive restarts here (scenes.sqlite, docs/durability.md); "off" keeps them in memory only. The
+  // default follows the XDG base directories: $XDG_DATA_HOME/graspsim, else $HOME/.local/share/graspsim, else
+  // ./graspsim-data.
+  std::string data_dir = DefaultGraspDataDir();
+  // Grasp sets survive restarts here (grasp_sets.sqlite); "off" stores nothing, empty = data_dir.
+  std::string grasp_data_dir;
   bool http_enabled = true;
   HttpGatewayOptions http;
   // Security (docs/security.md): TLS on both ports from these PEM files; without them only loopback addresses
@@ -56,6 +60,7 @@ class GraspsimServer {
  private:
   ServerOptions options_;
   auth::Authorizer authorizer_;  // tokens, roles, scene owners: read by the interceptor of every call
+  std::unique_ptr<persistence::SceneStore> scene_store_;  // null with data_dir "off"; outlives the registry
   SceneRegistry registry_;
   WorkerPool pool_;
   SimulationCache simulations_;  // one Simulation per scene, shared by the services that step scenes

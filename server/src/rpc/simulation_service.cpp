@@ -1,4 +1,5 @@
 // SceneService's simulation methods: parameters, actuators, stepping.
+#include <chrono>
 #include <cmath>
 
 #include "core/error.h"
@@ -6,6 +7,7 @@
 #include "core/validate.h"
 #include "rpc/call.h"
 #include "rpc/convert.h"
+#include "rpc/scene_edits.h"
 #include "rpc/scene_service.h"
 #include "workcycle/drives.h"
 
@@ -20,17 +22,32 @@ uint64_t StepsPerChunk(const SimulationParams& params) {
 
 constexpr uint64_t kMaxStepsPerRequest = 100'000'000;
 
+// How much wall time of a long run a crash may lose at most.
+constexpr auto kCheckpointInterval = std::chrono::seconds(1);
+
+// Stores the simulated state when a run ends by an error (divergence, a failed chunk); the success path
+// checkpoints itself, so that a failed write fails the request.
+class CheckpointOnExit {
+ public:
+  explicit CheckpointOnExit(Scene* scene) : scene_(scene) {}
+  ~CheckpointOnExit() {
+    try {
+      scene_->Checkpoint();
+    } catch (const std::exception&) {  // the request already fails with its own error
+    }
+  }
+
+ private:
+  Scene* scene_;
+};
+
 }  // namespace
 
 grpc::ServerUnaryReactor* SceneServiceImpl::SetSimulationParams(grpc::CallbackServerContext* context,
                                                                 const v1::SetSimulationParamsRequest* request,
                                                                 v1::SimulationParams* response) {
   return RunUnary(context, "SetSimulationParams", pool_, [=, this] {
-    auto scene = registry_->Get(request->scene_id());
-    const SimulationParams params = SimulationParamsFromProto("params", request->params(), SimulationParams());
-    ValidateSimulationParams(params);
-    scene->SetSimulationParams(params);
-    ToProto(params, response);
+    SetSimulationParamsFromRequest(registry_->Get(request->scene_id()).get(), *request, response);
   });
 }
 
@@ -110,15 +127,26 @@ grpc::ServerUnaryReactor* SceneServiceImpl::StepSimulation(grpc::CallbackServerC
     }
     StepStats stats;
     uint64_t done = 0;
+    // Chunks are not journaled one by one: the state is stored once at the end, before the reply, and every
+    // kCheckpointInterval of a long run (docs/durability.md). A run that fails stores what it committed.
+    CheckpointOnExit checkpoint(scene.get());
+    auto last_checkpoint = std::chrono::steady_clock::now();
     while (done < steps) {
       if (context->IsCancelled()) break;  // the caller gave up (or its deadline passed): stop between chunks
       const uint64_t chunk = std::min(steps - done, StepsPerChunk(view.model->simulation));
-      const uint64_t revision = scene->Update([&](const std::shared_ptr<const SceneModel>& model, SceneState* state) {
-        stats = simulations_->For(scene->id(), model)->Step(state, static_cast<int>(chunk));
-      });
+      const uint64_t revision = scene->Update(
+          [&](const std::shared_ptr<const SceneModel>& model, SceneState* state) {
+            stats = simulations_->For(scene->id(), model)->Step(state, static_cast<int>(chunk));
+          },
+          /*journal=*/false);
       response->set_revision(revision);
       done += chunk;
+      if (std::chrono::steady_clock::now() - last_checkpoint > kCheckpointInterval) {
+        scene->Checkpoint();
+        last_checkpoint = std::chrono::steady_clock::now();
+      }
     }
+    scene->Checkpoint();  // durable before the reply; a failure here fails the request
     const SceneView after = scene->View();
     response->set_time(after.state.time);
     response->set_steps(done);

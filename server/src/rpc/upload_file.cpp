@@ -75,7 +75,13 @@ class UploadReactor : public grpc::ServerReadReactor<v1::UploadFileChunk> {
     if (actual != header_.sha256()) {
       ThrowInvalidArgument("header.sha256: " + header_.sha256() + " announced, the received bytes hash to " + actual);
     }
-    scene_->PutFile(header_.path(), bytes_, actual);
+    // One journal transaction holds the whole file (scene_store.h): it is stored whole or not at all.
+    SceneOp op;
+    op.kind = "UploadFile";
+    op.path = header_.path();
+    op.sha256 = actual;
+    op.file = bytes_;
+    scene_->PutFile(header_.path(), bytes_, actual, &op);
     response_->set_path(header_.path());
     response_->set_size(bytes_->size());
     response_->set_sha256(actual);

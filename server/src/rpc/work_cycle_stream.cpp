@@ -21,6 +21,8 @@ constexpr char kMethod[] = "TactileService/RunWorkCycle";
 constexpr size_t kMaxBuffered = kMaxFramesPerMessage;
 // Wall time one scene update may run chunks for: viewers still get a commit every few milliseconds.
 constexpr auto kChunkWallTime = std::chrono::milliseconds(4);
+// How much wall time of a long cycle a crash may lose at most.
+constexpr auto kCheckpointInterval = std::chrono::seconds(1);
 
 // As StepSimulation: the cycle advances in chunks of 1/60 s of simulated time, and the scene's lock is released
 // and the state committed between updates (at least every kChunkWallTime), so viewers (WatchScene) see the cycle
@@ -110,6 +112,7 @@ class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this
   SimulationCache* const simulations_;
   WorkerPool* const pool_;
   const std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_checkpoint_ = start_;  // pool jobs run one at a time
   std::unique_ptr<WorkCycle> cycle_;  // only the one pool job in flight touches it
   std::deque<v1::WorkCycleProgress> pending_;
   v1::WorkCycleProgress message_;     // the frame being written; untouched until its write completes
@@ -174,9 +177,16 @@ void WorkCycleRun::Simulate() {
       } catch (const Error& error) {
         failure = error;  // commit the steps done before it: the scene then matches the frames sent
       }
-    });
-    if (failure) throw *failure;
+    }, /*journal=*/false);
     done = cycle_->done();
+    // The state is stored at the end of the cycle (before its last frame is sent), when it fails, and every
+    // kCheckpointInterval of a long cycle, not per chunk (docs/durability.md).
+    const auto now = std::chrono::steady_clock::now();
+    if (done || failure || now - last_checkpoint_ > kCheckpointInterval) {
+      scene_->Checkpoint();
+      last_checkpoint_ = now;
+    }
+    if (failure) throw *failure;
   } catch (const Error& error) {
     status = ToStatus(error);
   } catch (const std::bad_alloc&) {

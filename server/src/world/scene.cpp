@@ -35,6 +35,45 @@ SceneView Scene::View() const {
   return {id_, name_, revision_, model_, state_, files_};
 }
 
+void Scene::AttachJournal(SceneJournal* journal) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  journal_ = journal;
+  journaled_revision_ = revision_;
+}
+
+void Scene::RestoreState(SceneState state, uint64_t revision) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const SceneModel& model = *model_;
+  const size_t bodies = model.bodies.size(), joints = model.joints.size();
+  if (state.body_poses.size() != bodies || state.body_velocities.size() != bodies ||
+      state.sleeping.size() != bodies || state.rest_time.size() != bodies ||
+      state.joint_positions.size() != joints || state.joint_velocities.size() != joints ||
+      (!state.actuators.empty() && state.actuators.rbegin()->first >= joints)) {
+    throw Error(ErrorCode::kInternal, "scene " + Quoted(id_) + ": the stored state has " +
+                                          std::to_string(state.body_poses.size()) + " bodies and " +
+                                          std::to_string(state.joint_positions.size()) + " joints, the model " +
+                                          std::to_string(bodies) + " and " + std::to_string(joints));
+  }
+  state_ = std::move(state);
+  revision_ = revision;
+  PublishLocked();
+}
+
+void Scene::Checkpoint() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!journal_ || journaled_revision_ == revision_) return;
+  journal_->SceneChanged(id_, nullptr, state_, revision_);
+  journaled_revision_ = revision_;
+}
+
+void Scene::JournalLocked(const SceneOp* op, const SceneState& state, bool changes_model) {
+  if (!journal_) return;
+  // A model edit the journal cannot replay would leave a log and a state that disagree on the next start.
+  if (changes_model && !op) throw Error(ErrorCode::kInternal, "scene " + Quoted(id_) + ": a model edit without its op");
+  journal_->SceneChanged(id_, op, state, revision_ + 1);
+  journaled_revision_ = revision_ + 1;
+}
+
 uint64_t Scene::revision() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return revision_;
@@ -45,7 +84,8 @@ std::map<std::string, StoredFile> Scene::Files() const {
   return files_;
 }
 
-void Scene::PutFile(const std::string& path, std::shared_ptr<const std::string> bytes, const std::string& sha256) {
+void Scene::PutFile(const std::string& path, std::shared_ptr<const std::string> bytes, const std::string& sha256,
+                    const SceneOp* op) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto existing = files_.find(path);
   const uint64_t replaced = existing == files_.end() ? 0 : existing->second.bytes->size();
@@ -54,6 +94,7 @@ void Scene::PutFile(const std::string& path, std::shared_ptr<const std::string> 
     ThrowResourceExhausted("upload " + Quoted(path) + ": the scene's files would take " + std::to_string(total) +
                            " bytes, above the limit of " + std::to_string(limits_.max_scene_file_bytes));
   }
+  JournalLocked(op, state_, true);
   file_bytes_ = total;
   files_[path] = {std::move(bytes), sha256};
   ++revision_;  // files are part of the scene (GetScene lists them), but move nothing: no snapshot
@@ -66,7 +107,7 @@ void Scene::CheckIdFreeLocked(const std::string& field, const std::string& id) c
   }
 }
 
-BodySpec Scene::AddObject(BodySpec body, const Pose& pose) {
+BodySpec Scene::AddObject(BodySpec body, const Pose& pose, const SceneOp* op) {
   std::lock_guard<std::mutex> lock(mutex_);
   CheckIdFreeLocked("name", body.id);
   if (model_->bodies.size() + 1 > limits_.max_bodies_per_scene) {
@@ -77,15 +118,18 @@ BodySpec Scene::AddObject(BodySpec body, const Pose& pose) {
   auto model = std::make_shared<SceneModel>(*model_);
   model->bodies.push_back(body);
   model->Reindex();
+  SceneState state = state_;
+  state.body_poses.push_back(pose);
+  SizeDynamicState(*model, &state);
+  JournalLocked(op, state, true);
   model_ = std::move(model);
-  state_.body_poses.push_back(pose);
-  SizeDynamicState(*model_, &state_);
+  state_ = std::move(state);
   CommitLocked();
   return body;
 }
 
 AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, const RobotDescription& description,
-                           const Pose& base_pose) {
+                           const Pose& base_pose, const SceneOp* op) {
   std::lock_guard<std::mutex> lock(mutex_);
   const std::string prefix = name + "/";
   CheckIdFreeLocked("name", name);
@@ -140,13 +184,14 @@ AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, c
   }
   UpdateRobotLinkPoses(*model, model->robots.size() - 1, &state);
   SizeDynamicState(*model, &state);
+  JournalLocked(op, state, true);
   model_ = std::move(model);
   state_ = std::move(state);
   CommitLocked();
   return added;
 }
 
-std::vector<std::string> Scene::Remove(const std::string& id) {
+std::vector<std::string> Scene::Remove(const std::string& id, const SceneOp* op) {
   std::lock_guard<std::mutex> lock(mutex_);
   std::set<std::string> bodies, joints, pads;
   if (auto robot = model_->robot_index.find(id); robot != model_->robot_index.end()) {
@@ -207,6 +252,7 @@ std::vector<std::string> Scene::Remove(const std::string& id) {
     if (robot.id != id) model->robots.push_back(robot);
   }
   model->Reindex();
+  JournalLocked(op, state, true);
   model_ = std::move(model);
   state_ = std::move(state);
   CommitLocked();
@@ -257,6 +303,7 @@ uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& po
     UpdateRobotLinkPoses(*model_, model_->robot_index.at(robot), &state);
   }
   state.contacts.clear();  // they were where the bodies no longer are; the next step finds the new ones
+  JournalLocked(nullptr, state);
   state_ = std::move(state);
   CommitLocked();
   return revision_;
@@ -300,24 +347,27 @@ uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, doubl
     UpdateRobotLinkPoses(*model_, model_->robot_index.at(robot), &state);
   }
   state.contacts.clear();  // they were where the bodies no longer are; the next step finds the new ones
+  JournalLocked(nullptr, state);
   state_ = std::move(state);
   CommitLocked();
   return revision_;
 }
 
-uint64_t Scene::Update(const StateChange& change) {
+uint64_t Scene::Update(const StateChange& change, bool journal) {
   std::lock_guard<std::mutex> lock(mutex_);
   SceneState state = state_;
   change(model_, &state);
+  if (journal) JournalLocked(nullptr, state);
   state_ = std::move(state);
   CommitLocked();
   return revision_;
 }
 
-uint64_t Scene::SetSimulationParams(const SimulationParams& params) {
+uint64_t Scene::SetSimulationParams(const SimulationParams& params, const SceneOp* op) {
   std::lock_guard<std::mutex> lock(mutex_);
   auto model = std::make_shared<SceneModel>(*model_);
   model->simulation = params;
+  JournalLocked(op, state_, true);
   model_ = std::move(model);
   CommitLocked();
   return revision_;

@@ -15,6 +15,7 @@
 #include "core/limits.h"
 #include "world/loaders.h"
 #include "world/model.h"
+#include "world/scene_journal.h"
 #include "world/snapshot_hub.h"
 #include "world/state.h"
 
@@ -50,18 +51,30 @@ class Scene {
   uint64_t revision() const;
   SnapshotHub& snapshots() { return hub_; }
 
+  // Edits with a SceneOp are journaled with it (world/scene_journal.h); an edit whose journal write fails is
+  // dropped and throws. Without a journal (tests, replay on start, --data-dir=off) the op is ignored.
+  // Stores every later edit in `journal` (it outlives the scene); set once the scene was rebuilt on start.
+  void AttachJournal(SceneJournal* journal);
+  // Replay on start: the stored state and revision of a scene whose model was rebuilt from its log. Throws
+  // Error(kInternal) when the state does not fit the model (a log and a state that disagree).
+  void RestoreState(SceneState state, uint64_t revision);
+  // Journals the state as it is now if it changed since the last journal write (simulation runs commit their
+  // chunks with journal = false and call this at the end of a request and every second of a long run).
+  void Checkpoint();
+
   // Files: stored whole after the caller checked size and checksum; replaces a file of the same path.
-  void PutFile(const std::string& path, std::shared_ptr<const std::string> bytes, const std::string& sha256);
+  void PutFile(const std::string& path, std::shared_ptr<const std::string> bytes, const std::string& sha256,
+               const SceneOp* op = nullptr);
   // The scene's files as they are now, for a loader running outside the lock.
   std::map<std::string, StoredFile> Files() const;
 
   // `body.id` is the object's name; motion kStatic or kFree. Errors: kAlreadyExists, kResourceExhausted.
-  BodySpec AddObject(BodySpec body, const Pose& pose);
+  BodySpec AddObject(BodySpec body, const Pose& pose, const SceneOp* op = nullptr);
   // Places a loaded description under `name`: ids become "<name>/<urdf name>".
   AddedRobot AddRobot(const std::string& name, const std::string& source, const RobotDescription& description,
-                      const Pose& base_pose);
+                      const Pose& base_pose, const SceneOp* op = nullptr);
   // Removes an object or a whole robot; returns the removed body ids.
-  std::vector<std::string> Remove(const std::string& id);
+  std::vector<std::string> Remove(const std::string& id, const SceneOp* op = nullptr);
 
   // All or nothing. Ids: objects, robots (their base), robots' base bodies.
   uint64_t SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses);
@@ -71,14 +84,18 @@ class Scene {
   // Runs `change` on the model and a copy of the state under the scene's lock; commits the copy (revision,
   // snapshot) when it returns, keeps the old state when it throws. For the simulation, which lives above world.
   using StateChange = std::function<void(const std::shared_ptr<const SceneModel>& model, SceneState* state)>;
-  uint64_t Update(const StateChange& change);
+  // `journal` false: the change is journaled by a later Checkpoint (simulation chunks), not now.
+  uint64_t Update(const StateChange& change, bool journal = true);
   // A new model with these simulation parameters (validated by the caller).
-  uint64_t SetSimulationParams(const SimulationParams& params);
+  uint64_t SetSimulationParams(const SimulationParams& params, const SceneOp* op = nullptr);
 
   // Ends every watcher's stream (scene deleted or server stopping).
   void CloseWatchers(const std::string& reason) { hub_.Close(reason); }
 
  private:
+  // Caller holds mutex_. Writes the edit (op, the state after it) to the journal before it is swapped in; throws
+  // when the journal cannot, and then the caller has changed nothing yet.
+  void JournalLocked(const SceneOp* op, const SceneState& state, bool changes_model = false);
   // Caller holds mutex_. Bumps the revision and publishes a snapshot to the watchers.
   void CommitLocked();
   void PublishLocked();
@@ -94,6 +111,8 @@ class Scene {
   std::map<std::string, StoredFile> files_;
   uint64_t file_bytes_ = 0;
   uint64_t revision_ = 0;
+  SceneJournal* journal_ = nullptr;
+  uint64_t journaled_revision_ = 0;  // the revision whose state the journal holds
   uint64_t snapshot_sequence_ = 0;
   std::shared_ptr<const std::vector<std::string>> snapshot_body_ids_, snapshot_joint_ids_;
   SnapshotHub hub_;

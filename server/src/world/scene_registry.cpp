@@ -1,5 +1,7 @@
 #include "world/scene_registry.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 
 namespace graspsim {
@@ -13,8 +15,11 @@ std::shared_ptr<Scene> SceneRegistry::Create(const std::string& name) {
     ThrowResourceExhausted("the server already holds " + std::to_string(scenes_.size()) +
                            " scenes, the limit (--max-scenes) is " + std::to_string(limits_.max_scenes));
   }
-  const std::string id = "scene-" + std::to_string(next_id_++);
+  const std::string id = "scene-" + std::to_string(next_id_);
   auto scene = std::make_shared<Scene>(id, name, limits_);
+  if (journal_) journal_->SceneCreated(id, name, next_id_ + 1);  // durable before anyone sees the id
+  scene->AttachJournal(journal_);
+  ++next_id_;
   scenes_[id] = scene;
   return scene;
 }
@@ -39,10 +44,29 @@ void SceneRegistry::Delete(const std::string& id) {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = scenes_.find(id);
     if (it == scenes_.end()) ThrowNotFound("scene_id: no scene '" + id.substr(0, 80) + "'");
+    if (journal_) journal_->SceneDeleted(id);
     scene = std::move(it->second);
     scenes_.erase(it);
   }
   scene->CloseWatchers("scene '" + id + "' was deleted");
+}
+
+std::shared_ptr<Scene> SceneRegistry::Restore(const std::string& id, const std::string& name) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto scene = std::make_shared<Scene>(id, name, limits_);
+  scenes_[id] = scene;
+  return scene;
+}
+
+void SceneRegistry::SetNextId(uint64_t next_id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  next_id_ = std::max(next_id_, next_id);
+}
+
+void SceneRegistry::AttachJournal(SceneJournal* journal) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  journal_ = journal;
+  for (const auto& [id, scene] : scenes_) scene->AttachJournal(journal);
 }
 
 void SceneRegistry::CloseAllWatchers(const std::string& reason) {

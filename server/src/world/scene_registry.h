@@ -25,6 +25,13 @@ class SceneRegistry {
   std::shared_ptr<Scene> Get(const std::string& id) const;
   std::vector<std::shared_ptr<Scene>> List() const;
   void Delete(const std::string& id);
+
+  // Start-up replay (rpc/scene_replay.h): a scene under its stored id and name, not journaled; later ids
+  // start at `next_id` (ids are never reused, even of deleted scenes).
+  std::shared_ptr<Scene> Restore(const std::string& id, const std::string& name);
+  void SetNextId(uint64_t next_id);
+  // From now on every scene's edits, creations and deletions go to `journal` (it outlives the registry).
+  void AttachJournal(SceneJournal* journal);
   // Ends every watcher stream of every scene (server shutdown).
   void CloseAllWatchers(const std::string& reason);
 
@@ -33,6 +40,7 @@ class SceneRegistry {
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Scene>> scenes_;
   uint64_t next_id_ = 1;
+  SceneJournal* journal_ = nullptr;
 };
 
 }  // namespace graspsim

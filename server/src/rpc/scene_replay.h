@@ -1,0 +1,15 @@
+// Start-up: the scenes of the scene store (persistence/scene_store.h) rebuilt in the registry. Each scene's
+// stored requests run through the RPCs' own code (scene_edits.h) in the order they were accepted, then its
+// stored state and revision are put back; after that the registry journals every edit to the store.
+#pragma once
+
+#include "persistence/scene_store.h"
+#include "world/scene_registry.h"
+
+namespace graspsim::rpc {
+
+// Throws Error(kFailedPrecondition) naming the database, the scene and the stored edit that cannot be replayed.
+// Returns the number of scenes restored.
+size_t RestoreScenes(persistence::SceneStore* store, SceneRegistry* registry);
+
+}  // namespace graspsim::rpc
