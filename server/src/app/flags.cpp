@@ -134,14 +134,6 @@ const std::vector<FlagSpec>& Specs() {
          if (v.empty()) ThrowInvalidArgument("--grasp-data-dir: empty; give a directory or off");
          f->server.grasp_data_dir = v;
        }},
-  };
-  return specs;
-}
-
-const FlagSpec& Find(const std::string& name) {
-  for (const auto& spec : Specs()) {
-    if (spec.name == name) return spec;
-  }
       // Security (docs/security.md).
       {"tls-cert", "PEM certificate (chain) of the gRPC and HTTP ports; with --tls-key turns TLS on",
        [](const ServerFlags& f) { return f.server.tls.cert; },
@@ -161,6 +153,14 @@ const FlagSpec& Find(const std::string& name) {
       {"token-file", "bearer tokens and roles ('<role> <name> <token>' lines, docs/security.md); empty = auth off",
        [](const ServerFlags& f) { return f.server.token_file; },
        [](const std::string& v, ServerFlags* f) { f->server.token_file = v; }},
+  };
+  return specs;
+}
+
+const FlagSpec& Find(const std::string& name) {
+  for (const auto& spec : Specs()) {
+    if (spec.name == name) return spec;
+  }
   ThrowInvalidArgument("--" + name + ": unknown flag (see --help)");
 }
 
@@ -203,6 +203,8 @@ ServerFlags ParseFlags(int argc, char** argv) {
     const size_t eq = arg.find('=');
     if (eq != std::string::npos) {
       given.emplace_back(arg.substr(0, eq), arg.substr(eq + 1));
+    } else if (arg == "insecure") {  // the one flag that may stand alone
+      given.emplace_back(arg, "true");
     } else if (i + 1 < argc) {
       given.emplace_back(arg, argv[++i]);
     } else {
@@ -211,8 +213,6 @@ ServerFlags ParseFlags(int argc, char** argv) {
   }
   ServerFlags flags;
   // The config file first, so that the command line overrides it wherever it appears.
-    } else if (arg == "insecure") {  // the one flag that may stand alone
-      given.emplace_back(arg, "true");
   for (const auto& [name, value] : given) {
     if (name == "config") ApplyConfigFile(value, &flags);
   }
