@@ -5,6 +5,7 @@ non-loopback address without TLS."""
 import hashlib
 import json
 import secrets
+import shutil
 import ssl
 import subprocess
 import time
@@ -18,7 +19,7 @@ from grpc_health.v1 import health_pb2, health_pb2_grpc
 import graspsim
 from graspsim.gateway_rig import GatewayRig
 from _support import expect_error
-from conftest import free_port, server_binary
+from conftest import REPO_ROOT as REPO, free_port, server_binary
 
 UNAUTH = grpc.StatusCode.UNAUTHENTICATED
 DENIED = grpc.StatusCode.PERMISSION_DENIED
@@ -243,8 +244,41 @@ def test_non_loopback_without_tls_refuses_to_start(flags, fragment, tmp_path):
     flags = [f.format(port=port, port2=port2) for f in flags]
     if not any(f.startswith("--http-listen") for f in flags):
         flags.append("--http-listen=off")
-    result = subprocess.run([str(server_binary()), *flags, *data_dir_flags(tmp_path), "--grasp-data-dir=off"], capture_output=True,
-                            text=True, timeout=60)
+    result = subprocess.run([str(server_binary()), *flags, *data_dir_flags(tmp_path), "--grasp-data-dir=off"],
+                            capture_output=True, text=True, timeout=60)
     assert result.returncode != 0
     assert fragment.format(port=port, port2=port2) in result.stderr + result.stdout
     assert "only for 127.0.0.1, ::1 and localhost" in result.stderr + result.stdout
+
+
+def test_octave_client_sends_its_token(tmp_path):
+    """The Matlab/Octave client's 'Token' option, against a loopback server with tokens on."""
+    octave = shutil.which("octave")
+    if octave is None:
+        pytest.skip("octave not installed (deploy/install-deps.sh installs it)")
+    (tmp_path / "tokens").write_text(f"scripter alice {TOKENS['alice']}\nviewer vera {TOKENS['vera']}\n")
+    port, http_port = free_port(), free_port()
+    with open(tmp_path / "server.log", "wb") as log:
+        process = subprocess.Popen([str(server_binary()), f"--listen=127.0.0.1:{port}",
+                                    f"--http-listen=127.0.0.1:{http_port}", *data_dir_flags(tmp_path),
+                                    "--grasp-data-dir=off", f"--token-file={tmp_path / 'tokens'}"],
+                                   stdout=log, stderr=subprocess.STDOUT)
+    try:
+        script = f"""
+addpath('{REPO / 'clients' / 'matlab'}');
+url = '127.0.0.1:{http_port}';
+for i = 1:100, try, graspsim.Client(url).listMethods(); break; catch, pause(0.1); end, end
+alice = graspsim.Client(url, 'Token', '{TOKENS['alice']}');
+s = alice.createScene('octave');
+printf('created %s\\n', s.id);
+try, graspsim.Client(url, 'Token', '{TOKENS['vera']}').createScene('x'); catch e, printf('vera %s\\n', e.identifier); end
+try, graspsim.Client(url).listScenes(); catch e, printf('nobody %s\\n', e.identifier); end
+"""
+        out = subprocess.run([octave, "--no-gui", "--quiet", "--eval", script], capture_output=True, text=True,
+                             timeout=300).stdout
+        assert "created scene-" in out, out
+        assert "vera graspsim:PERMISSION_DENIED" in out, out
+        assert "nobody graspsim:UNAUTHENTICATED" in out, out
+    finally:
+        process.terminate()
+        assert process.wait(timeout=30) == 0

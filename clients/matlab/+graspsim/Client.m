@@ -3,6 +3,7 @@ classdef Client < handle
   %
   %   c = graspsim.Client('http://127.0.0.1:8080')             % the server's --http-listen address
   %   c = graspsim.Client('http://127.0.0.1:8080', 'Timeout', 120)
+  %   c = graspsim.Client('https://host:8080', 'Token', 'secret')  % a bearer token (docs/security.md)
   %
   %   Units are SI (m, kg, s, rad). A pose is 1-by-7 [x y z qw qx qy qz] (position in m, unit quaternion
   %   w, x, y, z); N poses are N-by-7. Ids are char rows; several ids are a cellstr (N-by-1 in results).
@@ -31,10 +32,13 @@ classdef Client < handle
   properties
     Timeout = 60  % s: the deadline of each call (the server gets it too, as timeout_s)
   end
+  properties (SetAccess = private, Hidden)
+    Token = ''  % bearer token sent as "Authorization: Bearer <token>" with every call; '' = none
+  end
 
   methods
     function obj = Client(url, varargin)
-      %CLIENT c = graspsim.Client(url, 'Timeout', seconds). url defaults to 'http://127.0.0.1:8080';
+      %CLIENT c = graspsim.Client(url, 'Timeout', seconds, 'Token', token). url defaults to 'http://127.0.0.1:8080';
       %   'host:port' without a scheme means http. No request is sent until the first call.
       if nargin < 1 || isempty(url)
         url = 'http://127.0.0.1:8080';
@@ -48,9 +52,13 @@ classdef Client < handle
       while ~isempty(url) && url(end) == '/'
         url = url(1:end - 1);
       end
-      options = graspsim.internal.parseOptions(struct('Timeout', 60), varargin, 'graspsim.Client');
+      options = graspsim.internal.parseOptions(struct('Timeout', 60, 'Token', ''), varargin, 'graspsim.Client');
+      if ~ischar(options.Token)
+        error('graspsim:badArgument', 'Token must be a char row (the bearer token)');
+      end
       obj.Url = url;
       obj.Timeout = options.Timeout;
+      obj.Token = options.Token;
     end
 
     function set.Timeout(obj, value)

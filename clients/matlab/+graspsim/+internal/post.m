@@ -17,13 +17,18 @@ if ischar(request)
 else
   body = graspsim.internal.toJson(request);
 end
+headers = {};
+if ~isempty(client.Token)
+  headers = {'Authorization', ['Bearer ' client.Token]};  % checked by the server like any gRPC call's
+end
 try
   if graspsim.internal.isOctave()
     % Octave's webwrite sends only forms: the gateway reads the JSON from the field payload=<json>.
-    options = weboptions('Timeout', timeout + 5, 'ContentType', 'text');
+    options = withHeaders(weboptions('Timeout', timeout + 5, 'ContentType', 'text'), headers);
     text = webwrite(url, 'payload', body, options);
   else
-    options = weboptions('MediaType', 'application/json', 'Timeout', timeout + 5, 'ContentType', 'text');
+    options = withHeaders(weboptions('MediaType', 'application/json', 'Timeout', timeout + 5, ...
+                                     'ContentType', 'text'), headers);
     text = webwrite(url, body, options);
   end
 catch err
@@ -40,6 +45,13 @@ catch err
 end
 if ~isstruct(envelope) || ~isfield(envelope, 'code') || ~isfield(envelope, 'status')
   error('graspsim:INTERNAL', '%s/%s: the reply is not a status envelope: %s', service, method, text(1:min(end, 200)));
+end
+end
+
+function options = withHeaders(options, headers)
+% Only a call with a token sets HeaderFields (an empty cell is not a valid value everywhere).
+if ~isempty(headers)
+  options.HeaderFields = headers;
 end
 end
 
