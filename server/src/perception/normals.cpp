@@ -17,7 +17,9 @@ std::vector<Vec3> EstimateNormals(const std::vector<Vec3>& points, const NormalE
     ThrowInvalidArgument("k: " + std::to_string(params.k) + " is outside 3..100");
   }
   CheckFinite("viewpoint", params.viewpoint);
-  for (size_t i = 0; i < points.size(); ++i) CheckFinite("points[" + std::to_string(i) + "]", points[i]);
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) CheckFinite("points[" + std::to_string(i) + "]", points[i]);  // names only a bad one
+  }
 
   const NeighborGrid grid(points, NeighborGrid::SuggestCellSize(points, params.k));
   std::vector<Vec3> normals(points.size());

@@ -54,8 +54,9 @@ void Validate(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
   }
   Vec3 mean = Vec3::Zero();
   for (size_t i = 0; i < points.size(); ++i) {
-    CheckFinite("points[" + std::to_string(i) + "]", points[i]);
-    CheckFinite("normals[" + std::to_string(i) + "]", normals[i]);
+    // The field's name is built only for a bad value (a string per point cost ~0.5 ms on 5k points).
+    if (!points[i].allFinite()) CheckFinite("points[" + std::to_string(i) + "]", points[i]);
+    if (!normals[i].allFinite()) CheckFinite("normals[" + std::to_string(i) + "]", normals[i]);
     if (normals[i].squaredNorm() == 0) ThrowInvalidArgument("normals[" + std::to_string(i) + "]: zero length");
     mean += points[i];
   }

@@ -23,32 +23,44 @@ constexpr int kCoarsestDepth = 2;  // 5³ nodes: a dense Cholesky solve is insta
 constexpr int kSmoothingSweeps = 2;
 constexpr float kJacobiDamping = 0.8f;  // with the lumped diagonal, D⁻¹A ≤ 2: any ω ≤ 1 is stable
 
-// fine += trilinear interpolation of the coarse grid (nc nodes per side, fine 2 nc − 1).
-void ProlongAdd(int nc, const std::vector<float>& coarse, std::vector<float>* fine) {
-  const int nf = 2 * nc - 1;
-  std::vector<float> a(coarse), b;
-  int dims[3] = {nc, nc, nc};
-  for (int axis = 0; axis < 3; ++axis) {
-    int out_dims[3] = {dims[0], dims[1], dims[2]};
-    out_dims[axis] = nf;
-    b.resize(int64_t(out_dims[0]) * out_dims[1] * out_dims[2]);
-    const int64_t in_stride = axis == 0 ? 1 : (axis == 1 ? dims[0] : int64_t(dims[0]) * dims[1]);
-    int64_t at = 0;
-    for (int k = 0; k < out_dims[2]; ++k) {
-      for (int j = 0; j < out_dims[1]; ++j) {
-        for (int i = 0; i < out_dims[0]; ++i, ++at) {
-          int src[3] = {i, j, k};
-          const int f = src[axis];
-          src[axis] = f / 2;
-          const int64_t s = src[0] + int64_t(src[1]) * dims[0] + int64_t(src[2]) * dims[0] * dims[1];
-          b[at] = (f & 1) ? 0.5f * (a[s] + a[s + in_stride]) : a[s];
-        }
+// fine += trilinear interpolation of the coarse grid (nc nodes per side, fine 2 nc − 1), one axis at a time (x, y,
+// z), whole rows and planes per step: an even fine index copies its coarse node, an odd one averages two.
+// `scratch` holds the two partial results (no allocation once it has grown).
+void ProlongAdd(int nc, const std::vector<float>& coarse, std::vector<float>* fine, std::vector<float>* scratch) {
+  const int64_t nf = 2 * int64_t(nc) - 1, c = nc;
+  scratch->resize(nf * c * c + nf * nf * c);
+  float* along_x = scratch->data();            // nf × nc × nc
+  float* along_xy = along_x + nf * c * c;      // nf × nf × nc
+  for (int64_t row = 0; row < c * c; ++row) {
+    const float* in = coarse.data() + row * c;
+    float* out = along_x + row * nf;
+    for (int64_t i = 0; i + 1 < c; ++i) {
+      out[2 * i] = in[i];
+      out[2 * i + 1] = 0.5f * (in[i] + in[i + 1]);
+    }
+    out[nf - 1] = in[c - 1];
+  }
+  for (int64_t k = 0; k < c; ++k) {
+    for (int64_t j = 0; j < nf; ++j) {
+      const float* in = along_x + (k * c + j / 2) * nf;
+      float* out = along_xy + (k * nf + j) * nf;
+      if (j & 1) {
+        for (int64_t i = 0; i < nf; ++i) out[i] = 0.5f * (in[i] + in[i + nf]);
+      } else {
+        std::copy(in, in + nf, out);
       }
     }
-    a.swap(b);
-    dims[axis] = nf;
   }
-  for (size_t i = 0; i < a.size(); ++i) (*fine)[i] += a[i];
+  const int64_t plane = nf * nf;
+  for (int64_t k = 0; k < nf; ++k) {
+    const float* in = along_xy + (k / 2) * plane;
+    float* out = fine->data() + k * plane;
+    if (k & 1) {
+      for (int64_t i = 0; i < plane; ++i) out[i] += 0.5f * (in[i] + in[i + plane]);
+    } else {
+      for (int64_t i = 0; i < plane; ++i) out[i] += in[i];
+    }
+  }
 }
 
 // One grid of the hierarchy: A = c L + (exact samples on the finest grid | diag(s) on the coarser ones).
@@ -75,7 +87,7 @@ class Multigrid {
         AddScreeningRowSums(screening_, level.s.data(), [n](int64_t base, int c) { return base + CornerOffset(n, c); });
       } else {
         level.s.resize(level.size());
-        Restrict(levels_[d + 1].n, levels_[d + 1].s, &level.s);
+        Restrict(levels_[d + 1].n, levels_[d + 1].s, &level.s, &scratch_);
       }
       level.inv_diag.resize(level.size());
       ForEachNode(level.n, [&](int64_t i, int degree) { level.inv_diag[i] = 1.0f / (level.c * degree + level.s[i]); });
@@ -155,36 +167,48 @@ class Multigrid {
     }
   }
 
-  // Full weighting from a fine grid of nf = 2 nc − 1 nodes per side, one axis at a time: (¼, ½, ¼) about the
-  // coinciding node (½ of it on a border, where the grid ends): restriction = prolongationᵀ / 8.
-  static void Restrict(int nf, const std::vector<float>& fine, std::vector<float>* coarse) {
-    const int nc = (nf + 1) / 2;
-    std::vector<float> a(fine), b;
-    int dims[3] = {nf, nf, nf};
-    for (int axis = 0; axis < 3; ++axis) {
-      int out_dims[3] = {dims[0], dims[1], dims[2]};
-      out_dims[axis] = nc;
-      b.resize(int64_t(out_dims[0]) * out_dims[1] * out_dims[2]);
-      const int64_t in_stride = axis == 0 ? 1 : (axis == 1 ? dims[0] : int64_t(dims[0]) * dims[1]);
-      int64_t at = 0;
-      for (int k = 0; k < out_dims[2]; ++k) {
-        for (int j = 0; j < out_dims[1]; ++j) {
-          for (int i = 0; i < out_dims[0]; ++i, ++at) {
-            int src[3] = {i, j, k};
-            const int f = 2 * src[axis];
-            src[axis] = f;
-            const int64_t centre = src[0] + int64_t(src[1]) * dims[0] + int64_t(src[2]) * dims[0] * dims[1];
-            float sum = 0.5f * a[centre];
-            if (f > 0) sum += 0.25f * a[centre - in_stride];
-            if (f + 1 < nf) sum += 0.25f * a[centre + in_stride];
-            b[at] = sum;
-          }
-        }
+  // Full weighting from a fine grid of nf = 2 nc − 1 nodes per side, one axis at a time (x, y, z) over whole rows and
+  // planes: (¼, ½, ¼) about the coinciding node (½ of it on a border, where the grid ends): restriction =
+  // prolongationᵀ / 8. `coarse` must hold nc³ values; `scratch` the partial results.
+  static void Restrict(int nf_int, const std::vector<float>& fine, std::vector<float>* coarse,
+                       std::vector<float>* scratch) {
+    const int64_t nf = nf_int, c = (nf + 1) / 2;
+    scratch->resize(c * nf * nf + c * c * nf);
+    float* along_x = scratch->data();        // nc × nf × nf
+    float* along_xy = along_x + c * nf * nf;  // nc × nc × nf
+    // One (¼, ½, ¼) step between rows of `count` values: out = ½ centre + ¼ below (if any) + ¼ above (if any).
+    const auto weigh = [](const float* centre, const float* below, const float* above, float* out, int64_t count) {
+      for (int64_t i = 0; i < count; ++i) {
+        float sum = 0.5f * centre[i];
+        if (below) sum += 0.25f * below[i];
+        if (above) sum += 0.25f * above[i];
+        out[i] = sum;
       }
-      a.swap(b);
-      dims[axis] = nc;
+    };
+    for (int64_t row = 0; row < nf * nf; ++row) {
+      const float* in = fine.data() + row * nf;
+      float* out = along_x + row * c;
+      out[0] = 0.5f * in[0] + 0.25f * in[1];
+      for (int64_t i = 1; i + 1 < c; ++i) {
+        float sum = 0.5f * in[2 * i];
+        sum += 0.25f * in[2 * i - 1];
+        sum += 0.25f * in[2 * i + 1];
+        out[i] = sum;
+      }
+      out[c - 1] = 0.5f * in[nf - 1] + 0.25f * in[nf - 2];
     }
-    *coarse = std::move(a);
+    for (int64_t k = 0; k < nf; ++k) {
+      for (int64_t j = 0; j < c; ++j) {
+        const float* centre = along_x + (k * nf + 2 * j) * c;
+        weigh(centre, j > 0 ? centre - c : nullptr, j + 1 < c ? centre + c : nullptr, along_xy + (k * c + j) * c, c);
+      }
+    }
+    const int64_t plane = c * c;
+    for (int64_t k = 0; k < c; ++k) {
+      const float* centre = along_xy + 2 * k * plane;
+      weigh(centre, k > 0 ? centre - plane : nullptr, k + 1 < c ? centre + plane : nullptr,
+            coarse->data() + k * plane, plane);
+    }
   }
 
   void Smooth(int d) {
@@ -207,9 +231,9 @@ class Multigrid {
     for (int sweep = 1; sweep < kSmoothingSweeps; ++sweep) Smooth(d);
     Apply(d, level.x, &level.r);
     for (int64_t i = 0; i < level.size(); ++i) level.r[i] = level.b[i] - level.r[i];
-    Restrict(level.n, level.r, &levels_[d - 1].b);
+    Restrict(level.n, level.r, &levels_[d - 1].b, &scratch_);
     VCycle(d - 1);
-    ProlongAdd(levels_[d - 1].n, levels_[d - 1].x, &level.x);
+    ProlongAdd(levels_[d - 1].n, levels_[d - 1].x, &level.x, &scratch_);
     for (int sweep = 0; sweep < kSmoothingSweeps; ++sweep) Smooth(d);
   }
 
@@ -227,6 +251,7 @@ class Multigrid {
   }
 
   ScreeningTerms screening_;
+  std::vector<float> scratch_;  // Restrict's and ProlongAdd's partial results
   std::vector<Level> levels_;  // indexed by depth; entries below kCoarsestDepth unused
   std::unique_ptr<Eigen::LLT<Eigen::MatrixXd>> coarsest_;
 };
@@ -277,7 +302,8 @@ SolverReport SolveScreenedPoisson(int depth, const std::vector<ScreeningSample>&
 void ProlongTrilinear(int coarse_depth, const std::vector<float>& coarse, std::vector<float>* fine) {
   const int64_t n = (int64_t(1) << (coarse_depth + 1)) + 1;
   fine->assign(n * n * n, 0.0f);
-  ProlongAdd((1 << coarse_depth) + 1, coarse, fine);
+  std::vector<float> scratch;
+  ProlongAdd((1 << coarse_depth) + 1, coarse, fine, &scratch);
 }
 
 }  // namespace graspsim
