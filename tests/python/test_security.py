@@ -282,3 +282,49 @@ try, graspsim.Client(url).listScenes(); catch e, printf('nobody %s\\n', e.identi
     finally:
         process.terminate()
         assert process.wait(timeout=30) == 0
+
+
+def test_owners_shares_and_revocations_survive_a_restart(tmp_path):
+    """Scenes persist (--data-dir) and so does who they belong to (auth.sqlite beside them)."""
+    (tmp_path / "tokens").write_text(f"admin root {TOKENS['root']}\nscripter alice {TOKENS['alice']}\n"
+                                     f"scripter bob {TOKENS['bob']}\n")
+    flags = [*data_dir_flags(tmp_path), f"--auth-data-dir={tmp_path / 'auth'}", "--grasp-data-dir=off",
+             f"--token-file={tmp_path / 'tokens'}", "--http-listen=off"]
+
+    def start():
+        port = free_port()
+        process = subprocess.Popen([str(server_binary()), f"--listen=127.0.0.1:{port}", *flags],
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        return process, f"127.0.0.1:{port}"
+
+    def stop(process):
+        process.terminate()
+        assert process.wait(timeout=30) == 0
+
+    process, address = start()
+    try:
+        with graspsim.connect(address, token=TOKENS["alice"], timeout=30) as alice, \
+                graspsim.connect(address, token=TOKENS["root"]) as root:
+            shared, private = alice.create_scene("shared").id, alice.create_scene("private").id
+            alice.share_scene(shared, "bob")
+            root.add_token("viewer", "carol", TOKENS["vera"])
+            root.revoke_token("bob")
+            root.add_token("scripter", "bob", TOKENS["gw"])  # bob's new secret
+    finally:
+        stop(process)
+    assert (tmp_path / "auth" / "auth.sqlite").exists()
+    process, address = start()
+    try:
+        with graspsim.connect(address, token=TOKENS["alice"], timeout=30) as alice, \
+                graspsim.connect(address, token=TOKENS["gw"]) as bob, \
+                graspsim.connect(address, token=TOKENS["bob"]) as old_bob, \
+                graspsim.connect(address, token=TOKENS["vera"]) as carol:
+            assert {s.id for s in alice.list_scenes()} >= {shared, private}
+            assert bob.get_scene(shared).summary.id == shared
+            with expect_error(DENIED, "does not exist or is not yours"):
+                bob.get_scene(private)
+            with expect_error(UNAUTH):
+                old_bob.list_scenes()  # revoked, although the token file still lists the old secret
+            assert carol.whoami().role == "viewer"
+    finally:
+        stop(process)

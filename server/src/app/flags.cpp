@@ -153,6 +153,10 @@ const std::vector<FlagSpec>& Specs() {
       {"token-file", "bearer tokens and roles ('<role> <name> <token>' lines, docs/security.md); empty = auth off",
        [](const ServerFlags& f) { return f.server.token_file; },
        [](const std::string& v, ServerFlags* f) { f->server.token_file = v; }},
+      {"auth-data-dir", "directory of auth.sqlite (tokens added or revoked by AuthService, scene owners, shares, "
+                        "grants), or off (empty = --data-dir)",
+       [](const ServerFlags& f) { return f.server.auth_data_dir; },
+       [](const std::string& v, ServerFlags* f) { f->server.auth_data_dir = v; }},
   };
   return specs;
 }

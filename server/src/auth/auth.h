@@ -50,14 +50,25 @@ struct Decision {
   Identity who;
 };
 
+class AuthStore;
+
 class Authorizer {
  public:
+  Authorizer();
+  ~Authorizer();
+
+  // Keeps what AuthService changes (tokens added or revoked, device grants) and the owners and shares of scenes
+  // in <directory>/auth.sqlite (auth/auth_store.h), and loads what an earlier run kept. Call once, after
+  // LoadTokenFile and before serving: a stored revocation also revokes a token of the file with that name.
+  void OpenStore(const std::string& directory);
   // Parses a token file (docs/security.md): "<role> <name> <secret | sha256:salt:hex>" and
   // "grant <device_id> <name>" lines, '#' comments. Throws Error(kInvalidArgument) naming file, line and field.
   void LoadTokenFile(const std::string& path);
-  void AddToken(Role role, const std::string& name, const std::string& secret_or_hash, const std::string& where);
+  // keep: also into the store (AuthService); the token file's entries are read again at every start instead.
+  void AddToken(Role role, const std::string& name, const std::string& secret_or_hash, const std::string& where,
+                bool keep = false);
   bool RevokeToken(const std::string& name);  // false: no such name
-  void GrantDevice(const std::string& device_id, const std::string& name);
+  void GrantDevice(const std::string& device_id, const std::string& name, bool keep = false);
   size_t token_count() const;
 
   // The caller of a bearer token ("" = none), or nullopt.
@@ -87,6 +98,7 @@ class Authorizer {
     std::set<std::string> readers;
   };
   mutable std::mutex mutex_;
+  std::unique_ptr<AuthStore> store_;  // null: nothing survives a restart
   std::vector<Token> tokens_;
   std::map<std::string, std::set<std::string>, std::less<>> device_grants_;
   std::map<std::string, Owner, std::less<>> scenes_;

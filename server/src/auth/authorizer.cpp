@@ -5,6 +5,7 @@
 #include <openssl/rand.h>
 
 #include "auth/auth.h"
+#include "auth/auth_store.h"
 #include "core/error.h"
 #include "core/sha256.h"
 
@@ -76,8 +77,33 @@ std::string_view BearerToken(std::string_view header) {
   return header.substr(kBearer.size());
 }
 
+Authorizer::Authorizer() = default;
+Authorizer::~Authorizer() = default;
+
+void Authorizer::OpenStore(const std::string& directory) {
+  auto store = std::make_unique<AuthStore>(directory);
+  std::lock_guard lock(mutex_);
+  store->ForEach("SELECT name, role, hash FROM tokens", [&](const std::vector<std::string>& row) {
+    const auto role = ParseRole(row[1]);
+    const size_t colon = row[2].find(':', kHashPrefix.size());
+    if (!role || colon == std::string::npos) return;  // written by this code; a damaged row is skipped
+    std::erase_if(tokens_, [&](const Token& t) { return t.name == row[0]; });  // the newer, stored one wins
+    tokens_.push_back(Token{row[0], row[2].substr(kHashPrefix.size(), colon - kHashPrefix.size()), row[2], *role});
+  });
+  store->ForEach("SELECT name FROM revoked", [&](const std::vector<std::string>& row) {
+    std::erase_if(tokens_, [&](const Token& t) { return t.name == row[0]; });
+  });
+  store->ForEach("SELECT scene_id, owner FROM scenes",
+                 [&](const std::vector<std::string>& row) { scenes_[row[0]].owner = row[1]; });
+  store->ForEach("SELECT scene_id, name FROM shares",
+                 [&](const std::vector<std::string>& row) { scenes_[row[0]].readers.insert(row[1]); });
+  store->ForEach("SELECT device_id, name FROM grants",
+                 [&](const std::vector<std::string>& row) { device_grants_[row[0]].insert(row[1]); });
+  store_ = std::move(store);
+}
+
 void Authorizer::AddToken(Role role, const std::string& name, const std::string& secret_or_hash,
-                          const std::string& where) {
+                          const std::string& where, bool keep) {
   if (!ValidName(name)) {
     ThrowInvalidArgument(where + "name: '" + name.substr(0, 80) + "' is not 1-128 letters, digits or - _ . @");
   }
@@ -103,6 +129,10 @@ void Authorizer::AddToken(Role role, const std::string& name, const std::string&
   std::lock_guard lock(mutex_);
   for (const auto& t : tokens_) {
     if (t.name == name) ThrowInvalidArgument(where + "name: '" + name + "' is already the name of a token");
+  }
+  if (keep && store_) {
+    store_->Run("INSERT OR REPLACE INTO tokens (name, role, hash) VALUES (?1, ?2, ?3)", {name, RoleName(role), token.hash});
+    store_->Run("DELETE FROM revoked WHERE name = ?1", {name});
   }
   tokens_.push_back(std::move(token));
 }
@@ -137,11 +167,17 @@ void Authorizer::LoadTokenFile(const std::string& path) {
 
 bool Authorizer::RevokeToken(const std::string& name) {
   std::lock_guard lock(mutex_);
-  return std::erase_if(tokens_, [&](const Token& t) { return t.name == name; }) > 0;
+  if (std::erase_if(tokens_, [&](const Token& t) { return t.name == name; }) == 0) return false;
+  if (store_) {
+    store_->Run("DELETE FROM tokens WHERE name = ?1", {name});
+    store_->Run("INSERT OR IGNORE INTO revoked (name) VALUES (?1)", {name});
+  }
+  return true;
 }
 
-void Authorizer::GrantDevice(const std::string& device_id, const std::string& name) {
+void Authorizer::GrantDevice(const std::string& device_id, const std::string& name, bool keep) {
   std::lock_guard lock(mutex_);
+  if (keep && store_) store_->Run("INSERT OR IGNORE INTO grants (device_id, name) VALUES (?1, ?2)", {device_id, name});
   device_grants_[device_id].insert(name);
 }
 
@@ -210,11 +246,19 @@ Decision Authorizer::AuthorizeRequest(const Identity& who, const MethodRule& rul
 
 void Authorizer::SetOwner(const std::string& scene_id, const std::string& owner) {
   std::lock_guard lock(mutex_);
+  if (store_) {
+    store_->Run("INSERT OR REPLACE INTO scenes (scene_id, owner) VALUES (?1, ?2)", {scene_id, owner});
+    store_->Run("DELETE FROM shares WHERE scene_id = ?1", {scene_id});
+  }
   scenes_[scene_id] = Owner{owner, {}};
 }
 
 void Authorizer::ForgetScene(const std::string& scene_id) {
   std::lock_guard lock(mutex_);
+  if (store_) {
+    store_->Run("DELETE FROM scenes WHERE scene_id = ?1", {scene_id});
+    store_->Run("DELETE FROM shares WHERE scene_id = ?1", {scene_id});
+  }
   scenes_.erase(scene_id);
 }
 
@@ -229,6 +273,7 @@ bool Authorizer::Share(const Identity& who, const std::string& scene_id, const s
   std::lock_guard lock(mutex_);
   const auto scene = scenes_.find(scene_id);
   if (scene == scenes_.end() || (who.role != Role::kAdmin && scene->second.owner != who.name)) return false;
+  if (store_) store_->Run("INSERT OR IGNORE INTO shares (scene_id, name) VALUES (?1, ?2)", {scene_id, with});
   scene->second.readers.insert(with);
   return true;
 }

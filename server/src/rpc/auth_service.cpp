@@ -29,7 +29,7 @@ grpc::ServerUnaryReactor* AuthServiceImpl::AddToken(Context* context, const v1::
     RequireTokens();
     const auto role = auth::ParseRole(request->role());
     if (!role) ThrowInvalidArgument("role: '" + request->role().substr(0, 80) + "' is not one of viewer, scripter, gateway, admin");
-    authorizer_->AddToken(*role, request->name(), request->token(), "");
+    authorizer_->AddToken(*role, request->name(), request->token(), "", /*keep=*/true);
     Log(LogLevel::kInfo, "token added", {{"name", request->name()}, {"role", request->role()}});
   });
 }
@@ -49,7 +49,7 @@ grpc::ServerUnaryReactor* AuthServiceImpl::GrantDevice(Context* context, const v
     RequireTokens();
     if (request->device_id().empty()) ThrowInvalidArgument("device_id: empty");
     if (request->name().empty()) ThrowInvalidArgument("name: empty");
-    authorizer_->GrantDevice(request->device_id(), request->name());
+    authorizer_->GrantDevice(request->device_id(), request->name(), /*keep=*/true);
     Log(LogLevel::kInfo, "device granted", {{"device_id", request->device_id()}, {"name", request->name()}});
   });
 }

@@ -60,7 +60,11 @@ void CheckListenSecurity(const ServerOptions& options) {
 GraspsimServer::GraspsimServer(const ServerOptions& options)
     : options_(options), registry_(options.limits), pool_(options.worker_threads) {
   CheckListenSecurity(options);
-  if (!options.token_file.empty()) authorizer_.LoadTokenFile(options.token_file);
+  if (!options.token_file.empty()) {
+    authorizer_.LoadTokenFile(options.token_file);
+    const std::string auth_dir = options.auth_data_dir.empty() ? options.data_dir : options.auth_data_dir;
+    if (auth_dir != "off") authorizer_.OpenStore(auth_dir);
+  }
   if (options.data_dir != "off") {
     // Before any service exists: a store that cannot be opened or replayed stops the start, naming the file.
     const auto start = std::chrono::steady_clock::now();

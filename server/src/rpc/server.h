@@ -41,6 +41,9 @@ struct ServerOptions {
   auth::TlsFiles tls;
   bool insecure = false;
   std::string token_file;
+  // Tokens added or revoked by AuthService, scene owners, shares and grants (auth.sqlite); empty = data_dir,
+  // "off" = kept in memory only.
+  std::string auth_data_dir;
 };
 
 // Throws Error(kInvalidArgument) when the listen addresses and the TLS flags do not go together.

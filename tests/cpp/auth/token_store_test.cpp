@@ -2,6 +2,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "auth/auth.h"
@@ -148,6 +150,50 @@ TEST(AuthOwners, ForeignAndMissingScenesLookTheSame) {
   EXPECT_EQ(authorizer.AuthorizeRequest(alice, command, "", "pg70").verdict, Verdict::kAllow);
   EXPECT_EQ(authorizer.AuthorizeRequest(bob, command, "", "pg70").message, "device_id: 'pg70' is not granted to 'bob'");
   EXPECT_EQ(authorizer.AuthorizeRequest(root, command, "", "pg70").verdict, Verdict::kAllow);
+}
+
+}  // namespace
+}  // namespace graspsim::auth
+
+namespace graspsim::auth {
+namespace {
+
+TEST(AuthStore, WhatTheRpcsChangeSurvivesAReopen) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("graspsim-auth-store-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                    "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const std::string file = WriteFile("scripter alice alice-secret-0123456789\nscripter bob bob-secret-01234567890\n");
+  const Identity alice{"alice", Role::kScripter}, bob{"bob", Role::kScripter};
+  {
+    Authorizer first;
+    first.LoadTokenFile(file);
+    first.OpenStore(dir.string());
+    first.AddToken(Role::kViewer, "carol", "carol-secret-0123456789", "", /*keep=*/true);
+    first.AddToken(Role::kViewer, "dave", "dave-secret-01234567890", "");  // not kept
+    EXPECT_TRUE(first.RevokeToken("bob"));
+    first.SetOwner("s1", "alice");
+    first.SetOwner("s2", "alice");
+    EXPECT_TRUE(first.Share(alice, "s1", "carol"));
+    first.ForgetScene("s2");
+    first.GrantDevice("pg70", "alice", /*keep=*/true);
+  }
+  Authorizer second;
+  second.LoadTokenFile(file);
+  second.OpenStore(dir.string());
+  EXPECT_TRUE(second.Find("alice-secret-0123456789"));
+  EXPECT_FALSE(second.Find("bob-secret-01234567890"));  // the revocation outlives the file's entry
+  ASSERT_TRUE(second.Find("carol-secret-0123456789"));
+  EXPECT_EQ(second.Find("carol-secret-0123456789")->role, Role::kViewer);
+  EXPECT_FALSE(second.Find("dave-secret-01234567890"));
+  EXPECT_TRUE(second.CanRead(alice, "s1"));
+  EXPECT_TRUE(second.CanRead({"carol", Role::kViewer}, "s1"));
+  EXPECT_FALSE(second.CanRead(alice, "s2"));
+  const MethodRule command{Role::kScripter, SceneAccess::kNone, true};
+  EXPECT_EQ(second.AuthorizeRequest(alice, command, "", "pg70").verdict, Verdict::kAllow);
+  EXPECT_EQ(std::filesystem::status(dir / "auth.sqlite").permissions() & std::filesystem::perms::others_read,
+            std::filesystem::perms::none);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
