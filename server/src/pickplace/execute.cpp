@@ -64,6 +64,7 @@ class Runner {
       state_.actuators[j] = a;
     }
     hold_ = Arm();
+    in_hand_ = plan.object_in_hand;
   }
 
   VecX Arm() const {
@@ -143,10 +144,8 @@ class Runner {
   }
 
   // How far the object moved in the hand since the grasp, m.
-  double Slip() const {
-    const Pose hand = state_.body_poses[setup_.model->body_index.at(setup_.tip)];
-    return ((hand * plan_.object_in_hand).position - state_.body_poses[setup_.object].position).norm();
-  }
+  Pose Hand() const { return state_.body_poses[setup_.model->body_index.at(setup_.tip)]; }
+  double Slip() const { return ((Hand() * in_hand_).position - state_.body_poses[setup_.object].position).norm(); }
 
   const Setup& setup_;
   const GraspPlan& plan_;
@@ -157,20 +156,24 @@ class Runner {
   SceneState state_;
   std::vector<size_t> arm_;
   VecX hold_;
+  Pose in_hand_;  // the object in the hand frame: planned, then as measured after the lift
   double elapsed_ = 0, next_progress_ = 0, expected_ = 10;
 };
 
 }  // namespace
 
-std::string Execute(const Setup& setup, const GraspPlan& plan, const std::vector<ArmMotion>& motions,
-                    const Progress& progress, double f0, double f1, PickPlaceResult* result) {
+std::string Execute(const Setup& setup, const GraspPlan& plan, const std::vector<ArmMotion>& planned,
+                    const Replan& replan, const Progress& progress, double f0, double f1, PickPlaceResult* result) {
   Runner r(setup, plan, progress, f0, f1, result);
   r.expected_ = 2.5;
-  for (const ArmMotion& m : motions) r.expected_ += m.trajectory.duration() + kSettle;
+  for (const ArmMotion& m : planned) r.expected_ += m.trajectory.duration() + kSettle;
+  std::vector<ArmMotion>& motions = result->motions;
+  motions = planned;
   const auto done = [&] { result->simulated_seconds += r.elapsed_; };
   bool closed = false;
   if (!r.Hold(Stage::kApproach, 0.3)) return done(), "cancelled";  // the fingers open to the pre-shape
-  for (const ArmMotion& m : motions) {
+  for (size_t i = 0; i < motions.size(); ++i) {
+    const ArmMotion m = motions[i];
     if (m.closed && !closed) {
       r.StartClosing();
       double t = 0;
@@ -194,9 +197,19 @@ std::string Execute(const Setup& setup, const GraspPlan& plan, const std::vector
     }
     if (!r.Follow(m.stage, m.trajectory)) return done(), "cancelled";
     if (closed && m.stage == Stage::kLift) {
+      // Where the grip really holds the object: a parallel gripper centres it between its jaws, so it sits up to
+      // a few millimetres from the planned grasp (the planner closes each jaw on its own). The place is planned
+      // again for the measured grip (what the tactile pads and the jaw positions tell a real controller), from
+      // where the arm is now; a grip that lost the object is a slip.
       const double slip = r.Slip();
       if (slip > kSlip) return done(), "slipped during the lift: the object moved " + FormatNumber(slip * 1000) +
                                            " mm in the hand";
+      r.in_hand_ = r.Hand().Inverse() * r.state_.body_poses[setup.object];
+      std::vector<ArmMotion> rest;
+      const std::string failure = replan(r.in_hand_, r.hold_, &rest);
+      if (!failure.empty()) return done(), failure;
+      motions.resize(i + 1);
+      motions.insert(motions.end(), rest.begin(), rest.end());
     }
   }
   if (!r.Hold(Stage::kRetreat, 0.3)) return done(), "cancelled";

@@ -35,21 +35,34 @@ struct GraspPlan {
   std::unique_ptr<motion::ArmModel> open_arm, closed_arm;
   std::unique_ptr<motion::CollisionChecker> open_all, open_near, closed_near;
   std::vector<VecX> pre, at;           // matching pairs: pre-grasp, grasp
-  VecX lifted;                         // per pair 0 … found for the pair chosen by the path
+  VecX lifted;                         // after the lift, for the pair the path chose (PlanMotions)
   std::vector<VecX> above, place, retreat;  // matching triples at the goal
-  Pose object_in_hand;                 // the object's pose in the hand frame while held
+  Pose object_in_hand;                 // the object's pose in the hand frame while held, as planned
 };
 
 // Filters one grasp (IK, limits, collisions); never throws for an unreachable grasp.
 GraspPlan CheckGrasp(const Setup& setup, const grasp::GraspSet& set, size_t index);
 
-// Plans the arm motions of a reachable grasp; returns "" or why it failed.
+// The configurations above the goal, at it and retreated (plan->above, place, retreat) for the object held at
+// `object_in_hand`; returns "" or why there are none.
+std::string PlaceConfigurations(const Setup& setup, const Pose& object_in_hand, GraspPlan* plan);
+
+// Plans the arm motions of a reachable grasp (to the pre-grasp, approach, lift, then PlanPlace's); returns "" or
+// why it failed.
 std::string PlanMotions(const Setup& setup, GraspPlan* plan, const std::function<bool()>& cancelled,
                         std::vector<ArmMotion>* motions);
+// Appends transfer (from `from` to above the goal), place and retreat.
+std::string PlanPlace(const Setup& setup, GraspPlan* plan, const VecX& from, const std::function<bool()>& cancelled,
+                      std::vector<ArmMotion>* motions);
+
+// After the lift: the object's measured pose in the hand and the arm's configuration; returns "" and the motions
+// that replace the planned transfer, place and retreat, or why there are none.
+using Replan = std::function<std::string(const Pose& object_in_hand, const VecX& q, std::vector<ArmMotion>* rest)>;
 
 // Executes the motions in a simulation of setup.model from setup.state; returns "" or why it failed
-// (slipped, dropped, missed the goal); fills the result's state, object pose and errors.
+// (slipped, dropped, missed the goal); fills the result's motions (as executed), state, object pose and errors.
 std::string Execute(const Setup& setup, const GraspPlan& plan, const std::vector<ArmMotion>& motions,
-                    const Progress& progress, double fraction_begin, double fraction_end, PickPlaceResult* result);
+                    const Replan& replan, const Progress& progress, double fraction_begin, double fraction_end,
+                    PickPlaceResult* result);
 
 }  // namespace graspsim::pickplace

@@ -2,7 +2,9 @@
 // order of ε until one puts the object at the goal.
 #include "pickplace/pick_place.h"
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/format.h"
@@ -19,10 +21,28 @@ constexpr size_t kMaxFiltered = 64;
 // Reasons kept per kind of failure in the error message.
 constexpr size_t kReasonsShown = 3;
 
-std::string Summary(const std::vector<std::string>& reasons) {
+// Reasons grouped by kind (the text up to its second colon: "collision at the pre-grasp", "unreachable: above
+// the goal"), each with its count and its first full text, most frequent first.
+std::string Summary(const std::vector<std::pair<size_t, std::string>>& reasons) {
+  std::vector<std::tuple<std::string, size_t, std::string>> kinds;  // kind, count, example
+  for (const auto& [grasp, text] : reasons) {
+    size_t cut = text.find(": ");
+    if (cut != std::string::npos && text.compare(0, 11, "unreachable") == 0) cut = text.find(": ", cut + 2);
+    const std::string kind = text.substr(0, cut);
+    auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return std::get<0>(k) == kind; });
+    if (it == kinds.end()) {
+      kinds.emplace_back(kind, 1, "grasp " + std::to_string(grasp) + ": " + text);
+    } else {
+      ++std::get<1>(*it);
+    }
+  }
+  std::stable_sort(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) { return std::get<1>(a) > std::get<1>(b); });
   std::string out;
-  for (size_t i = 0; i < reasons.size() && i < kReasonsShown; ++i) out += (i ? "; " : "") + reasons[i];
-  if (reasons.size() > kReasonsShown) out += "; … (" + std::to_string(reasons.size()) + " in all)";
+  for (size_t i = 0; i < kinds.size() && i < kReasonsShown; ++i) {
+    out += (i ? "; " : "") + std::to_string(std::get<1>(kinds[i])) + " × " + std::get<0>(kinds[i]) + " (e.g. " +
+           std::get<2>(kinds[i]) + ")";
+  }
+  if (kinds.size() > kReasonsShown) out += "; and " + std::to_string(kinds.size() - kReasonsShown) + " other kinds";
   return out;
 }
 
@@ -104,12 +124,21 @@ PickPlaceResult RunPickPlace(std::shared_ptr<const SceneModel> model, const Scen
   setup.without_object = motion::CollectObstacles(*model, state, arm_id, {object_id});
 
   PickPlaceResult result;
-  const auto cancelled = [&] { return progress && !progress(Stage::kPlanPath, 0.1, result) ; };
+  // Every report goes through here; the path searches poll `cancelled`, which repeats the last report.
+  Stage last_stage = Stage::kFilter;
+  double last_fraction = 0;
+  const Progress report = [&](Stage stage, double fraction, const PickPlaceResult& so_far) {
+    last_stage = stage;
+    last_fraction = fraction;
+    return !progress || progress(stage, fraction, so_far);
+  };
+  const auto cancelled = [&] { return !report(last_stage, last_fraction, result); };
   // Filter: 0 .. 0.1 of the job.
   std::vector<GraspPlan> reachable;
+  std::vector<std::pair<size_t, std::string>> rejected, failures;
   const size_t n = std::min(set.grasps.size(), kMaxFiltered);
   for (size_t i = 0; i < n; ++i) {
-    if (progress && !progress(Stage::kFilter, 0.1 * i / std::max<size_t>(n, 1), result)) {
+    if (!report(Stage::kFilter, 0.1 * i / std::max<size_t>(n, 1), result)) {
       result.cancelled = true;
       return result;
     }
@@ -118,33 +147,36 @@ PickPlaceResult RunPickPlace(std::shared_ptr<const SceneModel> model, const Scen
       reachable.push_back(std::move(plan));
     } else {
       result.unreachable.push_back("grasp " + std::to_string(i) + ": " + plan.failure);
+      rejected.emplace_back(i, plan.failure);
     }
   }
   result.reachable = reachable.size();
   if (reachable.empty()) {
     throw Error(ErrorCode::kFailedPrecondition,
                 "no grasp of the " + std::to_string(set.grasps.size()) + " in the set is reachable and collision-free "
-                "(unreachable or collision): " + (n == 0 ? std::string("the set is empty") : Summary(result.unreachable)));
+                "(unreachable or collision): " + (n == 0 ? std::string("the set is empty") : Summary(rejected)));
   }
   const size_t attempts = std::min(reachable.size(), std::max<size_t>(options.max_attempts, 1));
-  std::vector<std::string> failures;
   for (size_t a = 0; a < attempts; ++a) {
     GraspPlan& plan = reachable[a];
     const double f0 = 0.1 + 0.9 * a / attempts, f1 = 0.1 + 0.9 * (a + 1) / attempts;
-    if (progress && !progress(Stage::kPlanPath, f0, result)) {
+    if (!report(Stage::kPlanPath, f0, result)) {
       result.cancelled = true;
       return result;
     }
     std::vector<ArmMotion> motions;
-    std::string failure = PlanMotions(setup, &plan, [&] { return cancelled(); }, &motions);
+    std::string failure = PlanMotions(setup, &plan, cancelled, &motions);
     if (failure == "cancelled") {
       result.cancelled = true;
       return result;
     }
     if (failure.empty()) {
       result.joint_ids = plan.open_arm->joint_ids();
-      result.motions = motions;
-      failure = Execute(setup, plan, motions, progress, f0, f1, &result);
+      const Replan replan = [&](const Pose& in_hand, const VecX& q, std::vector<ArmMotion>* rest) {
+        if (std::string why = PlaceConfigurations(setup, in_hand, &plan); !why.empty()) return "as gripped: " + why;
+        return PlanPlace(setup, &plan, q, cancelled, rest);
+      };
+      failure = Execute(setup, plan, motions, replan, report, f0, f1, &result);
       if (failure == "cancelled") {
         result.cancelled = true;
         return result;
@@ -156,7 +188,7 @@ PickPlaceResult RunPickPlace(std::shared_ptr<const SceneModel> model, const Scen
       result.grasp = plan.grasp;
       return result;
     }
-    failures.push_back("grasp " + std::to_string(plan.grasp) + ": " + failure);
+    failures.emplace_back(plan.grasp, failure);
   }
   throw Error(ErrorCode::kFailedPrecondition,
               "every attempted grasp failed (" + std::to_string(attempts) + " of " + std::to_string(reachable.size()) +

@@ -88,6 +88,47 @@ void ApplyHandJoints(const SceneModel& model, size_t robot, const HandJoints& jo
   UpdateRobotLinkPoses(model, robot, state);
 }
 
+std::string PlaceConfigurations(const Setup& setup, const Pose& object_in_hand, GraspPlan* plan) {
+  GraspPlan& p = *plan;
+  const PickPlaceOptions& o = setup.options;
+  const Pose hand_place = Up(setup.goal, o.place_height) * object_in_hand.Inverse();
+  const Pose hand_above = Up(hand_place, o.lift);
+  const Pose hand_retreat = hand_place * Back(o.standoff);
+  motion::IkOptions ik;
+  ik.seed = o.seed;
+  p.above.clear();
+  p.place.clear();
+  p.retreat.clear();
+  std::string why;
+  const motion::IkResult above = motion::SolveIk(*p.closed_arm, hand_above, ik);
+  if (above.solutions.empty()) return "unreachable: above the goal: " + above.failure;
+  for (const VecX& q_above : above.solutions) {
+    if (std::string e = p.closed_near->Explain(q_above); !e.empty()) {
+      why = "collision above the goal: " + e;
+      continue;
+    }
+    const std::optional<VecX> q_place = Near(*p.closed_arm, hand_place, q_above, o.seed);
+    if (!q_place) {
+      why = "unreachable: no straight descent to the goal";
+      continue;
+    }
+    if (!p.closed_near->IsValid(*q_place) || !p.open_near->IsValid(*q_place) ||
+        !p.closed_near->IsMotionValid(q_above, *q_place)) {
+      why = "collision placing at the goal: " + p.closed_near->Explain(*q_place) + p.open_near->Explain(*q_place);
+      continue;
+    }
+    const std::optional<VecX> q_retreat = Near(*p.open_arm, hand_retreat, *q_place, o.seed);
+    if (!q_retreat || !p.open_near->IsValid(*q_retreat) || !p.open_near->IsMotionValid(*q_place, *q_retreat)) {
+      why = q_retreat ? "collision on the retreat from the goal" : "unreachable: retreat from the goal";
+      continue;
+    }
+    p.above.push_back(q_above);
+    p.place.push_back(*q_place);
+    p.retreat.push_back(*q_retreat);
+  }
+  return p.above.empty() ? why : "";
+}
+
 GraspPlan CheckGrasp(const Setup& setup, const grasp::GraspSet& set, size_t index) {
   GraspPlan p;
   p.grasp = index;
@@ -114,9 +155,6 @@ GraspPlan CheckGrasp(const Setup& setup, const grasp::GraspSet& set, size_t inde
   const Pose hand_at = object * g.hand_pose * Back(o.clearance);
   const Pose hand_pre = hand_at * Back(o.standoff);
   const Pose hand_lift = Up(hand_at, o.lift);
-  const Pose hand_place = Up(setup.goal * g.hand_pose * Back(o.clearance), o.place_height);
-  const Pose hand_above = Up(hand_place, o.lift);
-  const Pose hand_retreat = hand_place * Back(o.standoff);
   p.object_in_hand = hand_at.Inverse() * object;
 
   motion::IkOptions ik;
@@ -160,43 +198,33 @@ GraspPlan CheckGrasp(const Setup& setup, const grasp::GraspSet& set, size_t inde
     }
     p.pre.push_back(q_pre);
     p.at.push_back(*q_at);
-    if (p.lifted.size() == 0) p.lifted = *q_lift;  // replaced by the pair the path picks (PlanMotions)
   }
   if (p.pre.empty()) {
     p.failure = why;
     return p;
   }
-  const motion::IkResult above = motion::SolveIk(*p.closed_arm, hand_above, ik);
-  if (above.solutions.empty()) {
-    p.failure = "unreachable: above the goal: " + above.failure;
-    return p;
-  }
-  for (const VecX& q_above : above.solutions) {
-    if (std::string e = p.closed_near->Explain(q_above); !e.empty()) {
-      why = "collision above the goal: " + e;
-      continue;
-    }
-    const std::optional<VecX> q_place = Near(*p.closed_arm, hand_place, q_above, o.seed);
-    if (!q_place) {
-      why = "unreachable: no straight descent to the goal";
-      continue;
-    }
-    if (!p.closed_near->IsValid(*q_place) || !p.open_near->IsValid(*q_place) ||
-        !p.closed_near->IsMotionValid(q_above, *q_place)) {
-      why = "collision placing at the goal: " + p.closed_near->Explain(*q_place) + p.open_near->Explain(*q_place);
-      continue;
-    }
-    const std::optional<VecX> q_retreat = Near(*p.open_arm, hand_retreat, *q_place, o.seed);
-    if (!q_retreat || !p.open_near->IsValid(*q_retreat) || !p.open_near->IsMotionValid(*q_place, *q_retreat)) {
-      why = q_retreat ? "collision on the retreat from the goal" : "unreachable: retreat from the goal";
-      continue;
-    }
-    p.above.push_back(q_above);
-    p.place.push_back(*q_place);
-    p.retreat.push_back(*q_retreat);
-  }
-  if (p.above.empty()) p.failure = why;
+  p.failure = PlaceConfigurations(setup, p.object_in_hand, &p);
   return p;
+}
+
+std::string PlanPlace(const Setup& setup, GraspPlan* p, const VecX& from, const std::function<bool()>& cancelled,
+                      std::vector<ArmMotion>* motions) {
+  motion::PlanOptions options;
+  options.timeout = setup.options.plan_timeout;
+  options.seed = setup.options.seed;
+  options.cancelled = cancelled;
+  try {
+    const motion::PlanResult transfer = motion::PlanPath(*p->closed_near, from, p->above, options);
+    if (transfer.cancelled) return "cancelled";
+    const size_t m = transfer.goal_index;
+    motions->push_back({Stage::kTransfer, Timed(*p->closed_arm, transfer.path, kFreeSpeed), true, p->closed});
+    motions->push_back({Stage::kTransfer, Timed(*p->closed_arm, {p->above[m], p->place[m]}, kNearSpeed), true, p->closed});
+    motions->push_back({Stage::kRetreat, Timed(*p->open_arm, {p->place[m], p->retreat[m]}, kNearSpeed), false, p->open});
+    return "";
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::kFailedPrecondition) return std::string("no path to the goal: ") + e.what();
+    throw;
+  }
 }
 
 std::string PlanMotions(const Setup& setup, GraspPlan* p, const std::function<bool()>& cancelled,
@@ -216,21 +244,15 @@ std::string PlanMotions(const Setup& setup, GraspPlan* p, const std::function<bo
         Near(*p->closed_arm, Up(p->closed_arm->TipPose(q_at), o.lift), q_at, o.seed);
     if (!q_lift || !p->closed_near->IsMotionValid(q_at, *q_lift)) return "collision on the lift";
     p->lifted = *q_lift;
-    const motion::PlanResult transfer = motion::PlanPath(*p->closed_near, *q_lift, p->above, options);
-    if (transfer.cancelled) return "cancelled";
-    const size_t m = transfer.goal_index;
     motions->clear();
     motions->push_back({Stage::kApproach, Timed(*p->open_arm, to_pre.path, kFreeSpeed), false, p->open});
     motions->push_back({Stage::kApproach, Timed(*p->open_arm, {p->pre[k], q_at}, kNearSpeed), false, p->open});
     motions->push_back({Stage::kLift, Timed(*p->closed_arm, {q_at, *q_lift}, kNearSpeed), true, p->closed});
-    motions->push_back({Stage::kTransfer, Timed(*p->closed_arm, transfer.path, kFreeSpeed), true, p->closed});
-    motions->push_back({Stage::kTransfer, Timed(*p->closed_arm, {p->above[m], p->place[m]}, kNearSpeed), true, p->closed});
-    motions->push_back({Stage::kRetreat, Timed(*p->open_arm, {p->place[m], p->retreat[m]}, kNearSpeed), false, p->open});
-    return "";
   } catch (const Error& e) {
-    if (e.code() == ErrorCode::kFailedPrecondition) return std::string("no path: ") + e.what();
+    if (e.code() == ErrorCode::kFailedPrecondition) return std::string("no path to the pre-grasp: ") + e.what();
     throw;
   }
+  return PlanPlace(setup, p, p->lifted, cancelled, motions);
 }
 
 }  // namespace graspsim::pickplace

@@ -11,7 +11,6 @@
 #include "rpc/failed_call.h"
 #include "rpc/convert.h"
 #include "rpc/plan_arm_path.h"
-#include "rpc/unimplemented_services.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -188,8 +187,8 @@ void ToProto(const grasp::GraspSet& set, const grasp::StoredGraspSet& meta, bool
 }
 
 grpc::ServerWriteReactor<v1::PlanGraspsProgress>* GraspServiceImpl::PlanGrasps(Context* context,
-  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::PlanGraspsProgress>(*refused);
                                                                                const v1::PlanGraspsRequest* request) {
+  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::PlanGraspsProgress>(*refused);
   return StartPlanGraspsStream(*request, registry_, store_, pool_, context);
 }
 
@@ -232,8 +231,9 @@ grpc::ServerUnaryReactor* GraspServiceImpl::PlanArmPath(Context* context, const 
 }
 
 grpc::ServerWriteReactor<v1::PickAndPlaceProgress>* GraspServiceImpl::PickAndPlace(Context* context,
-                                                                                   const v1::PickAndPlaceRequest*) {
-  return NotBuiltYetStream<v1::PickAndPlaceProgress>(context, "GraspService/PickAndPlace", kMotionPlanning);
+                                                                                   const v1::PickAndPlaceRequest* request) {
+  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::PickAndPlaceProgress>(*refused);
+  return StartPickAndPlaceStream(*request, registry_, store_, pool_, context);
 }
 
 }  // namespace graspsim::rpc

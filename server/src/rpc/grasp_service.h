@@ -1,7 +1,7 @@
 // graspsim.v1.GraspService: translation between messages and the grasp library (server/src/grasp). PlanGrasps is
 // a reactor that plans on the worker pool and streams progress (plan_grasps_stream.cpp); grasp sets are kept in
 // the SQLite store under --grasp-data-dir. PlanArmPath plans arm paths (rpc/plan_arm_path.cpp, docs/motion.md);
-// PickAndPlace is not built yet.
+// PickAndPlace plans and executes a pick-and-place on the pool and streams its stages (pick_and_place_stream.cpp).
 #pragma once
 
 #include <memory>
@@ -59,5 +59,12 @@ grpc::ServerWriteReactor<v1::PlanGraspsProgress>* StartPlanGraspsStream(const v1
                                                                        std::shared_ptr<grasp::GraspStore> store,
                                                                        WorkerPool* pool,
                                                                        grpc::CallbackServerContext* context);
+
+// Runs a pick-and-place on the pool and streams its stages (pick_and_place_stream.cpp).
+grpc::ServerWriteReactor<v1::PickAndPlaceProgress>* StartPickAndPlaceStream(const v1::PickAndPlaceRequest& request,
+                                                                           const SceneRegistry* registry,
+                                                                           std::shared_ptr<grasp::GraspStore> store,
+                                                                           WorkerPool* pool,
+                                                                           grpc::CallbackServerContext* context);
 
 }  // namespace graspsim::rpc

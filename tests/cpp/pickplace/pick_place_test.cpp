@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -31,12 +33,16 @@ motion_test::ArmScene CubeScene(const Pose& cube = kCubeStart) {
   });
 }
 
-grasp::GraspSet PlanSet(const SceneView& view) {
+// Planned once for the suite (the cube's start pose is the same in every test).
+const grasp::GraspSet& PlanSet(const SceneView& view) {
+  static const grasp::GraspSet set = [&] {
   const pickplace::GraspSetJob job = pickplace::DefaultGraspSetJob(*view.model, view.state, "arm", "cube", 1);
   const grasp::GraspPlanner planner(job.hand, job.mesh, job.obstacles, job.simulation);
-  std::optional<grasp::GraspSet> set =
+  std::optional<grasp::GraspSet> planned =
       planner.Plan(planner.Candidates(job.candidates), 2, job.max_grasps, [](size_t, size_t) { return true; });
-  return *set;
+  return *planned;
+  }();
+  return set;
 }
 
 pickplace::PickPlaceResult RunOn(const SceneView& view, const grasp::GraspSet& set, const Pose& goal,
@@ -94,6 +100,95 @@ TEST(PickPlace, MovesTheCubeToTheGoalOnCollisionFreePaths) {
       }
     }
   }
+}
+
+// Far out of reach (2 m from the base): FAILED_PRECONDITION naming why, with every grasp unreachable.
+TEST(PickPlace, UnreachableGoalIsFailedPreconditionWithTheReason) {
+  const motion_test::ArmScene s = CubeScene();
+  try {
+    RunOn(s.view, PlanSet(s.view), At(1.6, 0, 0.775));
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kFailedPrecondition);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("is reachable"), std::string::npos) << what;
+    EXPECT_NE(what.find("unreachable: above the goal"), std::string::npos) << what;
+  }
+}
+
+TEST(PickPlace, BadInputIsNamed) {
+  const motion_test::ArmScene s = CubeScene();
+  const grasp::GraspSet& set = PlanSet(s.view);
+  const auto code_and_text = [&](const std::string& arm, const std::string& body, const Pose& goal) {
+    try {
+      pickplace::RunPickPlace(s.view.model, s.view.state, arm, body, goal, set, {}, nullptr);
+    } catch (const Error& e) {
+      return std::make_pair(e.code(), std::string(e.what()));
+    }
+    return std::make_pair(ErrorCode::kInternal, std::string("no error"));
+  };
+  auto [code, text] = code_and_text("nope", "cube", kCubeStart);
+  EXPECT_EQ(code, ErrorCode::kNotFound);
+  EXPECT_NE(text.find("arm_id: no robot 'nope'"), std::string::npos) << text;
+  std::tie(code, text) = code_and_text("arm", "ghost", kCubeStart);
+  EXPECT_EQ(code, ErrorCode::kNotFound);
+  EXPECT_NE(text.find("body_id: no body 'ghost'"), std::string::npos) << text;
+  std::tie(code, text) = code_and_text("arm", "table", kCubeStart);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(text.find("'table' is not a free body"), std::string::npos) << text;
+  std::tie(code, text) = code_and_text("arm", "cube", At(std::nan(""), 0, 0.8));
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(text.find("goal.position"), std::string::npos) << text;
+  // A set for another hand.
+  grasp::GraspSet barrett = set;
+  barrett.hand = "barrett_bh8_282";
+  try {
+    pickplace::RunPickPlace(s.view.model, s.view.state, "arm", "cube", kCubeStart, barrett, {}, nullptr);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("carries 'schunk_pg70'"), std::string::npos) << e.what();
+  }
+}
+
+// A robot without a flange is not an arm; an arm without a hand carries none.
+TEST(PickPlace, HandOnArmNamesWhatIsMissing) {
+  const motion_test::ArmScene s = CubeScene();
+  EXPECT_EQ(pickplace::HandOnArm(*s.view.model, "arm_id", "arm"), "schunk_pg70");
+  const motion_test::ArmScene bare = motion_test::MakeArmScene("kuka_kr5_sixx_r850");
+  try {
+    pickplace::HandOnArm(*bare.view.model, "arm_id", "arm");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("carries no known hand"), std::string::npos) << e.what();
+  }
+  const motion_test::ArmScene gripper = motion_test::MakeArmScene("schunk_pg70");
+  try {
+    pickplace::HandOnArm(*gripper.view.model, "arm_id", "arm");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("is not an arm"), std::string::npos) << e.what();
+  }
+}
+
+// Cancelling in the middle of the execution returns at once: no further stage is reported.
+TEST(PickPlace, CancelStopsTheRun) {
+  const motion_test::ArmScene s = CubeScene();
+  int calls_after_cancel = 0;
+  bool cancel = false;
+  const pickplace::PickPlaceResult r =
+      RunOn(s.view, PlanSet(s.view), At(0.05, -0.2, 0.775),
+            [&](pickplace::Stage stage, double, const pickplace::PickPlaceResult&) {
+              if (cancel) ++calls_after_cancel;
+              if (stage == pickplace::Stage::kClose) cancel = true;
+              return !cancel;
+            });
+  EXPECT_TRUE(r.cancelled);
+  EXPECT_FALSE(r.success);
+  EXPECT_EQ(calls_after_cancel, 0);
+  EXPECT_LT(r.simulated_seconds, 8.0);  // the full run simulates ~8 s
 }
 
 }  // namespace

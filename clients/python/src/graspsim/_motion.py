@@ -2,12 +2,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Sequence
+from typing import Callable, List, Optional, Sequence
 
 import numpy as np
 
 from graspsim._errors import translated_errors
-from graspsim._pose import PoseLike, as_pose
+from graspsim._pose import Pose, PoseLike, as_pose
+from graspsim._stream import CancellableStream
 from graspsim.v1 import grasp_pb2, grasp_pb2_grpc
 
 
@@ -23,6 +24,44 @@ class ArmPath:
     checks: int
     seconds: float
     duration: float
+
+
+@dataclass
+class ArmMotion:
+    """One arm motion of an executed pick-and-place: waypoints (n, dof) in joint_ids order, times (n,) s from
+    the motion's start; `closed`: the hand held the object during it."""
+    stage: str
+    waypoints: np.ndarray
+    times: np.ndarray
+    closed: bool
+
+
+@dataclass
+class PickAndPlaceResult:
+    """PickAndPlace's last message: the object ended at the goal (1 cm, 10°) and the scene holds the end state."""
+    success: bool
+    grasp_set_id: str
+    grasp_index: int           # the successful grasp's index in the set
+    grasp: object              # its graspsim.v1.Grasp message (hand_pose in the object frame, epsilon, …)
+    reachable: int             # grasps that passed the reachability filter
+    failures: List[str]        # why earlier attempts failed
+    object_pose: Pose          # where the object ended, world
+    position_error: float      # m
+    orientation_error: float   # rad
+    grip_force: float          # N, the hand's contact force on the object after closing
+    simulated_seconds: float
+    joint_ids: List[str]
+    motions: List[ArmMotion]
+
+
+def _pick_result(message) -> PickAndPlaceResult:
+    dof = len(message.joint_ids)
+    motions = [ArmMotion(m.stage, np.frombuffer(m.waypoints, dtype="<f8").reshape(-1, max(dof, 1)).copy(),
+                         np.frombuffer(m.times, dtype="<f8").copy(), m.closed) for m in message.motions]
+    return PickAndPlaceResult(message.success, message.grasp_set_id, message.grasp_index, message.grasp,
+                              message.reachable, list(message.failures), Pose.from_proto(message.object_pose),
+                              message.position_error, message.orientation_error, message.grip_force,
+                              message.simulated_seconds, list(message.joint_ids), motions)
 
 
 class MotionMethods:
@@ -55,3 +94,38 @@ class MotionMethods:
                        times=np.frombuffer(response.times, dtype="<f8").copy(), tip_body=response.tip_body,
                        direct=response.direct, checks=response.checks, seconds=response.seconds,
                        duration=response.duration)
+
+    def pick_and_place_stream(self, scene_id: str, arm_id: str, body_id: str, goal: PoseLike, *,
+                              hand_id: str = "", grasp_set_id: str = "", max_attempts: int = 0,
+                              seed: Optional[int] = None, call_timeout: Optional[float] = None) -> CancellableStream:
+        """The raw progress stream of pick_and_place (graspsim.v1.PickAndPlaceProgress messages: stage,
+        fraction, and the result in the last one); cancel() stops the server's job."""
+        request = grasp_pb2.PickAndPlaceRequest(scene_id=scene_id, arm_id=arm_id, hand_id=hand_id, body_id=body_id,
+                                                grasp_set_id=grasp_set_id, max_attempts=max_attempts)
+        request.goal.CopyFrom(as_pose(goal).to_proto())
+        if seed is not None:
+            request.seed = seed
+        stub = grasp_pb2_grpc.GraspServiceStub(self.channel)
+        return CancellableStream(stub.PickAndPlace(request, timeout=call_timeout), lambda m: m)
+
+    def pick_and_place(self, scene_id: str, arm_id: str, body_id: str, goal: PoseLike, *, hand_id: str = "",
+                       grasp_set_id: str = "", max_attempts: int = 0, seed: Optional[int] = None,
+                       on_progress: Optional[Callable[[str, float], None]] = None,
+                       call_timeout: Optional[float] = None) -> PickAndPlaceResult:
+        """Picks body_id up with the hand on arm_id's flange and puts it at `goal` (world pose of the object),
+        planned and executed in the dynamic simulation (docs/motion.md, "Pick and place"). The grasps come from
+        grasp_set_id (a PlanGrasps set for this hand and object) or a set planned now. on_progress(stage,
+        fraction) is called for every progress message. On success the scene holds the simulated end state; an
+        unreachable goal or grasps that all fail raise FailedPrecondition with the reasons (scene unchanged)."""
+        stream = self.pick_and_place_stream(scene_id, arm_id, body_id, goal, hand_id=hand_id,
+                                            grasp_set_id=grasp_set_id, max_attempts=max_attempts, seed=seed,
+                                            call_timeout=call_timeout)
+        last = None
+        with stream:
+            for message in stream:
+                if on_progress is not None:
+                    on_progress(message.stage, message.fraction)
+                last = message
+        if last is None or last.stage != "done":
+            raise RuntimeError("PickAndPlace ended without a result")
+        return _pick_result(last)
