@@ -9,7 +9,7 @@ DEBIAN_PACKAGES=(
   libeigen3-dev libembree-dev libpcl-dev libopencv-dev libflann-dev libmodbus-dev
   liburdfdom-dev libassimp-dev libqhull-dev libompl-dev libsqlite3-dev
   libcpp-httplib-dev libgtest-dev libgmock-dev libbenchmark-dev octave
-  libssl-dev python3 python3-venv python3-pip
+  libssl-dev openssl python3 python3-venv python3-pip  # openssl: the CLI makes test certificates (tests/python/test_security.py)
   nodejs chromium chromium-driver
 )
 
