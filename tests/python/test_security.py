@@ -17,6 +17,7 @@ import pytest
 from grpc_health.v1 import health_pb2, health_pb2_grpc
 
 import graspsim
+from graspsim.v1 import grasp_pb2
 from graspsim.gateway_rig import GatewayRig
 from _support import expect_error
 from conftest import REPO_ROOT as REPO, free_port, server_binary
@@ -147,6 +148,11 @@ def test_scenes_belong_to_their_creator_until_shared(secure):
         assert foreign.value.message.replace(scene, "ID") == missing.value.message.replace(missing_id, "ID")
         with expect_error(DENIED, "does not exist or is not yours"):
             bob.delete_scene(scene)
+        # A scene named inside a nested message (GraspTarget) is checked alike.
+        with pytest.raises(grpc.RpcError) as nested:
+            bob.grasp_stub.EvaluateGrasp(grasp_pb2.EvaluateGraspRequest(
+                object=grasp_pb2.GraspTarget(scene_id=scene, body_id="cube")), timeout=30)
+        assert nested.value.code() == DENIED and "is not yours" in nested.value.details()
         with expect_error(DENIED):
             bob.share_scene(scene, "bob")  # only the owner shares
         alice.share_scene(scene, "bob")

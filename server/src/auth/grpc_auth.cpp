@@ -4,6 +4,7 @@
 #include <mutex>
 #include <sstream>
 #include <unordered_map>
+#include <vector>
 
 #include <google/protobuf/message.h>
 
@@ -33,16 +34,24 @@ std::string FieldText(const google::protobuf::Message& message, const std::strin
   return message.GetReflection()->GetString(message, field);
 }
 
-// The scene a request names: its scene_id, or its header's (UploadFile's first chunk).
-std::string SceneIdOf(const google::protobuf::Message& message) {
-  std::string id = FieldText(message, "scene_id");
-  if (!id.empty()) return id;
-  const auto* header = message.GetDescriptor()->FindFieldByName("header");
-  if (header != nullptr && header->type() == google::protobuf::FieldDescriptor::TYPE_MESSAGE &&
-      !header->is_repeated() && message.GetReflection()->HasField(message, header)) {
-    return FieldText(message.GetReflection()->GetMessage(message, header), "scene_id");
+// Every scene a request names: string fields called scene_id or *_scene_id, at the top (GetScene's scene_id,
+// CompleteShape's add_to_scene_id) and in set message fields below it (UploadFile's header, PlanGrasps'
+// object), two levels deep. Repeated fields are not searched: no request names scenes in a list.
+void CollectSceneIds(const google::protobuf::Message& message, int depth, std::vector<std::string>* ids) {
+  const auto* descriptor = message.GetDescriptor();
+  const auto* reflection = message.GetReflection();
+  for (int i = 0; i < descriptor->field_count(); ++i) {
+    const auto* field = descriptor->field(i);
+    if (field->is_repeated()) continue;
+    if (field->type() == google::protobuf::FieldDescriptor::TYPE_STRING &&
+        (field->name() == "scene_id" || field->name().ends_with("_scene_id"))) {
+      std::string id = reflection->GetString(message, field);
+      if (!id.empty()) ids->push_back(std::move(id));
+    } else if (field->type() == google::protobuf::FieldDescriptor::TYPE_MESSAGE && depth < 2 &&
+               reflection->HasField(message, field)) {
+      CollectSceneIds(reflection->GetMessage(message, field), depth + 1, ids);
+    }
   }
-  return "";
 }
 
 grpc::Status StatusOf(const Decision& decision) {
@@ -88,6 +97,7 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
  private:
   void OnMetadata(const std::multimap<grpc::string_ref, grpc::string_ref>& metadata) {
     std::string cert_name;
+    if (!options_.tokens && !options_.gateway_needs_cert) return Store();  // nothing to check
     if (const auto auth_context = context_->auth_context(); auth_context && auth_context->IsPeerAuthenticated()) {
       const auto names = auth_context->FindPropertyValues("x509_common_name");
       if (!names.empty()) cert_name.assign(names.front().data(), names.front().size());
@@ -111,9 +121,17 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
     const std::string device_id = FieldText(request, "device_id");
     if (!refused_ && options_.tokens && rule_ != nullptr && !request_checked_) {
       request_checked_ = true;  // the first message names the scene (UploadFile's header); later chunks carry data
-      scene_id_ = SceneIdOf(request);
-      const Decision decision = authorizer_->AuthorizeRequest(who_, *rule_, scene_id_, device_id);
-      if (decision.verdict != Verdict::kAllow) Refuse(StatusOf(decision));
+      scene_id_ = FieldText(request, "scene_id");  // DeleteScene's, forgotten when the delete succeeds
+      std::vector<std::string> scene_ids;
+      CollectSceneIds(request, 0, &scene_ids);
+      if (scene_ids.empty()) scene_ids.emplace_back();  // still checks the device grant
+      for (const auto& id : scene_ids) {
+        const Decision decision = authorizer_->AuthorizeRequest(who_, *rule_, id, device_id);
+        if (decision.verdict != Verdict::kAllow) {
+          Refuse(StatusOf(decision));
+          break;
+        }
+      }
     }
     if (rule_ != nullptr && (rule_->device_grant || method_ == "/graspsim.v1.GatewayService/EmergencyStop")) {
       // Every command to hardware is logged with its sender (the token's name, never the secret).
