@@ -12,7 +12,9 @@ the cube from one side, PerceptionService completes it by its symmetry (examples
 completed mesh joins a table scene as an object, and the PG70's grasp set is planned on it (examples/
 grasp_planning.py does all three hands on the true cube and draws them). Last, the hardware gateway
 with emulated grippers (examples/hardware_gateway.py): commands through the server, an e-stop, and a PG70 move
-beside its simulated twin with the surprise. Exits non-zero on any error.
+beside its simulated twin with the surprise. Last, a KUKA KR 5 with the PG70 picks the completed cube up and
+puts it 25 cm away, planned and executed in the dynamic simulation (examples/pick_and_place.py). Exits non-zero
+on any error.
 
     python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080 [--out DIR]
 """
@@ -29,6 +31,7 @@ import numpy as np
 import graspsim
 import grasp_planning  # examples/grasp_planning.py, next to this file
 import hardware_gateway  # examples/hardware_gateway.py, next to this file
+import pick_and_place  # examples/pick_and_place.py, next to this file
 import shape_completion  # examples/shape_completion.py, next to this file
 import tactile_cycle  # examples/tactile_cycle.py, next to this file
 from graspsim.v1 import common_pb2
@@ -168,7 +171,8 @@ def run_work_cycle(client: graspsim.Client, out) -> None:
         print(f"  plot: {path}")
 
 
-def plan_grasps(client: graspsim.Client) -> None:
+def plan_grasps(client: graspsim.Client) -> str:
+    """Returns the scene with the completed cube (cube_seen) on the table, for pick_and_place_completed."""
     print("\nshape completion (the cube seen from one side by a simulated depth camera):")
     scene_id = client.create_scene("completed cube").id
     client.add_object(scene_id, "table", builtin="table")
@@ -184,6 +188,18 @@ def plan_grasps(client: graspsim.Client) -> None:
           f" added as {shape.body_id!r}")
     print("grasp planning (the completed cube on the table, bounding-box candidates, stored for the next run):")
     grasp_planning.plan(client, scene_id, "schunk_pg70", body_id=shape.body_id)
+    return scene_id
+
+
+def pick_and_place_completed(client: graspsim.Client, scene_id: str) -> None:
+    """A KUKA KR 5 with the PG70 on its flange moves the completed cube 25 cm along the table, planned and
+    executed in the dynamic simulation (examples/pick_and_place.py)."""
+    client.add_robot(scene_id, "kr5", builtin="kuka_kr5_sixx_r850_pg70",
+                     base_pose=[-0.45, 0, TABLE_TOP_Z, 1, 0, 0, 0])
+    start = client.get_body_poses(scene_id, ["cube_seen"])["cube_seen"]
+    goal = np.concatenate([np.asarray(start.position) + [0, -0.25, 0], start.orientation])
+    print("\npick and place (KR 5 + PG70 moves the completed cube 25 cm to the right):")
+    pick_and_place.pick_and_place(client, scene_id, "kr5", "cube_seen", goal)
     client.delete_scene(scene_id)
 
 
@@ -211,8 +227,9 @@ def main(argv=None) -> int:
             if not args.keep:
                 client.delete_scene(scene_id)
             run_work_cycle(client, args.out)
-            plan_grasps(client)
+            completed_scene = plan_grasps(client)
             hardware_gateway.demo(client, args.server)
+            pick_and_place_completed(client, completed_scene)
     except (graspsim.GraspsimError, OSError) as err:
         print(f"demo failed: {err}", file=sys.stderr)
         return 1

@@ -41,6 +41,8 @@ def pick_and_place(client: graspsim.Client, scene_id: str, arm_id: str, body_id:
     print(f"  grasp {result.grasp_index} of set {result.grasp_set_id[:12]}… ({result.reachable} reachable; "
           f"failed before it: {len(result.failures)}), grip {result.grip_force:.0f} N, "
           f"{result.simulated_seconds:.1f} s simulated")
+    for failure in result.failures:
+        print(f"  attempt failed: {failure}")
     print(f"  {body_id} ends {error * 1000:.1f} mm and {np.degrees(2 * np.arccos(dot)):.1f}° from the goal "
           f"(tolerance 10 mm, 10°): {'placed' if result.success else 'missed'}")
     return result

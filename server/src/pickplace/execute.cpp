@@ -187,9 +187,13 @@ std::string Execute(const Setup& setup, const GraspPlan& plan, const std::vector
       if (result->grip_force < 0.5) return done(), "missed: the fingers closed on nothing (contact force " +
                                                   FormatNumber(result->grip_force) + " N)";
       closed = true;
+      // Where the grip really holds the object: a parallel gripper centres it between its jaws, so it sits up to
+      // a centimetre or two from the planned grasp (the planner closes each jaw on its own). From here on a slip is
+      // a motion relative to this grip.
+      r.in_hand_ = r.Hand().Inverse() * r.state_.body_poses[setup.object];
     } else if (!m.closed && closed) {
       const double slip = r.Slip();
-      if (slip > kSlip) return done(), "slipped during the transfer: the object moved " + FormatNumber(slip * 1000) +
+      if (slip > kSlip) return done(), "slipped during the transfer: the object moved " + FormatNumber(std::round(slip * 1e4) / 10) +
                                            " mm in the hand";
       r.Open();
       if (!r.Hold(Stage::kRelease, 0.5)) return done(), "cancelled";
@@ -197,12 +201,10 @@ std::string Execute(const Setup& setup, const GraspPlan& plan, const std::vector
     }
     if (!r.Follow(m.stage, m.trajectory)) return done(), "cancelled";
     if (closed && m.stage == Stage::kLift) {
-      // Where the grip really holds the object: a parallel gripper centres it between its jaws, so it sits up to
-      // a few millimetres from the planned grasp (the planner closes each jaw on its own). The place is planned
-      // again for the measured grip (what the tactile pads and the jaw positions tell a real controller), from
-      // where the arm is now; a grip that lost the object is a slip.
+      // The place is planned again for the measured grip (what the tactile pads and the jaw positions tell a
+      // real controller), from where the arm is now.
       const double slip = r.Slip();
-      if (slip > kSlip) return done(), "slipped during the lift: the object moved " + FormatNumber(slip * 1000) +
+      if (slip > kSlip) return done(), "slipped during the lift: the object moved " + FormatNumber(std::round(slip * 1e4) / 10) +
                                            " mm in the hand";
       r.in_hand_ = r.Hand().Inverse() * r.state_.body_poses[setup.object];
       std::vector<ArmMotion> rest;
@@ -223,8 +225,8 @@ std::string Execute(const Setup& setup, const GraspPlan& plan, const std::vector
   result->final_state = r.state_;
   if (result->position_error > setup.options.position_tolerance ||
       result->orientation_error > setup.options.orientation_tolerance) {
-    return "missed the goal: the object ended " + FormatNumber(result->position_error * 1000) + " mm and " +
-           FormatNumber(result->orientation_error * 180 / M_PI) + "° from it";
+    return "missed the goal: the object ended " + FormatNumber(std::round(result->position_error * 1e4) / 10) + " mm and " +
+           FormatNumber(std::round(result->orientation_error * 1800 / M_PI) / 10) + "° from it";
   }
   return "";
 }
