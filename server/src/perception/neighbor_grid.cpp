@@ -74,6 +74,12 @@ void NeighborGrid::Nearest(const Vec3& query, int k, std::vector<uint32_t>* out)
             continue;
           }
           const int64_t c = CellIndex(x, y, z);
+          if (cell_start_[c] == cell_start_[c + 1]) continue;
+          if (count == k) {  // skip a cell that lies wholly beyond the k-th nearest so far
+            const Vec3 lo = origin_ + cell_size_ * Vec3(x, y, z);
+            const Vec3 gap = (lo - query).cwiseMax(query - lo - Vec3::Constant(cell_size_)).cwiseMax(0.0);
+            if (gap.squaredNorm() > best[k - 1].d) continue;
+          }
           for (uint32_t j = cell_start_[c]; j < cell_start_[c + 1]; ++j) {
             const uint32_t i = order_[j];
             const Item item{(points_[i] - query).squaredNorm(), i};
