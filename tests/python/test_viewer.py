@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import graspsim
+from graspsim import partial_view
 
 CUBE = 0.05  # m
 
@@ -306,3 +307,45 @@ def test_pose_events_carry_contacts_when_asked(server, client, resting_cube):
         events.close()
     status, _, text = get(server, f"/view/{resting_cube}/poses?contacts=yes")
     assert status == 400 and json.loads(text)["message"].startswith("contacts: 'yes'")
+
+
+def test_overlays_of_a_fresh_scene_are_empty_and_unknown_scenes_404(server, scene_id):
+    status, _, text = get(server, f"/view/{scene_id}/overlays.json")
+    assert status == 200 and json.loads(text) == {"version": 0, "completion": None, "arm_path": None}
+    status, _, text = get(server, "/view/no-such-scene/overlays.json")
+    assert status == 404 and "no-such-scene" in json.loads(text)["message"]
+
+
+def test_overlays_carry_the_last_arm_path_and_completion(server, client, scene_id):
+    """The tip path starts at the flange's pose in the scene and ends on the goal; the completion's plane and body
+    are those CompleteShape answered."""
+    table = 0.75
+    client.add_object(scene_id, "table", builtin="table")
+    client.add_robot(scene_id, "pa10", builtin="mitsubishi_pa10_pg70", base_pose=[-0.45, 0, table, 1, 0, 0, 0])
+    start = client.get_body_poses(scene_id, ["pa10/flange"])["pa10/flange"].position
+    goal = [0.1, -0.1, table + 0.30, 0, 1, 0, 0]
+    path = client.plan_arm_path(scene_id, "pa10", goal=goal)
+    overlays = json.loads(get(server, f"/view/{scene_id}/overlays.json")[2])
+    arm = overlays["arm_path"]
+    assert arm["arm_id"] == "pa10" and arm["tip_body"] == path.tip_body == "pa10/flange"
+    assert arm["duration"] == pytest.approx(path.duration, rel=1e-8)  # 9 digits in the JSON
+    assert len(arm["tip_points"]) == 1 + 8 * (path.waypoints.shape[0] - 1)
+    np.testing.assert_allclose(arm["tip_points"][0], start, atol=1e-6)
+    np.testing.assert_allclose(arm["tip_points"][-1], goal[:3], atol=1e-6)
+    assert overlays["completion"] is None
+
+    vertices, triangles = partial_view.cylinder_mesh(0.04, 0.10, 48)
+    vertices = vertices + [0.1, 0.2, table]
+    centre = np.array([0.1, 0.2, table + 0.05])
+    camera = partial_view.look_at(centre + 0.5 * np.array([0.87, 0.0, 0.5]), centre)
+    intrinsics = (150.0, 150.0, 79.5, 59.5)
+    depth, mask = partial_view.render_depth(vertices, triangles, camera, 160, 120, *intrinsics)
+    shape = client.complete_shape(camera, depth=depth, intrinsics=intrinsics, mask=mask, orientations=1,
+                                  table_pose=[0, 0, table, 1, 0, 0, 0], add_to_scene_id=scene_id, object_name="can")
+    later = json.loads(get(server, f"/view/{scene_id}/overlays.json")[2])
+    assert later["version"] > overlays["version"] and later["arm_path"] == arm
+    completion = later["completion"]
+    assert completion["body_id"] == shape.body_id == "can"
+    np.testing.assert_allclose(completion["normal"], shape.plane_normal, atol=1e-6)
+    np.testing.assert_allclose(completion["point"], shape.plane_point, atol=1e-6)
+    assert 0.1 < completion["size"] < 0.2  # the completed can's diagonal: about sqrt(0.08² · 2 + 0.1²) = 0.15

@@ -163,3 +163,17 @@ def test_planned_grasps_are_listed_best_first(browser, server, client, scene_id)
     assert len(items) == len(planned.grasps)
     shown = [float(text.split("ε = ")[1].split(" ")[0]) for text in items]
     np.testing.assert_allclose(shown, planned.grasps["epsilon"], atol=5e-5)  # printed to 4 decimals, best first
+
+
+def test_an_arm_path_planned_while_watching_is_drawn(browser, server, client, scene_id):
+    """The page picks up a PlanArmPath made after it opened (polled overlays.json) and shows its row."""
+    client.add_object(scene_id, "table", builtin="table")
+    client.add_robot(scene_id, "pa10", builtin="mitsubishi_pa10_pg70", base_pose=[-0.45, 0, 0.75, 1, 0, 0, 0])
+    open_viewer(browser, server, scene_id)
+    assert browser.execute_script("return window.graspsimViewer.state.overlays.armPathPoints") == 0
+    path = client.plan_arm_path(scene_id, "pa10", goal=[0.1, -0.1, 1.05, 0, 1, 0, 0])
+    points = wait_for(browser, "window.graspsimViewer.state.overlays.armPathPoints", "the arm path drawn")
+    assert points == 1 + 8 * (path.waypoints.shape[0] - 1)
+    rows = browser.execute_script("return [...document.querySelectorAll('#overlays label')]"
+                                  ".filter((r) => !r.hidden).map((r) => r.textContent)")
+    assert any("Arm path" in row and "pa10" in row for row in rows)

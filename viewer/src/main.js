@@ -6,7 +6,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { ContactOverlay } from './contacts.js';
 import { buildBodies, buildPad, decodeBase64 } from './geometry.js';
 import { buildGraspGhosts } from './grasps.js';
-import { addOverlayHooks } from './hooks.js';
+import { ResultOverlays } from './overlays.js';
 import { TactilePanels } from './tactile.js';
 
 const sceneId = decodeURIComponent(location.pathname.split('/')[2] || '');
@@ -216,7 +216,7 @@ async function main() {
     await loadScene();
     frameScene();
     contactOverlay = addContactToggle();
-    addOverlayHooks($('overlays'), world);
+    new ResultOverlays($('overlays'), world, base, state).start();
     // Contacts ride on the pose events only while their overlay is on (?contacts=0 starts with it off).
     let poses = null;
     const connect = () => {

@@ -226,7 +226,7 @@ grpc::ServerUnaryReactor* GraspServiceImpl::EvaluateGrasp(Context* context, cons
 grpc::ServerUnaryReactor* GraspServiceImpl::PlanArmPath(Context* context, const v1::PlanArmPathRequest* request,
                                                         v1::PlanArmPathResponse* response) {
   return RunUnary(context, "GraspService/PlanArmPath", pool_, [=, this] {
-    rpc::PlanArmPath(*request, *registry_, [context] { return context->IsCancelled(); }, response);
+    rpc::PlanArmPath(*request, *registry_, [context] { return context->IsCancelled(); }, response, overlays_);
   });
 }
 

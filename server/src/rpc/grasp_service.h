@@ -13,6 +13,7 @@
 #include "graspsim/v1/grasp.grpc.pb.h"
 #include "grasp/planner.h"
 #include "grasp/store.h"
+#include "rpc/scene_overlays.h"
 #include "world/scene_registry.h"
 
 namespace graspsim::rpc {
@@ -31,8 +32,10 @@ struct GraspPlanJob {
 class GraspServiceImpl final : public v1::GraspService::CallbackService {
  public:
   // `store` may be null (--grasp-data-dir=off): every request plans.
-  GraspServiceImpl(SceneRegistry* registry, WorkerPool* pool, std::shared_ptr<grasp::GraspStore> store)
-      : registry_(registry), pool_(pool), store_(std::move(store)) {}
+  // `overlays` (may be null) receives planned arm paths for the viewer.
+  GraspServiceImpl(SceneRegistry* registry, WorkerPool* pool, std::shared_ptr<grasp::GraspStore> store,
+                   SceneOverlays* overlays = nullptr)
+      : registry_(registry), pool_(pool), store_(std::move(store)), overlays_(overlays) {}
 
   using Context = grpc::CallbackServerContext;
   using Unary = grpc::ServerUnaryReactor;
@@ -47,6 +50,7 @@ class GraspServiceImpl final : public v1::GraspService::CallbackService {
   SceneRegistry* registry_;
   WorkerPool* pool_;
   std::shared_ptr<grasp::GraspStore> store_;
+  SceneOverlays* overlays_;
 };
 
 // Translation (grasp_service.cpp), shared with the stream.

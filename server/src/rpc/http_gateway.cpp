@@ -130,7 +130,7 @@ struct HttpGateway::Impl {
                   });
                   HandleCall(req, body, res);
                 });
-    AddViewerRoutes(&server, std::move(channel), options.viewer_dir);
+    AddViewerRoutes(&server, std::move(channel), options.viewer_dir, options.overlays);
   }
 
   void HandleCall(const httplib::Request& req, const std::string& body, httplib::Response& res);

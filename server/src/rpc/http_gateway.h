@@ -19,6 +19,8 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "rpc/scene_overlays.h"
+
 namespace graspsim::rpc {
 
 struct HttpGatewayOptions {
@@ -28,6 +30,7 @@ struct HttpGatewayOptions {
   size_t max_body_bytes = 64 << 20;
   std::string viewer_dir;                 // the browser viewer's files (rpc/http_viewer.h); empty = beside the binary
   std::string tls_cert, tls_key;          // PEM files: HTTPS (cpp-httplib's SSLServer); empty = plain HTTP
+  const SceneOverlays* overlays = nullptr;  // the viewer's overlays.json (rpc/scene_overlays.h); null = none
 };
 
 class HttpGateway {

@@ -267,8 +267,9 @@ std::string ReadFile(const std::filesystem::path& path) {
 
 class ViewerRoutes {
  public:
-  ViewerRoutes(std::shared_ptr<grpc::Channel> channel, std::string dir)
-      : scenes_(v1::SceneService::NewStub(channel)),
+  ViewerRoutes(std::shared_ptr<grpc::Channel> channel, std::string dir, const SceneOverlays* overlays)
+      : overlays_(overlays),
+        scenes_(v1::SceneService::NewStub(channel)),
         tactile_(v1::TactileService::NewStub(channel)),
         grasps_(v1::GraspService::NewStub(channel)),
         dir_(std::move(dir)) {}
@@ -287,6 +288,7 @@ class ViewerRoutes {
     server->Get(scene + "/poses", [self](const httplib::Request& req, httplib::Response& res) { self->Guard(req, res, &ViewerRoutes::Poses); });
     server->Get(scene + "/tactile", [self](const httplib::Request& req, httplib::Response& res) { self->Guard(req, res, &ViewerRoutes::Tactile); });
     server->Get(scene + "/grasps", [self](const httplib::Request& req, httplib::Response& res) { self->Guard(req, res, &ViewerRoutes::Grasps); });
+    server->Get(scene + "/overlays.json", [self](const httplib::Request& req, httplib::Response& res) { self->Overlays(req, res); });
   }
 
  private:
@@ -393,6 +395,15 @@ class ViewerRoutes {
     ServeFeed(std::move(ticket), max_seconds, res);
   }
 
+  // Asks the scene first, so that the caller's credentials and the scene's existence are checked as for GetScene.
+  void Overlays(const httplib::Request& req, httplib::Response& res) {
+    v1::Scene scene;
+    const grpc::Status status = GetScene(req, false, &scene);
+    if (!status.ok()) return ReplyError(status, res);
+    res.set_header("Cache-Control", "no-cache");
+    res.set_content(overlays_ ? overlays_->Json(req.matches[1]) : SceneOverlays().Json(""), "application/json");
+  }
+
   void Grasps(const httplib::Request& req, httplib::Response& res) {
     if (!req.has_param("set_id")) {
       return ReplyError(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
@@ -406,6 +417,7 @@ class ViewerRoutes {
     res.set_content(MessageJson(set), "application/json");
   }
 
+  const SceneOverlays* overlays_;
   std::unique_ptr<v1::SceneService::Stub> scenes_;
   std::unique_ptr<v1::TactileService::Stub> tactile_;
   std::unique_ptr<v1::GraspService::Stub> grasps_;
@@ -415,8 +427,10 @@ class ViewerRoutes {
 
 }  // namespace
 
-void AddViewerRoutes(httplib::Server* server, std::shared_ptr<grpc::Channel> channel, const std::string& viewer_dir) {
-  ViewerRoutes::Add(server, std::make_shared<ViewerRoutes>(std::move(channel), viewer_dir.empty() ? DefaultViewerDir() : viewer_dir));
+void AddViewerRoutes(httplib::Server* server, std::shared_ptr<grpc::Channel> channel, const std::string& viewer_dir,
+                     const SceneOverlays* overlays) {
+  ViewerRoutes::Add(server, std::make_shared<ViewerRoutes>(std::move(channel),
+                                                           viewer_dir.empty() ? DefaultViewerDir() : viewer_dir, overlays));
 }
 
 std::string DefaultViewerDir() {

@@ -16,6 +16,8 @@
 //   GET /view/<scene>/tactile      Server-Sent Events: "reading" {sensor_id, time, rows, cols, intensities,
 //                                  intensity_sum} of every tactile array, from TactileService.Stream (rate_hz, 10)
 //   GET /view/<scene>/grasps?set_id=<id>   a stored grasp set (GetGraspSet), best ε first
+//   GET /view/<scene>/overlays.json         rpc/scene_overlays.h: the symmetry plane of the last completion added
+//                                           to the scene and the tip path of the last PlanArmPath in it
 // An event stream ends with "event: status" {code, status, message}; streams end on their own after
 // max_seconds (default 300) so that a browser gone quiet on an idle scene frees its thread; EventSource
 // reconnects by itself.
@@ -25,6 +27,8 @@
 #include <string>
 
 #include <grpcpp/grpcpp.h>
+
+#include "rpc/scene_overlays.h"
 
 namespace httplib {
 class Server;
@@ -36,7 +40,9 @@ namespace graspsim::rpc {
 
 // Adds the routes. `viewer_dir` holds index.html, viewer.js, viewer.css; empty = DefaultViewerDir(). A
 // missing directory is logged and the pages answer 503 naming it; the event and JSON routes still work.
-void AddViewerRoutes(httplib::Server* server, std::shared_ptr<grpc::Channel> channel, const std::string& viewer_dir);
+// `overlays` may be null (overlays.json then reports none).
+void AddViewerRoutes(httplib::Server* server, std::shared_ptr<grpc::Channel> channel, const std::string& viewer_dir,
+                     const SceneOverlays* overlays = nullptr);
 
 // The caller's credentials as an authorization metadata value ("Bearer <token>"): the Authorization header, else
 // a ?token= query parameter (a link that opens the viewer), else the graspsim_token cookie that such a link sets.

@@ -184,7 +184,22 @@ void ResultToProto(const CompletionResult& result, v1::CompleteShapeProgress* ou
 
 using CompletionRun = ProgressRun<v1::CompleteShapeProgress>;
 
-void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* registry,
+// The plane and the added body, for the viewer; the plane is drawn as large as the completed mesh.
+SceneOverlays::Completion CompletionOverlay(const CompletionResult& result, const std::string& body_id) {
+  SceneOverlays::Completion overlay;
+  overlay.body_id = body_id;
+  const Vec3& point = result.plane->point;
+  const Vec3& normal = result.plane->normal;
+  overlay.point = {point.x(), point.y(), point.z()};
+  overlay.normal = {normal.x(), normal.y(), normal.z()};
+  overlay.score = result.plane->score;
+  Eigen::AlignedBox3f box;
+  for (const Eigen::Vector3f& v : result.mesh.vertices) box.extend(v);
+  overlay.size = box.isEmpty() ? 0.0 : double(box.diagonal().norm());
+  return overlay;
+}
+
+void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* registry, SceneOverlays* overlays,
                    const std::shared_ptr<CompletionRun>& run) {
   try {
     const Limits& limits = registry->limits();
@@ -208,6 +223,9 @@ void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* regis
     if (scene) {
       const double mass = request.object_mass() > 0 ? request.object_mass() : kDefaultMass;
       last.set_body_id(AddToScene(scene.get(), request.object_name(), mass, result->mesh, limits));
+      if (overlays && result->plane) {
+        overlays->SetCompletion(request.add_to_scene_id(), CompletionOverlay(*result, last.body_id()));
+      }
     }
     run->Finish(std::move(last), grpc::Status::OK);
   } catch (...) {
@@ -221,7 +239,9 @@ grpc::ServerWriteReactor<v1::CompleteShapeProgress>* PerceptionServiceImpl::Comp
     Context* context, const v1::CompleteShapeRequest* request) {
   if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::CompleteShapeProgress>(*refused);
   auto* reactor = new RunReactor<v1::CompleteShapeProgress, CompletionRun>(context, kCompleteShape);
-  pool_->Post([request, registry = registry_, run = reactor->run()] { RunCompletion(*request, registry, run); });
+  pool_->Post([request, registry = registry_, overlays = overlays_, run = reactor->run()] {
+    RunCompletion(*request, registry, overlays, run);
+  });
   return reactor;
 }
 

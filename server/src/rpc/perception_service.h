@@ -7,13 +7,16 @@
 #include "core/limits.h"
 #include "core/worker_pool.h"
 #include "graspsim/v1/perception.grpc.pb.h"
+#include "rpc/scene_overlays.h"
 #include "world/scene_registry.h"
 
 namespace graspsim::rpc {
 
 class PerceptionServiceImpl final : public v1::PerceptionService::CallbackService {
  public:
-  PerceptionServiceImpl(SceneRegistry* registry, WorkerPool* pool) : registry_(registry), pool_(pool) {}
+  // `overlays` (may be null) receives the symmetry plane of completions added to a scene, for the viewer.
+  PerceptionServiceImpl(SceneRegistry* registry, WorkerPool* pool, SceneOverlays* overlays = nullptr)
+      : registry_(registry), pool_(pool), overlays_(overlays) {}
 
   using Context = grpc::CallbackServerContext;
   grpc::ServerWriteReactor<v1::CompleteShapeProgress>* CompleteShape(Context*, const v1::CompleteShapeRequest*) override;
@@ -22,6 +25,7 @@ class PerceptionServiceImpl final : public v1::PerceptionService::CallbackServic
  private:
   SceneRegistry* registry_;
   WorkerPool* pool_;
+  SceneOverlays* overlays_;
 };
 
 }  // namespace graspsim::rpc

@@ -31,10 +31,32 @@ std::string Bytes(const std::vector<double>& values) {
   return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double));
 }
 
+// The tip's path for the viewer: each segment of the joint-space path at kTipSamples points (the tip moves on a
+// curve between waypoints).
+SceneOverlays::ArmPath TipPath(const motion::ArmModel& arm, const std::vector<motion::VecX>& waypoints) {
+  constexpr int kTipSamples = 8;
+  SceneOverlays::ArmPath path;
+  path.arm_id = arm.robot_id();
+  path.tip_body = arm.tip_body();
+  auto add = [&](const motion::VecX& q) {
+    const Vec3 p = arm.TipTransform(q).translation;
+    path.tip_points.push_back({p.x(), p.y(), p.z()});
+  };
+  for (size_t i = 0; i < waypoints.size(); ++i) {
+    if (i == 0) {
+      add(waypoints[0]);
+      continue;
+    }
+    for (int k = 1; k <= kTipSamples; ++k) add(waypoints[i - 1] + (waypoints[i] - waypoints[i - 1]) * (double(k) / kTipSamples));
+  }
+  return path;
+}
+
 }  // namespace
 
 void PlanArmPath(const v1::PlanArmPathRequest& request, const SceneRegistry& registry,
-                 const std::function<bool()>& cancelled, v1::PlanArmPathResponse* response) {
+                 const std::function<bool()>& cancelled, v1::PlanArmPathResponse* response,
+                 SceneOverlays* overlays) {
   if (request.arm_id().empty()) ThrowInvalidArgument("arm_id: empty; name a robot of the scene");
   const bool has_pose = request.has_goal(), has_positions = request.goal_positions_size() > 0;
   if (has_pose == has_positions) {
@@ -71,6 +93,12 @@ void PlanArmPath(const v1::PlanArmPathRequest& request, const SceneRegistry& reg
   response->set_checks(plan.checks);
   response->set_seconds(plan.seconds);
   response->set_duration(plan.trajectory.duration());
+  if (overlays) {
+    SceneOverlays::ArmPath path = TipPath(arm, plan.trajectory.waypoints());
+    path.duration = plan.trajectory.duration();
+    path.direct = plan.direct;
+    overlays->SetArmPath(request.scene_id(), std::move(path));
+  }
 }
 
 }  // namespace graspsim::rpc

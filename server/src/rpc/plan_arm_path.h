@@ -4,12 +4,15 @@
 #include <functional>
 
 #include "graspsim/v1/grasp.pb.h"
+#include "rpc/scene_overlays.h"
 #include "world/scene_registry.h"
 
 namespace graspsim::rpc {
 
-// Throws Error naming the field for bad input; `cancelled` is polled during the search.
+// Throws Error naming the field for bad input; `cancelled` is polled during the search. A planned path's tip
+// path goes to `overlays` (may be null) for the viewer.
 void PlanArmPath(const v1::PlanArmPathRequest& request, const SceneRegistry& registry,
-                 const std::function<bool()>& cancelled, v1::PlanArmPathResponse* response);
+                 const std::function<bool()>& cancelled, v1::PlanArmPathResponse* response,
+                 SceneOverlays* overlays = nullptr);
 
 }  // namespace graspsim::rpc

@@ -79,11 +79,11 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
 
   services_.push_back(
       std::make_unique<SceneServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
-  services_.push_back(std::make_unique<PerceptionServiceImpl>(&registry_, &pool_));
+  services_.push_back(std::make_unique<PerceptionServiceImpl>(&registry_, &pool_, &overlays_));
   std::shared_ptr<grasp::GraspStore> grasp_store;
   const std::string grasp_dir = options.grasp_data_dir.empty() ? options.data_dir : options.grasp_data_dir;
   if (grasp_dir != "off") grasp_store = std::make_shared<grasp::GraspStore>(grasp_dir);
-  services_.push_back(std::make_unique<GraspServiceImpl>(&registry_, &pool_, std::move(grasp_store)));
+  services_.push_back(std::make_unique<GraspServiceImpl>(&registry_, &pool_, std::move(grasp_store), &overlays_));
   services_.push_back(
       std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<GatewayServiceImpl>(&gateways_, &registry_, &pool_));
@@ -123,6 +123,7 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
     HttpGatewayOptions http = options.http;
     http.tls_cert = options.tls.cert;
     http.tls_key = options.tls.key;
+    http.overlays = &overlays_;
     http_ = std::make_unique<HttpGateway>(server_->InProcessChannel(arguments), http);
   }
 }

@@ -14,6 +14,7 @@
 #include "physics/simulation_cache.h"
 #include "persistence/scene_store.h"
 #include "rpc/http_gateway.h"
+#include "rpc/scene_overlays.h"
 #include "world/scene_registry.h"
 
 namespace graspsim::rpc {
@@ -68,6 +69,7 @@ class GraspsimServer {
   WorkerPool pool_;
   SimulationCache simulations_;  // one Simulation per scene, shared by the services that step scenes
   gateway::GatewayHub gateways_;  // the hardware gateways' devices and the commands in flight to them
+  SceneOverlays overlays_;        // completions' planes and planned arm paths, for the viewer
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<HttpGateway> http_;
