@@ -73,30 +73,6 @@ class Statement {
 
 }  // namespace
 
-// BEGIN IMMEDIATE … COMMIT; rolled back unless committed, so an exception anywhere in between stores nothing.
-class SceneStore::Transaction {
- public:
-  explicit Transaction(SceneStore* store) : store_(store) {
-    if (sqlite3_exec(store->db_, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr) != SQLITE_OK) {
-      ThrowWrite(store->path_, store->db_);
-    }
-  }
-  ~Transaction() {
-    if (!committed_) sqlite3_exec(store_->db_, "ROLLBACK", nullptr, nullptr, nullptr);
-  }
-  void Commit() {
-    store_->BeforeCommit();
-    if (sqlite3_exec(store_->db_, "COMMIT", nullptr, nullptr, nullptr) != SQLITE_OK) {
-      ThrowWrite(store_->path_, store_->db_);
-    }
-    committed_ = true;
-  }
-
- private:
-  SceneStore* store_;
-  bool committed_ = false;
-};
-
 SceneStore::SceneStore(const std::string& directory) {
   std::error_code error;
   std::filesystem::create_directories(directory, error);
@@ -134,9 +110,78 @@ SceneStore::SceneStore(const std::string& directory) {
     sqlite3_close(db_);
     throw;
   }
+  writer_ = std::thread([this] { WriterLoop(); });
 }
 
-SceneStore::~SceneStore() { sqlite3_close(db_); }
+SceneStore::~SceneStore() {
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    stopping_ = true;
+  }
+  queue_cv_.notify_all();
+  writer_.join();
+  sqlite3_close(db_);
+}
+
+void SceneStore::Write(std::function<void()> statements) {
+  Job job{std::move(statements), nullptr, false};
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  queue_.push_back(&job);
+  queue_cv_.notify_one();
+  done_cv_.wait(lock, [&] { return job.done; });
+  if (job.error) std::rethrow_exception(job.error);
+}
+
+void SceneStore::WriterLoop() {
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  for (;;) {
+    queue_cv_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopping, nothing left to write
+    // Everything that queued while the last commit was being synced goes into this one.
+    const std::vector<Job*> batch(queue_.begin(), queue_.end());
+    queue_.clear();
+    lock.unlock();
+    RunBatch(batch);
+    lock.lock();
+    for (Job* job : batch) job->done = true;
+    done_cv_.notify_all();
+  }
+}
+
+void SceneStore::RunBatch(const std::vector<Job*>& batch) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto fail_all = [&](std::exception_ptr error) {
+    for (Job* job : batch) {
+      if (!job->error) job->error = error;
+    }
+  };
+  if (sqlite3_exec(db_, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr) != SQLITE_OK) {
+    try {
+      ThrowWrite(path_, db_);
+    } catch (...) {
+      fail_all(std::current_exception());
+    }
+    return;
+  }
+  for (Job* job : batch) {
+    sqlite3_exec(db_, "SAVEPOINT write", nullptr, nullptr, nullptr);
+    try {
+      job->statements();
+      sqlite3_exec(db_, "RELEASE write", nullptr, nullptr, nullptr);
+    } catch (...) {
+      job->error = std::current_exception();
+      sqlite3_exec(db_, "ROLLBACK TO write", nullptr, nullptr, nullptr);
+      sqlite3_exec(db_, "RELEASE write", nullptr, nullptr, nullptr);
+    }
+  }
+  try {
+    BeforeCommit();
+    if (sqlite3_exec(db_, "COMMIT", nullptr, nullptr, nullptr) != SQLITE_OK) ThrowWrite(path_, db_);
+  } catch (...) {
+    fail_all(std::current_exception());
+    sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+  }
+}
 
 StoredScenes SceneStore::Load() const {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -182,40 +227,37 @@ StoredScenes SceneStore::Load() const {
 
 void SceneStore::SceneCreated(const std::string& id, const std::string& name, uint64_t next_id) {
   const std::string state = EncodeState(SceneState());
-  std::lock_guard<std::mutex> lock(mutex_);
-  Transaction transaction(this);
-  Statement(db_, path_, "INSERT INTO scenes (id, name, revision, state) VALUES (?1, ?2, 0, ?3)")
-      .Text(1, id).Text(2, name).Blob(3, state).Run();
-  Statement(db_, path_, "UPDATE meta SET value = ?1 WHERE key = 'next_id'").Int(1, static_cast<int64_t>(next_id)).Run();
-  transaction.Commit();
+  Write([&] {
+    Statement(db_, path_, "INSERT INTO scenes (id, name, revision, state) VALUES (?1, ?2, 0, ?3)")
+        .Text(1, id).Text(2, name).Blob(3, state).Run();
+    Statement(db_, path_, "UPDATE meta SET value = ?1 WHERE key = 'next_id'")
+        .Int(1, static_cast<int64_t>(next_id)).Run();
+  });
 }
 
 void SceneStore::SceneDeleted(const std::string& id) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  Transaction transaction(this);
-  Statement(db_, path_, "DELETE FROM scene_ops WHERE scene_id = ?1").Text(1, id).Run();
-  Statement(db_, path_, "DELETE FROM scenes WHERE id = ?1").Text(1, id).Run();
-  transaction.Commit();
+  Write([&] {
+    Statement(db_, path_, "DELETE FROM scene_ops WHERE scene_id = ?1").Text(1, id).Run();
+    Statement(db_, path_, "DELETE FROM scenes WHERE id = ?1").Text(1, id).Run();
+  });
 }
 
 void SceneStore::SceneChanged(const std::string& id, const SceneOp* op, const SceneState& state, uint64_t revision) {
-  const std::string encoded = EncodeState(state);  // outside the store's lock
-  std::lock_guard<std::mutex> lock(mutex_);
-  Transaction transaction(this);
-  if (op) {
-    static const std::string kNoBytes;
-    Statement(db_, path_,
-              "INSERT INTO scene_ops (scene_id, seq, kind, path, sha256, payload) VALUES (?1,"
-              " (SELECT COALESCE(MAX(seq), 0) + 1 FROM scene_ops WHERE scene_id = ?1), ?2, ?3, ?4, ?5)")
-        .Text(1, id).Text(2, op->kind).Text(3, op->path).Text(4, op->sha256)
-        .Blob(5, op->file ? *op->file : op->payload).Run();
-  }
-  Statement update(db_, path_, "UPDATE scenes SET state = ?2, revision = ?3 WHERE id = ?1");
-  update.Text(1, id).Blob(2, encoded).Int(3, static_cast<int64_t>(revision)).Run();
-  if (sqlite3_changes(db_) != 1) {
-    throw Error(ErrorCode::kInternal, "scene store " + path_ + ": scene '" + id + "' is not stored");
-  }
-  transaction.Commit();
+  const std::string encoded = EncodeState(state);  // on the caller's thread, not the writer's
+  Write([&] {
+    if (op) {
+      Statement(db_, path_,
+                "INSERT INTO scene_ops (scene_id, seq, kind, path, sha256, payload) VALUES (?1,"
+                " (SELECT COALESCE(MAX(seq), 0) + 1 FROM scene_ops WHERE scene_id = ?1), ?2, ?3, ?4, ?5)")
+          .Text(1, id).Text(2, op->kind).Text(3, op->path).Text(4, op->sha256)
+          .Blob(5, op->file ? *op->file : op->payload).Run();
+    }
+    Statement(db_, path_, "UPDATE scenes SET state = ?2, revision = ?3 WHERE id = ?1")
+        .Text(1, id).Blob(2, encoded).Int(3, static_cast<int64_t>(revision)).Run();
+    if (sqlite3_changes(db_) != 1) {
+      throw Error(ErrorCode::kInternal, "scene store " + path_ + ": scene '" + id + "' is not stored");
+    }
+  });
 }
 
 }  // namespace graspsim::persistence

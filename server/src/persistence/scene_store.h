@@ -3,12 +3,22 @@
 // that built its model (the requests as received, uploaded files whole) and its newest state; every write is
 // one transaction, committed (WAL, synchronous=FULL: on disk, not only in the OS cache) before the request
 // that made it is answered. docs/durability.md states what is stored when.
+//
+// Group commit: one writer thread commits whatever writes are waiting together, each in its own savepoint, so
+// concurrent requests (other scenes, other clients) share one fsync instead of queueing for one each; every
+// caller still returns only after the commit that holds its write. A write that fails alone (its statements)
+// is rolled back alone; a failed COMMIT fails every write of that batch.
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
+#include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "world/scene_journal.h"
@@ -48,15 +58,29 @@ class SceneStore : public SceneJournal {
   void SceneChanged(const std::string& id, const SceneOp* op, const SceneState& state, uint64_t revision) override;
 
  protected:
-  // Called inside every write transaction just before COMMIT; a test overrides it to throw and checks that the
-  // transaction left nothing behind.
+  // Called inside every write transaction just before COMMIT (on the writer thread); a test overrides it to
+  // throw and checks that the transaction left nothing behind.
   virtual void BeforeCommit() {}
 
  private:
-  class Transaction;
+  struct Job {
+    std::function<void()> statements;
+    std::exception_ptr error;
+    bool done = false;
+  };
+  // Queues `statements` for the next batch and waits until the batch is committed (or failed: then throws).
+  void Write(std::function<void()> statements);
+  void WriterLoop();
+  void RunBatch(const std::vector<Job*>& batch);
+
   std::string path_;
   sqlite3* db_ = nullptr;
-  mutable std::mutex mutex_;  // one connection, one writer at a time
+  mutable std::mutex mutex_;  // one connection: the writer thread, or Load
+  std::mutex queue_mutex_;
+  std::condition_variable queue_cv_, done_cv_;
+  std::deque<Job*> queue_;
+  bool stopping_ = false;
+  std::thread writer_;
 };
 
 }  // namespace graspsim::persistence

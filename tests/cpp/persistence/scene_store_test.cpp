@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -222,6 +223,43 @@ TEST(SceneStoreTest, ATransactionThatFailsBeforeItsCommitLeavesNothing) {
   ASSERT_EQ(scene.ops.size(), 1u);  // the file of the failed transaction is not there, not even in part
   EXPECT_EQ(scene.ops[0].payload, "first");
   ExpectSameState(scene.state, FullState());
+}
+
+TEST(SceneStoreTest, ConcurrentWritesAreCommittedTogetherEachWholeAndInOrder) {
+  TempDir dir;
+  constexpr int kThreads = 6, kWrites = 40;
+  {
+    SceneStore store(dir.str());
+    for (int t = 0; t < kThreads; ++t) store.SceneCreated("scene-" + std::to_string(t + 1), "s", t + 2);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t) {
+      threads.emplace_back([&, t] {
+        for (int i = 1; i <= kWrites; ++i) {
+          const SceneOp op = Op("AddObject", std::to_string(t) + ":" + std::to_string(i));
+          SceneState state;
+          state.time = i;
+          store.SceneChanged("scene-" + std::to_string(t + 1), &op, state, i);
+        }
+      });
+    }
+    // Writes that fail in the same batches (no such scene) fail alone.
+    threads.emplace_back([&] {
+      for (int i = 0; i < kWrites; ++i) {
+        const SceneOp op = Op("AddObject", "lost");
+        EXPECT_THROW(store.SceneChanged("scene-missing", &op, SceneState(), 1), Error);
+      }
+    });
+    for (auto& thread : threads) thread.join();
+  }
+  const StoredScenes stored = SceneStore(dir.str()).Load();
+  ASSERT_EQ(stored.scenes.size(), size_t{kThreads});
+  for (int t = 0; t < kThreads; ++t) {
+    const StoredScene& scene = stored.scenes[t];
+    EXPECT_EQ(scene.revision, uint64_t{kWrites});
+    EXPECT_EQ(scene.state.time, kWrites);
+    ASSERT_EQ(scene.ops.size(), size_t{kWrites});
+    for (int i = 0; i < kWrites; ++i) EXPECT_EQ(scene.ops[i].payload, std::to_string(t) + ":" + std::to_string(i + 1));
+  }
 }
 
 TEST(SceneStoreTest, AFileThatIsNotADatabaseIsRefusedNamingItsPathAndKept) {
