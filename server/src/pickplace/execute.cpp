@@ -5,6 +5,7 @@
 // the pre-shape, then velocity mode closing with the drive's current limit (the grip force) until they stop on
 // the object; the contact force between hand and object is measured from the simulation's contacts (the
 // tactile pads' among them).
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -111,9 +112,13 @@ class Runner {
 
   // Fingers: velocity mode toward the grasp's closed positions at the drive's own current limit.
   void StartClosing() {
-    for (size_t k = 0; k < plan_.open.size(); ++k) {
-      const size_t j = plan_.open[k].first;
-      const double direction = plan_.closed[k].second >= plan_.open[k].second ? 1 : -1;
+    for (const auto& [j, q_open] : plan_.open) {
+      const auto closed = std::find_if(plan_.closed.begin(), plan_.closed.end(),
+                                       [j = j](const auto& c) { return c.first == j; });
+      if (closed == plan_.closed.end()) continue;
+      const double travel = closed->second - q_open;
+      if (std::abs(travel) < 1e-6) continue;  // a joint the grasp does not move (the Barrett's spread): held
+      const double direction = travel > 0 ? 1 : -1;
       const double speed = setup_.model->joints[j].type == JointType::kPrismatic ? 0.03 : 0.6;
       state_.actuators[j].command = {ActuatorMode::kVelocity, direction * speed, -1};
     }

@@ -130,7 +130,15 @@ void RunPick(const v1::PickAndPlaceRequest& request, const SceneRegistry* regist
 
     // Commit the simulated end state, unless the scene changed while the job ran (it would be overwritten).
     scene->Update([&](const std::shared_ptr<const SceneModel>& model, SceneState* state) {
-      if (model != view.model || state->step != view.state.step || state->joint_positions != view.state.joint_positions) {
+      const auto same_poses = [&] {
+        for (size_t b = 0; b < state->body_poses.size(); ++b) {
+          const Pose &now = state->body_poses[b], &then = view.state.body_poses[b];
+          if (now.position != then.position || now.orientation.coeffs() != then.orientation.coeffs()) return false;
+        }
+        return true;
+      };
+      if (model != view.model || state->step != view.state.step || state->joint_positions != view.state.joint_positions ||
+          !same_poses()) {
         throw Error(ErrorCode::kFailedPrecondition,
                     "the scene changed during the pick-and-place; its result was not committed (run it again)");
       }

@@ -92,7 +92,7 @@ TEST(PickPlace, MovesTheCubeToTheGoalOnCollisionFreePaths) {
     const auto& w = m.trajectory.waypoints();
     for (size_t i = 0; i + 1 < w.size(); ++i) {
       const double travel = (tip_arm.TipPose(w[i]).position - tip_arm.TipPose(w[i + 1]).position).norm();
-      const int n = std::max(1, static_cast<int>(std::ceil(travel / 0.001)) * 4);
+      const int n = std::max(1, static_cast<int>(std::ceil(travel / 0.001)));
       for (int j = 0; j <= n; ++j) {
         const motion::VecX q = w[i] + (w[i + 1] - w[i]) * (static_cast<double>(j) / n);
         ASSERT_TRUE(tip_arm.WithinLimits(q, 1e-9)) << "motion " << k;
