@@ -65,7 +65,7 @@ struct PickPlaceResult {
   size_t grasp = 0;                    // the grasp that succeeded
   size_t reachable = 0;                // grasps that passed the reachability filter
   std::vector<Attempt> attempts;       // executed or planned attempts, in order
-  std::vector<std::string> unreachable;  // per rejected grasp: why (first few)
+  std::vector<std::string> unreachable;  // per rejected grasp: "grasp i: why"
   std::vector<ArmMotion> motions;      // of the successful attempt (or the last one executed)
   std::vector<std::string> joint_ids;  // the arm's joints, the motions' columns
   SceneState final_state;              // the simulated state at the end of the successful attempt
