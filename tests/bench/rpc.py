@@ -8,7 +8,8 @@ same settings: CONCURRENCY calls in flight over one connection, the load tool on
    the mix against after the warm-up (goal < 5).
 2. The cheap scene call (GetBodyPoses) and graspsim_echo_server (tests/stress/echo_server.cpp: gRPC's callback
    API answering inline) in turn, SPEED_ROUNDS times SPEED_CALLS calls: "scene_rps" (with its "p99_ms") and
-   "echo_rps" are the medians, "scene_vs_echo" their ratio (goal ≥ 0.8).
+   "echo_rps" are the medians, "scene_vs_echo" their ratio (goal ≥ 0.8); each server's CPU µs per call
+   ("echo_cpu_us_per_call", "scene_cpu_us_per_call") is the comparison other load on the machine leaves alone.
 3. Calls that end early: watchers that disconnect mid-stream, steps whose deadline expires mid-job, grasp plans
    cancelled mid-run, ENDED_ROUNDS rounds; the server's threads and memory after the last round against after the
    first, which builds what is kept on purpose ("threads_leaked", "rss_growth_pct_ended").
@@ -71,6 +72,20 @@ def p99_ms(report: dict) -> float:
         if entry["percentage"] == 99:
             return round(entry["latency"] / 1e6, 3)  # ns
     return float("nan")
+
+
+def cpu_seconds(pid: int) -> float:
+    fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
+
+
+def timed(pid: int, run) -> dict:
+    """run()'s ghz report with the server's CPU µs per call: the figure that other load on the machine leaves
+    alone (wall-clock rates move by ±20 % with it)."""
+    before = cpu_seconds(pid)
+    report = run()
+    report["cpu_us_per_call"] = 1e6 * (cpu_seconds(pid) - before) / max(1, report["count"])
+    return report
 
 
 def proc_status(pid: int) -> dict:
@@ -158,8 +173,8 @@ def run():
         # Echo and the cheap scene call alternate, so that the machine's other load hits both alike.
         echo_reports, cheap_reports = [], []
         for _ in range(SPEED_ROUNDS):
-            echo_reports.append(echo_report(echo.address, SPEED_CALLS))
-            cheap_reports.append(cheap_report(server.address, scene, SPEED_CALLS))
+            echo_reports.append(timed(echo.process.pid, lambda: echo_report(echo.address, SPEED_CALLS)))
+            cheap_reports.append(timed(pid, lambda: cheap_report(server.address, scene, SPEED_CALLS)))
         echo_rps = statistics.median(r["rps"] for r in echo_reports)
         cheap = sorted(cheap_reports, key=lambda r: r["rps"])[SPEED_ROUNDS // 2]
         log(f"rpc: echo {[round(r['rps']) for r in echo_reports]}, scene {[round(r['rps']) for r in cheap_reports]}")
@@ -177,6 +192,8 @@ def run():
             "scene_vs_echo": round(cheap["rps"] / echo_rps, 3),
             "p99_ms": p99_ms(cheap),
             "echo_rps_each": [round(r["rps"]) for r in echo_reports],
+            "echo_cpu_us_per_call": round(statistics.median(r["cpu_us_per_call"] for r in echo_reports), 1),
+            "scene_cpu_us_per_call": round(statistics.median(r["cpu_us_per_call"] for r in cheap_reports), 1),
             "scene_rps_each": [round(r["rps"]) for r in cheap_reports],
             "errors": sum(errors_of(r) for r in reports.values()) + sum(errors_of(r) for r in cheap_reports),
             "mixed_calls": sum(r["count"] for r in reports.values()),

@@ -53,4 +53,21 @@ grpc::ServerUnaryReactor* RunUnary(grpc::CallbackServerContext* context, const c
   return reactor;
 }
 
+// A unary call that is a short read of a scene. `try_body` runs on gRPC's thread and returns false, having
+// answered nothing, when it would have to wait for a lock (Scene::TryView, SceneRegistry::TryGet); then `body`
+// runs on the pool as in RunUnary. Saves the two thread switches of the pool's hand-off, which cost a cheap read
+// more than its work (tests/bench/run rpc, docs/benchmarks.md).
+template <typename TryBody, typename Body>
+grpc::ServerUnaryReactor* RunShortRead(grpc::CallbackServerContext* context, const char* method, WorkerPool* pool,
+                                       TryBody&& try_body, Body&& body) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  bool answered = false;
+  const grpc::Status status = Handle(method, *context, [&] { answered = try_body(); });
+  if (answered || !status.ok()) {
+    reactor->Finish(status);
+    return reactor;
+  }
+  return RunUnary(context, method, pool, std::forward<Body>(body));
+}
+
 }  // namespace graspsim::rpc

@@ -110,8 +110,7 @@ grpc::ServerUnaryReactor* SceneServiceImpl::SetBodyPoses(grpc::CallbackServerCon
 
 grpc::ServerUnaryReactor* SceneServiceImpl::GetBodyPoses(grpc::CallbackServerContext* context, const v1::GetBodyPosesRequest* request,
                                             v1::GetBodyPosesResponse* response) {
-  return RunUnary(context, "GetBodyPoses", pool_, [=, this] {
-    const SceneView view = registry_->Get(request->scene_id())->View();
+  auto fill = [request, response](const SceneView& view) {
     auto add = [&](const std::string& id, size_t index) {
       auto* entry = response->add_poses();
       entry->set_body_id(id);
@@ -123,7 +122,17 @@ grpc::ServerUnaryReactor* SceneServiceImpl::GetBodyPoses(grpc::CallbackServerCon
     for (const auto& id : request->body_ids()) add(id, BodyIndexForRead(view, id));
     response->set_revision(view.revision);
     response->set_time(view.state.time);
-  });
+  };
+  return RunShortRead(
+      context, "GetBodyPoses", pool_,
+      [=, this] {
+        const std::shared_ptr<Scene> scene = registry_->TryGet(request->scene_id());
+        SceneView view;
+        if (!scene || !scene->TryView(&view)) return false;
+        fill(view);
+        return true;
+      },
+      [=, this] { fill(registry_->Get(request->scene_id())->View()); });
 }
 
 grpc::ServerUnaryReactor* SceneServiceImpl::SetJointPositions(grpc::CallbackServerContext* context,

@@ -35,6 +35,13 @@ SceneView Scene::View() const {
   return {id_, name_, revision_, model_, state_, files_};
 }
 
+bool Scene::TryView(SceneView* view) const {
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return false;
+  *view = {id_, name_, revision_, model_, state_, files_};
+  return true;
+}
+
 void Scene::AttachJournal(SceneJournal* journal) {
   std::lock_guard<std::mutex> lock(mutex_);
   journal_ = journal;

@@ -48,6 +48,9 @@ class Scene {
 
   const std::string& id() const { return id_; }
   SceneView View() const;
+  // The same without waiting: false (and *view untouched) while a writer holds the scene, e.g. during the
+  // journal's commit. For short reads answered on gRPC's own threads, which must never wait.
+  bool TryView(SceneView* view) const;
   uint64_t revision() const;
   SnapshotHub& snapshots() { return hub_; }
 

@@ -31,6 +31,14 @@ std::shared_ptr<Scene> SceneRegistry::Get(const std::string& id) const {
   return it->second;
 }
 
+std::shared_ptr<Scene> SceneRegistry::TryGet(const std::string& id) const {
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return nullptr;
+  auto it = scenes_.find(id);
+  if (it == scenes_.end()) ThrowNotFound("scene_id: no scene '" + id.substr(0, 80) + "'");
+  return it->second;
+}
+
 std::vector<std::shared_ptr<Scene>> SceneRegistry::List() const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<std::shared_ptr<Scene>> scenes;

@@ -23,6 +23,9 @@ class SceneRegistry {
   std::shared_ptr<Scene> Create(const std::string& name);
   // Error: kNotFound naming the id.
   std::shared_ptr<Scene> Get(const std::string& id) const;
+  // The same without waiting: null while the registry is busy (a scene being created or deleted commits its
+  // journal entry under the lock); Error(kNotFound) as Get.
+  std::shared_ptr<Scene> TryGet(const std::string& id) const;
   std::vector<std::shared_ptr<Scene>> List() const;
   void Delete(const std::string& id);
 

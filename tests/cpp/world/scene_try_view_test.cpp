@@ -1,0 +1,122 @@
+// Scene::TryView and SceneRegistry::TryGet, the no-wait reads that short calls make on gRPC's own threads
+// (rpc/call.h RunShortRead): they give up while a writer holds the lock — here a journal commit held open —
+// and read the same as View / Get otherwise.
+#include <condition_variable>
+#include <future>
+#include <mutex>
+
+#include <gtest/gtest.h>
+
+#include "test_util.h"
+#include "world/scene.h"
+#include "world/scene_journal.h"
+#include "world/scene_registry.h"
+
+namespace graspsim {
+namespace {
+
+// A journal whose commits wait until released: a writer stuck in its transaction, holding the scene's lock.
+class HeldJournal : public SceneJournal {
+ public:
+  void SceneCreated(const std::string&, const std::string&, uint64_t) override { Hold(); }
+  void SceneDeleted(const std::string&) override { Hold(); }
+  void SceneChanged(const std::string&, const SceneOp*, const SceneState&, uint64_t) override { Hold(); }
+
+  void Arm() {
+    std::lock_guard lock(mutex_);
+    armed_ = true;
+    entered_ = released_ = false;
+  }
+  void WaitEntered() {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] { return entered_; });
+  }
+  void Release() {
+    std::lock_guard lock(mutex_);
+    released_ = true;
+    changed_.notify_all();
+  }
+
+ private:
+  void Hold() {
+    std::unique_lock lock(mutex_);
+    if (!armed_) return;
+    entered_ = true;
+    changed_.notify_all();
+    changed_.wait(lock, [this] { return released_; });
+    armed_ = false;
+  }
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool armed_ = false, entered_ = false, released_ = false;
+};
+
+Pose At(double x) {
+  Pose pose;
+  pose.position = Vec3(x, 0, 0);
+  return pose;
+}
+
+BodySpec Ball(const std::string& id) {
+  BodySpec body;
+  body.id = id;
+  Geometry ball;
+  ball.kind = Geometry::Kind::kSphere;
+  ball.radius = 0.01;
+  body.collision.push_back(ball);
+  body.inertial.mass = 0.01;
+  body.inertial.inertia = Mat3::Identity() * 4e-7;
+  return body;
+}
+
+TEST(SceneTryView, GivesUpWhileAWriterCommitsAndReadsLikeViewOtherwise) {
+  Limits limits;
+  SceneRegistry registry(limits);
+  HeldJournal journal;
+  registry.AttachJournal(&journal);
+  const std::shared_ptr<Scene> scene = registry.Create("held");
+  SceneOp op;
+  op.kind = "AddObject";  // the journal here stores nothing; a model edit only needs to say what it was
+  scene->AddObject(Ball("ball"), At(0.1), &op);
+
+  SceneView view;
+  ASSERT_TRUE(scene->TryView(&view));
+  const SceneView reference = scene->View();
+  EXPECT_EQ(view.revision, reference.revision);
+  EXPECT_EQ(view.state.body_poses[0].position, reference.state.body_poses[0].position);
+
+  journal.Arm();
+  auto writer = std::async(std::launch::async, [&] { return scene->SetBodyPoses({{"ball", At(0.2)}}); });
+  journal.WaitEntered();
+  SceneView during;
+  during.revision = 12345;
+  EXPECT_FALSE(scene->TryView(&during));
+  EXPECT_EQ(during.revision, 12345u);  // untouched
+  EXPECT_TRUE(registry.TryGet(scene->id()) != nullptr);  // the registry itself is free
+  journal.Release();
+  const uint64_t revision = writer.get();
+
+  ASSERT_TRUE(scene->TryView(&view));
+  EXPECT_EQ(view.revision, revision);
+  EXPECT_DOUBLE_EQ(view.state.body_poses[0].position.x(), 0.2);
+}
+
+TEST(SceneTryView, RegistryGivesUpWhileASceneIsCreatedAndNamesUnknownIds) {
+  Limits limits;
+  SceneRegistry registry(limits);
+  HeldJournal journal;
+  registry.AttachJournal(&journal);
+  const std::shared_ptr<Scene> first = registry.Create("first");
+  test_util::ExpectError([&] { registry.TryGet("nope"); }, ErrorCode::kNotFound, {"nope"});
+
+  journal.Arm();
+  auto creator = std::async(std::launch::async, [&] { return registry.Create("second"); });
+  journal.WaitEntered();
+  EXPECT_EQ(registry.TryGet(first->id()), nullptr);
+  journal.Release();
+  creator.get();
+  EXPECT_EQ(registry.TryGet(first->id()), first);
+}
+
+}  // namespace
+}  // namespace graspsim
