@@ -772,9 +772,9 @@ near(pose, [0 0 0.775 1 0 0 0], 1e-9, 'a refused work cycle moved the cube');
 end
 
 function test_error_other_services_unimplemented(c, sid)
-% PlanArmPath is built (docs/motion.md): without an arm it names the field.
+% Every method is built now; these name what is wrong. PlanArmPath (docs/motion.md): without an arm, the field.
 expectError(@() c.call('GraspService', 'PlanArmPath', struct('scene_id', sid)), 'graspsim:INVALID_ARGUMENT', {'arm_id'});
-% SegmentScene is built too (docs/perception.md): an empty cloud is named. PickAndPlace (a stream) is what is left.
+% SegmentScene (docs/perception.md): an empty cloud is named.
 expectError(@() c.call('PerceptionService', 'SegmentScene', struct()), 'graspsim:INVALID_ARGUMENT', {'cloud.points'});
 expectError(@() c.call('SceneService', 'NoSuchMethod', struct()), 'graspsim:NOT_FOUND', {'NoSuchMethod'});
 expectError(@() c.call('SceneService', 'GetScene', struct('scene_idd', sid)), 'graspsim:INVALID_ARGUMENT', ...
