@@ -1,5 +1,6 @@
 #include "auth/grpc_auth.h"
 
+#include <atomic>
 #include <fstream>
 #include <mutex>
 #include <sstream>
@@ -25,6 +26,8 @@ struct CallState {
 };
 std::mutex calls_mutex;
 std::unordered_map<const grpc::ServerContextBase*, CallState> calls;
+// calls.size(), readable without the lock: while no call is refused (the usual case) RefusedCall takes no lock.
+std::atomic<size_t> calls_stored{0};
 
 std::string FieldText(const google::protobuf::Message& message, const std::string& name) {
   const auto* field = message.GetDescriptor()->FindFieldByName(name);
@@ -74,6 +77,7 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
     if (!stored_) return;
     std::lock_guard lock(calls_mutex);
     calls.erase(context_);
+    calls_stored.store(calls.size(), std::memory_order_release);
   }
 
   void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
@@ -161,6 +165,7 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
                                      {"message", status.error_message()}, {"peer", context_->peer()}});
     std::lock_guard lock(calls_mutex);
     calls[context_].refused = status;
+    calls_stored.store(calls.size(), std::memory_order_release);
     stored_ = true;
   }
 
@@ -169,6 +174,7 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
     std::lock_guard lock(calls_mutex);
     if (options_.tokens) calls[context_].who = who_;
     else calls[context_];
+    calls_stored.store(calls.size(), std::memory_order_release);
     stored_ = true;
   }
 
@@ -226,6 +232,9 @@ std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface> MakeInter
 }
 
 std::optional<grpc::Status> RefusedCall(const grpc::ServerContextBase& context) {
+  // The interceptor stores before the handler runs (same call, happens-before through gRPC's batch), so a
+  // zero here means this call has no entry.
+  if (calls_stored.load(std::memory_order_acquire) == 0) return std::nullopt;
   std::lock_guard lock(calls_mutex);
   const auto it = calls.find(&context);
   if (it == calls.end()) return std::nullopt;
