@@ -7,7 +7,7 @@ tests/bench/run), standing on a table; each seen at 8 orientations (0, 45, ..., 
 camera 0.6 m away and 35 deg up, rendered with Embree, depth noise sigma = 1 mm, the object's mask. Each view
 completed by Mirror-d5, Mirror-d7 (7 x 5 = 35 hypotheses, table known) and the Delaunay baseline (500 points).
 - ms_2k, ms_39k: CompleteShape's wall time (all stages, one core, 35 hypotheses, the service's defaults: clouds
-  above 3,000 points voxel down-sampled) on the cylinder's view with the camera's focal length scaled to ~2.1k and
+  above 1,500 points voxel down-sampled) on the cylinder's view with the camera's focal length scaled to ~2.1k and
   ~39.4k points (the paper's sizes), depth 5 (Mirror-d5, the paper's coarse setting); ms_*_d6 (the service's
   default depth) and ms_*_d7 (the fine setting) beside; ms_39k_all_points: depth 5 without the down-sampling;
   cpu_ms_*: the same calls' CPU time (not inflated by a loaded machine); ms_per_stage: the 39k run's stages.
@@ -16,7 +16,7 @@ completed by Mirror-d5, Mirror-d7 (7 x 5 = 35 hypotheses, table known) and the D
   (20k uniform samples of each surface against the other), over every object and orientation; per_object beside.
 - centroid_err_pct: Mirror-d5's centroid error, % of the bounding-box diagonal (uniform-surface centroids).
 - mirror_beats_delaunay: objects where Mirror-d5's mean deviation is below the baseline's.
-- runtime_vs_error: depth x hypotheses x down-sampling (auto 3000 = the default, none, auto 1500, a 4 mm voxel) on
+- runtime_vs_error: depth x hypotheses x down-sampling (auto 1500 = the default, none, a 4 mm voxel) on
   the procedural shapes (4 orientations each).
 Reconstruction alone: graspsim_perception_bench (tests/stress/perception_bench.cpp): oriented points with exact
 normals on a sphere and a box, ours against pcl::Poisson (one thread) in the same run: pcl_poisson_ms_39k and

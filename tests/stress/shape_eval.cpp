@@ -364,7 +364,7 @@ int Main(int argc, char** argv) {
   const size_t t = kDefaultTarget;
   for (auto [depth, n, m, voxel, refinements, target_points] :
        {std::tuple{5, 7, 5, 0.0, 0, t}, {6, 7, 5, 0.0, 0, t}, {7, 7, 5, 0.0, 0, t}, {5, 7, 5, 0.0, 0, size_t(0)},
-        {6, 7, 5, 0.0, 0, size_t(0)}, {7, 7, 5, 0.0, 0, size_t(0)}, {5, 7, 5, 0.0, 0, size_t(1500)},
+        {6, 7, 5, 0.0, 0, size_t(0)}, {7, 7, 5, 0.0, 0, size_t(0)}, {5, 7, 5, 0.0, 0, size_t(3000)},
         {5, 3, 3, 0.0, 0, t}, {7, 3, 3, 0.0, 0, t}, {5, 7, 5, 0.0, 2, t}, {7, 7, 5, 0.0, 2, t},
         {5, 7, 5, 0.004, 0, t}, {7, 7, 5, 0.004, 0, t}}) {
     double dev = 0, ms = 0, points = 0;

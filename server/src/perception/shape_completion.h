@@ -34,9 +34,9 @@ struct CompletionOptions {
   // With voxel_size 0, a cloud of more than target_points is voxel down-sampled to about that many points: voxel =
   // its median spacing × √(1.5 n / target_points) (a surface sampled every s holds ≈ A / s² points, cut by cubes
   // of side v it occupies ≈ 1.5 A / v²), enlarged once by √(count / target) when that gives over 1.2 × target.
-  // The symmetry score, the normals and Poisson then cost the same for 39k points as for 3k: a depth camera's
+  // The symmetry score, the normals and Poisson then cost the same for 39k points as for 1.5k: a depth camera's
   // cloud of a table-top object is far denser than a depth-5..7 grid resolves. 0 = never.
-  size_t target_points = 3000;
+  size_t target_points = 1500;
   SymmetryParams symmetry;      // table_normal: world up unless the caller knows the table
   // The table the object stands on, {x : symmetry.table_normal · x = table_offset} (m), when known: the underside,
   // which no camera above the table sees, is then closed by a flat cap of points over the footprint (the convex
