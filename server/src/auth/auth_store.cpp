@@ -5,13 +5,14 @@
 #include <sqlite3.h>
 
 #include "core/error.h"
+#include "core/sqlite_file.h"
 
 namespace graspsim::auth {
 namespace {
 
-[[noreturn]] void Fail(const std::string& path, const std::string& what) {
-  throw Error(ErrorCode::kFailedPrecondition, "--auth-data-dir: " + path + ": " + what);
-}
+constexpr char kLabel[] = "--auth-data-dir: ";
+
+[[noreturn]] void Fail(const std::string& path, const std::string& what) { ThrowStoreError(kLabel, path, what); }
 
 struct Statement {
   sqlite3_stmt* stmt = nullptr;
@@ -21,23 +22,12 @@ struct Statement {
 }  // namespace
 
 AuthStore::AuthStore(const std::string& directory) {
-  std::error_code error;
-  std::filesystem::create_directories(directory, error);
-  if (error) Fail(directory, "cannot create the directory: " + error.message());
-  path_ = (std::filesystem::path(directory) / "auth.sqlite").string();
-  if (sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                      nullptr) != SQLITE_OK) {
-    const std::string message = db_ ? sqlite3_errmsg(db_) : "out of memory";
-    sqlite3_close(db_);
-    db_ = nullptr;
-    Fail(path_, message);
-  }
-  sqlite3_busy_timeout(db_, 5000);
+  db_ = OpenStoreFile(kLabel, directory, "auth.sqlite", "FULL", &path_);
   // Owner-only: the file holds token hashes.
+  std::error_code error;
   std::filesystem::permissions(path_, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write,
                                std::filesystem::perm_options::replace, error);
-  for (const char* sql : {"PRAGMA journal_mode=WAL", "PRAGMA synchronous=FULL",
-                          "CREATE TABLE IF NOT EXISTS tokens (name TEXT PRIMARY KEY, role TEXT NOT NULL, hash TEXT NOT NULL)",
+  for (const char* sql : {"CREATE TABLE IF NOT EXISTS tokens (name TEXT PRIMARY KEY, role TEXT NOT NULL, hash TEXT NOT NULL)",
                           "CREATE TABLE IF NOT EXISTS revoked (name TEXT PRIMARY KEY)",
                           "CREATE TABLE IF NOT EXISTS scenes (scene_id TEXT PRIMARY KEY, owner TEXT NOT NULL)",
                           "CREATE TABLE IF NOT EXISTS shares (scene_id TEXT NOT NULL, name TEXT NOT NULL,"

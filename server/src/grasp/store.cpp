@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <cstring>
-#include <filesystem>
 #include <sstream>
 
 #include "core/bytes.h"
 #include "core/error.h"
 #include "core/sha256.h"
+#include "core/sqlite_file.h"
 
 namespace graspsim::grasp {
 namespace {
@@ -17,9 +17,9 @@ namespace {
 // Bumped when the blob layout changes; rows of another format are treated as absent and replaced.
 constexpr int kFormat = 1;
 
-[[noreturn]] void ThrowStore(const std::string& path, const std::string& what) {
-  throw Error(ErrorCode::kFailedPrecondition, "grasp store " + path + ": " + what);
-}
+constexpr char kLabel[] = "grasp store ";
+
+[[noreturn]] void ThrowStore(const std::string& path, const std::string& what) { ThrowStoreError(kLabel, path, what); }
 
 std::string Join(const std::vector<std::string>& names) {
   std::string out;
@@ -102,15 +102,6 @@ std::string Exact(double value) {
 }
 
 // Runs a statement with no result rows; throws naming the statement's purpose.
-void Exec(sqlite3* db, const std::string& path, const char* sql) {
-  char* message = nullptr;
-  if (sqlite3_exec(db, sql, nullptr, nullptr, &message) != SQLITE_OK) {
-    const std::string text = message ? message : "unknown error";
-    sqlite3_free(message);
-    ThrowStore(path, text);
-  }
-}
-
 struct Statement {
   sqlite3_stmt* stmt = nullptr;
   ~Statement() { sqlite3_finalize(stmt); }
@@ -176,22 +167,10 @@ GraspSetKey MakeGraspSetKey(const std::string& hand, const std::string& mesh_has
 }
 
 GraspStore::GraspStore(const std::string& directory) {
-  std::error_code error;
-  std::filesystem::create_directories(directory, error);
-  if (error) ThrowStore(directory, "cannot create the directory: " + error.message());
-  path_ = (std::filesystem::path(directory) / "grasp_sets.sqlite").string();
-  if (sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                      nullptr) != SQLITE_OK) {
-    const std::string message = db_ ? sqlite3_errmsg(db_) : "out of memory";
-    sqlite3_close(db_);
-    db_ = nullptr;
-    ThrowStore(path_, message);
-  }
-  sqlite3_busy_timeout(db_, 5000);  // a second server on the same directory waits instead of failing
+  // NORMAL: durable across a crash of the process; a grasp set lost to a power cut is planned again.
+  db_ = OpenStoreFile(kLabel, directory, "grasp_sets.sqlite", "NORMAL", &path_);
   try {
-    Exec(db_, path_, "PRAGMA journal_mode=WAL");
-    Exec(db_, path_, "PRAGMA synchronous=NORMAL");  // WAL + NORMAL: durable across a crash of the process
-    Exec(db_, path_,
+    ExecSql(db_, kLabel, path_,
          "CREATE TABLE IF NOT EXISTS grasp_sets ("
          " key TEXT PRIMARY KEY, format INTEGER NOT NULL, hand TEXT NOT NULL, mesh_sha256 TEXT NOT NULL,"
          " params TEXT NOT NULL, created_unix REAL NOT NULL, candidates INTEGER NOT NULL, missed INTEGER NOT NULL,"

@@ -2,10 +2,10 @@
 
 #include <sqlite3.h>
 
-#include <filesystem>
 
 #include "core/error.h"
 #include "core/sha256.h"
+#include "core/sqlite_file.h"
 #include "persistence/state_codec.h"
 
 namespace graspsim::persistence {
@@ -13,23 +13,16 @@ namespace {
 
 constexpr int kSchemaVersion = 1;
 
-[[noreturn]] void ThrowStore(const std::string& path, const std::string& what) {
-  throw Error(ErrorCode::kFailedPrecondition, "scene store " + path + ": " + what);
-}
+constexpr char kLabel[] = "scene store ";
+
+[[noreturn]] void ThrowStore(const std::string& path, const std::string& what) { ThrowStoreError(kLabel, path, what); }
 
 // A failed write during a request: the request fails and nothing of it is stored.
 [[noreturn]] void ThrowWrite(const std::string& path, sqlite3* db) {
   throw Error(ErrorCode::kInternal, "scene store " + path + ": cannot write: " + sqlite3_errmsg(db));
 }
 
-void Exec(sqlite3* db, const std::string& path, const char* sql) {
-  char* message = nullptr;
-  if (sqlite3_exec(db, sql, nullptr, nullptr, &message) != SQLITE_OK) {
-    const std::string text = message ? message : sqlite3_errmsg(db);
-    sqlite3_free(message);
-    ThrowStore(path, text);
-  }
-}
+void Exec(sqlite3* db, const std::string& path, const char* sql) { ExecSql(db, kLabel, path, sql); }
 
 class Statement {
  public:
@@ -74,24 +67,10 @@ class Statement {
 }  // namespace
 
 SceneStore::SceneStore(const std::string& directory) {
-  std::error_code error;
-  std::filesystem::create_directories(directory, error);
-  if (error) ThrowStore(directory, "cannot create the directory: " + error.message());
-  path_ = (std::filesystem::path(directory) / "scenes.sqlite").string();
-  if (sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                      nullptr) != SQLITE_OK) {
-    const std::string message = db_ ? sqlite3_errmsg(db_) : "out of memory";
-    sqlite3_close(db_);
-    db_ = nullptr;
-    ThrowStore(path_, message);
-  }
-  sqlite3_busy_timeout(db_, 5000);
+  // FULL: the WAL is fsync'ed at every commit, so an acknowledged write survives a power cut too, not only a
+  // crash of the process (NORMAL would fsync only at checkpoints). docs/durability.md has its cost.
+  db_ = OpenStoreFile(kLabel, directory, "scenes.sqlite", "FULL", &path_);
   try {
-    // The first statement reads the file's header: a file that is not a database fails here, untouched.
-    Exec(db_, path_, "PRAGMA journal_mode=WAL");
-    // FULL: the WAL is fsync'ed at every commit, so an acknowledged write survives a power cut too, not only a
-    // crash of the process (NORMAL would fsync only at checkpoints). docs/durability.md has its cost.
-    Exec(db_, path_, "PRAGMA synchronous=FULL");
     // A large upload grows the WAL; give the space back after the checkpoint that follows it.
     Exec(db_, path_, "PRAGMA journal_size_limit=67108864");
     Exec(db_, path_,
