@@ -81,9 +81,9 @@ std::string HandOnArm(const SceneModel& model, const std::string& arm_field, con
   ThrowInvalidArgument(arm_field + ": arm '" + arm_id + "' carries no known hand on its flange (known: " + known + ")");
 }
 
-GraspSetJob DefaultGraspSetJob(const SceneModel& model, const SceneState& state, const std::string& arm_id,
+grasp::PlanJob DefaultGraspSetJob(const SceneModel& model, const SceneState& state, const std::string& arm_id,
                                const std::string& object_id, uint64_t seed) {
-  GraspSetJob job;
+  grasp::PlanJob job;
   job.hand = HandOnArm(model, "arm_id", arm_id);
   grasp::SceneObject object = grasp::ObjectFromScene(model, state, "body_id", object_id, {arm_id});
   job.mesh = std::move(object.mesh);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "grasp/plan_job.h"
 #include "grasp/planner.h"
 #include "motion/trajectory.h"
 #include "world/model.h"
@@ -88,15 +89,7 @@ std::string HandOnArm(const SceneModel& model, const std::string& arm_field, con
 // The grasp set PickAndPlace plans when the request names none: the object's geometry from the scene, every
 // body but the arm an obstacle, bounding-box candidates on a 2 cm grid, every pre-shape, standoffs 0 and 2 cm
 // (a hand whose fingers reach past the object's bottom must stop short of it to clear the table).
-struct GraspSetJob {
-  std::string hand;
-  std::shared_ptr<const TriangleMesh> mesh;
-  std::vector<grasp::ObstacleBox> obstacles;
-  grasp::CandidateParams candidates;
-  grasp::SimulationParams simulation;
-  size_t max_grasps = 50;
-};
-GraspSetJob DefaultGraspSetJob(const SceneModel& model, const SceneState& state, const std::string& arm_id,
+grasp::PlanJob DefaultGraspSetJob(const SceneModel& model, const SceneState& state, const std::string& arm_id,
                                const std::string& object_id, uint64_t seed);
 
 // Validates the inputs (errors name the fields) and runs. Throws Error(kFailedPrecondition) when no grasp is

@@ -11,6 +11,7 @@
 
 #include "core/worker_pool.h"
 #include "graspsim/v1/grasp.grpc.pb.h"
+#include "grasp/plan_job.h"
 #include "grasp/planner.h"
 #include "grasp/store.h"
 #include "rpc/scene_overlays.h"
@@ -19,13 +20,7 @@
 namespace graspsim::rpc {
 
 // A PlanGrasps request resolved into the grasp library's inputs (validated).
-struct GraspPlanJob {
-  std::string hand;
-  std::shared_ptr<const TriangleMesh> mesh;
-  std::vector<grasp::ObstacleBox> obstacles;
-  grasp::CandidateParams candidates;
-  grasp::SimulationParams simulation;
-  size_t max_grasps = 50;
+struct GraspPlanJob : grasp::PlanJob {
   bool recompute = false;
 };
 

@@ -3,7 +3,6 @@
 // goal, commits the simulated state to the scene (only if nobody changed the scene meanwhile). Progress is
 // newest-only (rpc/progress_run.h); the result is the last message; a cancel stops the job at its next progress
 // call (every 50 ms of simulated time, every grasp filtered, every chunk of grasp planning).
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -43,7 +42,7 @@ grasp::StoredGraspSet GraspSetFor(const v1::PickAndPlaceRequest& request, const 
                                   const std::string& hand, const std::shared_ptr<grasp::GraspStore>& store,
                                   PickRun* run, bool* cancelled) {
   const uint64_t seed = request.has_seed() ? request.seed() : 1;
-  const pickplace::GraspSetJob job =
+  const grasp::PlanJob job =
       pickplace::DefaultGraspSetJob(*view.model, view.state, request.arm_id(), request.body_id(), seed);
   const std::string mesh_hash = grasp::MeshHash(*job.mesh);
   if (!request.grasp_set_id().empty()) {
@@ -62,29 +61,16 @@ grasp::StoredGraspSet GraspSetFor(const v1::PickAndPlaceRequest& request, const 
     }
     return *stored;
   }
-  grasp::StoredGraspSet meta;
-  meta.hand = job.hand;
-  meta.mesh_hash = mesh_hash;
-  const grasp::GraspSetKey key =
-      grasp::MakeGraspSetKey(job.hand, mesh_hash, job.obstacles, job.candidates, job.simulation, job.max_grasps);
-  meta.key = key.key;
-  meta.params_text = key.params_text;
-  if (store) {
-    if (auto stored = store->Find(key.key)) return *stored;
-  }
-  const grasp::GraspPlanner planner(job.hand, job.mesh, job.obstacles, job.simulation);
-  const std::optional<grasp::GraspSet> set =
-      planner.Plan(planner.Candidates(job.candidates), 2, job.max_grasps, [&](size_t done, size_t total) {
-        return run->Progress(Message("planning_grasps", total ? 0.2 * done / total : 0));
-      });
-  if (!set) {
+  bool from_store = false;
+  std::optional<grasp::StoredGraspSet> entry = grasp::FindOrPlan(
+      job, store.get(), false,
+      [&](size_t done, size_t total) { return run->Progress(Message("planning_grasps", total ? 0.2 * done / total : 0)); },
+      &from_store);
+  if (!entry) {
     *cancelled = true;
-    return meta;
+    return grasp::StoreEntryFor(job);
   }
-  meta.created_unix = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  meta.set = *set;
-  if (store) store->Put(meta);
-  return meta;
+  return std::move(*entry);
 }
 
 void RunPick(const v1::PickAndPlaceRequest& request, const SceneRegistry* registry,

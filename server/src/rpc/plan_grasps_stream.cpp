@@ -1,7 +1,6 @@
 // GraspService.PlanGrasps: one pool job resolves the request, finds the set in the store or plans it, and hands
 // messages to the reactor. Progress is newest-only (a slow reader sees fewer updates, never a queue); the set
 // is the last message. A cancel (the client's, or its deadline passing) stops the planner within one chunk.
-#include <chrono>
 #include <memory>
 #include <optional>
 
@@ -33,34 +32,13 @@ void RunPlan(const v1::PlanGraspsRequest& request, const SceneRegistry* registry
              const std::shared_ptr<grasp::GraspStore>& store, const std::shared_ptr<PlanRun>& run) {
   try {
     const GraspPlanJob job = PlanJobFromProto(request, *registry);
-    grasp::StoredGraspSet meta;
-    meta.hand = job.hand;
-    meta.mesh_hash = grasp::MeshHash(*job.mesh);
-    const grasp::GraspSetKey key = grasp::MakeGraspSetKey(job.hand, meta.mesh_hash, job.obstacles, job.candidates,
-                                                          job.simulation, job.max_grasps);
-    meta.key = key.key;
-    meta.params_text = key.params_text;
-    if (store && !job.recompute) {
-      if (auto stored = store->Find(key.key)) {  // planned before: answer at once
-        v1::PlanGraspsProgress last = ProgressMessage(stored->set.candidates, stored->set.candidates);
-        ToProto(stored->set, *stored, true, last.mutable_result());
-        run->Finish(std::move(last), grpc::Status::OK);
-        return;
-      }
-    }
-    if (run->cancelled()) return;
-    const grasp::GraspPlanner planner(job.hand, job.mesh, job.obstacles, job.simulation);
-    const std::vector<grasp::Candidate> candidates = planner.Candidates(job.candidates);
-    // Two threads: the machines have two cores, and other requests keep the pool's other threads.
-    const std::optional<grasp::GraspSet> set = planner.Plan(
-        candidates, 2, job.max_grasps, [&](size_t done, size_t total) { return run->Progress(ProgressMessage(done, total)); });
-    if (!set) return;  // cancelled: the reactor already ends the call
-    meta.created_unix =
-        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-    meta.set = *set;
-    if (store) store->Put(meta);
-    v1::PlanGraspsProgress last = ProgressMessage(set->candidates, set->candidates);
-    ToProto(*set, meta, false, last.mutable_result());
+    bool from_store = false;  // planned before: answered at once
+    const std::optional<grasp::StoredGraspSet> entry = grasp::FindOrPlan(
+        job, store.get(), job.recompute,
+        [&](size_t done, size_t total) { return run->Progress(ProgressMessage(done, total)); }, &from_store);
+    if (!entry) return;  // cancelled: the reactor already ends the call
+    v1::PlanGraspsProgress last = ProgressMessage(entry->set.candidates, entry->set.candidates);
+    ToProto(entry->set, *entry, from_store, last.mutable_result());
     run->Finish(std::move(last), grpc::Status::OK);
   } catch (...) {
     run->Finish(std::nullopt, StatusOfException(kMethod, std::current_exception()));

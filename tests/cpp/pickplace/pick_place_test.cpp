@@ -36,7 +36,7 @@ motion_test::ArmScene CubeScene(const Pose& cube = kCubeStart) {
 // Planned once for the suite (the cube's start pose is the same in every test).
 const grasp::GraspSet& PlanSet(const SceneView& view) {
   static const grasp::GraspSet set = [&] {
-  const pickplace::GraspSetJob job = pickplace::DefaultGraspSetJob(*view.model, view.state, "arm", "cube", 1);
+  const grasp::PlanJob job = pickplace::DefaultGraspSetJob(*view.model, view.state, "arm", "cube", 1);
   const grasp::GraspPlanner planner(job.hand, job.mesh, job.obstacles, job.simulation);
   std::optional<grasp::GraspSet> planned =
       planner.Plan(planner.Candidates(job.candidates), 2, job.max_grasps, [](size_t, size_t) { return true; });
