@@ -53,7 +53,9 @@ TEST(AuthRoleTable, EveryProtoMethodHasARowAndEveryRowAMethod) {
   const auto& table = RoleTable();
   for (const auto& method : methods) EXPECT_TRUE(table.contains(method)) << method << " has no row in auth/role_table.cpp";
   for (const auto& [method, rule] : table) {
-    if (method.starts_with("/graspsim.")) EXPECT_TRUE(methods.contains(method)) << method << ": no such RPC";
+    if (method.starts_with("/graspsim.")) {
+      EXPECT_TRUE(methods.contains(method)) << method << ": no such RPC";
+    }
   }
 }
 
@@ -63,7 +65,9 @@ TEST(AuthRoleTable, WritesNeedScripterAndSceneOwnership) {
   for (const char* method : {"CreateScene", "DeleteScene", "UploadFile", "AddObject", "SetBodyPoses", "StepSimulation"}) {
     const auto& rule = table.at(std::string("/graspsim.v1.SceneService/") + method);
     EXPECT_EQ(rule.role, Role::kScripter) << method;
-    if (std::string(method) != "CreateScene") EXPECT_EQ(rule.scene, SceneAccess::kWrite) << method;
+    if (std::string(method) != "CreateScene") {
+      EXPECT_EQ(rule.scene, SceneAccess::kWrite) << method;
+    }
   }
   EXPECT_EQ(table.at("/graspsim.v1.SceneService/GetScene").scene, SceneAccess::kRead);
   EXPECT_TRUE(table.at("/graspsim.v1.GatewayService/SendCommand").device_grant);
