@@ -32,6 +32,7 @@ class GatewayE2eTest : public ::testing::Test {
     rpc::ServerOptions options;
     options.listen = "127.0.0.1:0";
     options.http_enabled = false;
+    options.data_dir = "off";  // scenes in memory: never the user's store, and no test sees another's scenes
     options.grasp_data_dir = "off";
     options.worker_threads = 4;
     server_ = std::make_unique<rpc::GraspsimServer>(options);

@@ -21,6 +21,7 @@ class WorkCycleRpcTest : public ::testing::Test {
     ServerOptions options;
     options.listen = "127.0.0.1:0";
     options.http_enabled = false;
+    options.data_dir = "off";  // scenes in memory: never the user's store, and no test sees another's scenes
     options.worker_threads = 4;
     server_ = std::make_unique<GraspsimServer>(options);
     auto channel = grpc::CreateChannel("127.0.0.1:" + std::to_string(server_->port()),
