@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include <google/protobuf/dynamic_message.h>
@@ -254,6 +255,30 @@ double ParseSeconds(const std::string& name, const std::string& text) {
     ThrowInvalidArgument(name + ": '" + text.substr(0, 40) + "' is not a positive number of seconds");
   }
   return value;
+}
+
+std::string JsonString(const std::string& text) {
+  std::string out = "\"";
+  for (const unsigned char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
+      out += escaped;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out + "\"";
+}
+
+std::string JsonNumber(double value, int digits) {
+  if (!std::isfinite(value)) return "null";  // never expected (the engine stops on NaN), but keep the JSON valid
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return text;
 }
 
 }  // namespace graspsim::rpc

@@ -33,6 +33,11 @@ int HttpStatusFor(grpc::StatusCode code);
 // {"services": [{"name": ..., "methods": [{"name", "input", "output", "client_streaming", "server_streaming"}]}]}
 std::string ListMethodsJson();
 
+// A JSON string literal (quotes, backslashes and control characters escaped) and a number with `digits`
+// significant digits ("null" when not finite), for the hand-built JSON of the viewer routes.
+std::string JsonString(const std::string& text);
+std::string JsonNumber(double value, int digits = 7);
+
 // Query parameters: Error(kInvalidArgument) naming the parameter.
 long ParseCount(const std::string& name, const std::string& text);
 double ParseSeconds(const std::string& name, const std::string& text);

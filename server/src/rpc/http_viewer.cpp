@@ -30,30 +30,6 @@ namespace {
 constexpr char kScenePattern[] = "([A-Za-z0-9_.-]+)";
 constexpr double kDefaultPoseRateHz = 30, kDefaultTactileRateHz = 10, kDefaultStreamSeconds = 300;
 
-std::string JsonString(const std::string& text) {
-  std::string out = "\"";
-  for (const unsigned char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += static_cast<char>(c);
-    } else if (c < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
-      out += escaped;
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  return out + "\"";
-}
-
-std::string JsonNumber(double value) {
-  if (!std::isfinite(value)) return "null";  // never expected (the engine stops on NaN), but keep the JSON valid
-  char text[32];
-  std::snprintf(text, sizeof text, "%.7g", value);
-  return text;
-}
-
 std::string HtmlEscape(const std::string& text) {
   std::string out;
   for (const char c : text) {

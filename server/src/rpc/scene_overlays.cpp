@@ -1,8 +1,8 @@
 #include "rpc/scene_overlays.h"
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
+
+#include "rpc/http_json.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -10,22 +10,8 @@ namespace {
 // Scenes whose overlays are kept; the oldest-changed goes first (a long-running server creates many scenes).
 constexpr size_t kMaxScenes = 1024;
 
-std::string Number(double value) {
-  if (!std::isfinite(value)) return "null";
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9g", value);
-  return text;
-}
-
-std::string Quoted(const std::string& text) {
-  std::string out = "\"";
-  for (const unsigned char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c < 0x20) continue;  // ids never hold control characters (validated on the way in)
-    out += static_cast<char>(c);
-  }
-  return out + "\"";
-}
+// 9 digits: nanometres at a metre, and the plan's duration to 1e-9 relative.
+std::string Number(double value) { return JsonNumber(value, 9); }
 
 std::string PointJson(const SceneOverlays::Point& p) {
   return "[" + Number(p[0]) + "," + Number(p[1]) + "," + Number(p[2]) + "]";
@@ -66,7 +52,7 @@ std::string SceneOverlays::Json(const std::string& scene_id) const {
   std::string json = "{\"version\":" + std::to_string(entry.version) + ",\"completion\":";
   if (entry.has_completion) {
     const Completion& c = entry.completion;
-    json += "{\"body_id\":" + Quoted(c.body_id) + ",\"point\":" + PointJson(c.point) + ",\"normal\":" +
+    json += "{\"body_id\":" + JsonString(c.body_id) + ",\"point\":" + PointJson(c.point) + ",\"normal\":" +
             PointJson(c.normal) + ",\"score\":" + Number(c.score) + ",\"size\":" + Number(c.size) + "}";
   } else {
     json += "null";
@@ -74,7 +60,7 @@ std::string SceneOverlays::Json(const std::string& scene_id) const {
   json += ",\"arm_path\":";
   if (entry.has_path) {
     const ArmPath& p = entry.path;
-    json += "{\"arm_id\":" + Quoted(p.arm_id) + ",\"tip_body\":" + Quoted(p.tip_body) + ",\"duration\":" +
+    json += "{\"arm_id\":" + JsonString(p.arm_id) + ",\"tip_body\":" + JsonString(p.tip_body) + ",\"duration\":" +
             Number(p.duration) + ",\"direct\":" + (p.direct ? "true" : "false") + ",\"tip_points\":[";
     for (size_t i = 0; i < p.tip_points.size(); ++i) json += (i ? "," : "") + PointJson(p.tip_points[i]);
     json += "]}";
