@@ -11,6 +11,7 @@ DEBIAN_PACKAGES=(
   libcpp-httplib-dev libgtest-dev libgmock-dev libbenchmark-dev octave
   libssl-dev openssl python3 python3-venv python3-pip  # openssl: the CLI makes test certificates (tests/python/test_security.py)
   nodejs chromium chromium-driver
+  clang libclang-rt-14-dev  # libFuzzer targets and the ASan/UBSan build of the C++ tests (docs/fuzzing.md)
 )
 
 missing=()

@@ -101,7 +101,8 @@ GraspPlanner::GraspPlanner(const std::string& hand, std::shared_ptr<const Triang
     : hand_spec_(LoadHand("hand", hand)), device_(std::make_unique<RayDevice>()) {
   ValidateSimulationParams(params);
   hand_model_ = std::make_unique<HandModel>(hand_spec_, device_->get(), params.sample_spacing);
-  for (const auto& [link, material] : params.link_materials) {
+  for (const auto& entry : params.link_materials) {
+    const std::string& link = entry.first;  // not a structured binding: clang 14 cannot capture one in a lambda
     const auto& links = hand_model_->links();
     if (std::none_of(links.begin(), links.end(), [&](const HandLink& l) { return l.name == link; })) {
       std::string names;
