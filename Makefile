@@ -11,7 +11,7 @@ SERVER := $(BUILD)/bin/graspsim-server
 PROTOS := $(wildcard proto/graspsim/v1/*.proto)
 CLIENT_FILES := clients/python/pyproject.toml clients/python/setup.py
 
-.PHONY: all deps build python demo test test-cpp test-python test-matlab clean
+.PHONY: all deps build python demo test test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke
 all: build python
 
 deps:
@@ -45,6 +45,41 @@ test-matlab: build
 	@GRASPSIM_SERVER=$(abspath $(SERVER)) tests/matlab/run.sh
 
 test: test-cpp test-python test-matlab
+
+# Bad input (issue 11, docs/fuzzing.md): one clang build in $(FUZZ_BUILD) holds the ASan + UBSan build of the C++
+# tests and the libFuzzer targets of tests/fuzz.
+FUZZ_BUILD := build-fuzz
+FUZZ_TARGETS := urdf mesh perception upload http_json modbus smp device_spec
+FUZZ_SECONDS := 20
+SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(abspath tests/fuzz/ubsan.supp) \
+  LSAN_OPTIONS=suppressions=$(abspath tests/fuzz/lsan.supp):print_suppressions=0
+
+$(FUZZ_BUILD)/build.ninja: CMakeLists.txt | deps
+	@mkdir -p $(FUZZ_BUILD)
+	@cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo '-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG' \
+	  '-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG' -DGRASPSIM_SANITIZE=ON -DGRASPSIM_FUZZ=ON \
+	  > $(FUZZ_BUILD)/cmake-configure.log 2>&1 || (cat $(FUZZ_BUILD)/cmake-configure.log; exit 1)
+
+build-fuzz: deps $(FUZZ_BUILD)/build.ninja
+	@ninja -C $(FUZZ_BUILD) --quiet graspsim_tests fuzz_targets | sed '/^ninja: no work to do\.$$/d'
+
+test-sanitize: build-fuzz
+	@$(SANITIZER_ENV) ctest --test-dir $(FUZZ_BUILD) --output-on-failure --progress -j2 | tail -n 3
+
+# Each target for FUZZ_SECONDS over its seed corpus, with a fixed seed; new inputs go to a scratch corpus in the
+# build tree (emptied first, so every run starts alike), crashes to $(FUZZ_BUILD)/fuzz-artifacts/.
+fuzz-smoke: build-fuzz
+	@mkdir -p $(FUZZ_BUILD)/fuzz-artifacts
+	@for t in $(FUZZ_TARGETS); do \
+	  rm -rf $(FUZZ_BUILD)/fuzz-corpus/$$t && mkdir -p $(FUZZ_BUILD)/fuzz-corpus/$$t && \
+	  $(SANITIZER_ENV) $(FUZZ_BUILD)/bin/$${t}_fuzz -seed=1 -max_total_time=$(FUZZ_SECONDS) -timeout=25 \
+	    -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/fuzz-artifacts/$$t- \
+	    $(FUZZ_BUILD)/fuzz-corpus/$$t tests/fuzz/corpus/$$t > $(FUZZ_BUILD)/fuzz-artifacts/$$t.log 2>&1 \
+	  || { tail -n 60 $(FUZZ_BUILD)/fuzz-artifacts/$$t.log; echo "fuzz-smoke: $$t failed (log: $(FUZZ_BUILD)/fuzz-artifacts/$$t.log)"; exit 1; }; \
+	  echo "fuzz-smoke: $$t $$(grep -o 'stat::number_of_executed_units: [0-9]*' $(FUZZ_BUILD)/fuzz-artifacts/$$t.log | grep -o '[0-9]*$$') runs in $(FUZZ_SECONDS) s, no crash"; \
+	done
 
 clean:
 	rm -rf $(BUILD)

@@ -1,0 +1,28 @@
+// URDF loading (world/loaders.h LoadUrdf: urdfdom + graspsim's checks), as AddRobot runs it on a client's text.
+// The input is the URDF text. One mesh file is "uploaded": meshes/tetra.stl, a tetrahedron, so inputs that name
+// it reach the mesh path (package:// and file:// prefixes are stripped by the loader).
+#include "fuzz_common.h"
+#include "world/loaders.h"
+
+namespace {
+
+const std::string kTetraStl =
+    "solid t\n"
+    " facet normal 0 0 -1\n  outer loop\n   vertex 0 0 0\n   vertex 0 1 0\n   vertex 1 0 0\n  endloop\n endfacet\n"
+    " facet normal 0 -1 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 0 1\n  endloop\n endfacet\n"
+    " facet normal -1 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 0 1\n   vertex 0 1 0\n  endloop\n endfacet\n"
+    " facet normal 1 1 1\n  outer loop\n   vertex 1 0 0\n   vertex 0 1 0\n   vertex 0 0 1\n  endloop\n endfacet\n"
+    "endsolid t\n";
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text = graspsim::fuzz::Text(data, size);
+  const graspsim::FileLookup files = [](const std::string& path) -> const std::string* {
+    return path == "meshes/tetra.stl" ? &kTetraStl : nullptr;
+  };
+  graspsim::Limits limits;
+  limits.max_triangles_per_mesh = 100'000;
+  graspsim::fuzz::Rejects([&] { graspsim::LoadUrdf(text, files, limits); });
+  return 0;
+}
