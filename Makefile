@@ -51,6 +51,9 @@ test: test-cpp test-python test-matlab
 FUZZ_BUILD := build-fuzz
 FUZZ_TARGETS := urdf mesh perception upload http_json modbus smp device_spec
 FUZZ_SECONDS := 20
+# Targets run over their seed corpus only (no mutation) while a crash they find is open (docs/fuzzing.md, "Found"):
+# mesh: Assimp 5.2.5 crashes, aborts and runs out of memory on small hostile files.
+FUZZ_SEEDS_ONLY := mesh
 SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(abspath tests/fuzz/ubsan.supp) \
   LSAN_OPTIONS=suppressions=$(abspath tests/fuzz/lsan.supp):print_suppressions=0
@@ -74,11 +77,14 @@ fuzz-smoke: build-fuzz
 	@mkdir -p $(FUZZ_BUILD)/fuzz-artifacts
 	@for t in $(FUZZ_TARGETS); do \
 	  rm -rf $(FUZZ_BUILD)/fuzz-corpus/$$t && mkdir -p $(FUZZ_BUILD)/fuzz-corpus/$$t && \
-	  $(SANITIZER_ENV) $(FUZZ_BUILD)/bin/$${t}_fuzz -seed=1 -max_total_time=$(FUZZ_SECONDS) -timeout=25 \
+	  if [[ " $(FUZZ_SEEDS_ONLY) " == *" $$t "* ]]; then budget="-runs=0"; else budget="-max_total_time=$(FUZZ_SECONDS)"; fi; \
+	  $(SANITIZER_ENV) $(FUZZ_BUILD)/bin/$${t}_fuzz -seed=1 $$budget -timeout=25 \
 	    -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/fuzz-artifacts/$$t- \
 	    $(FUZZ_BUILD)/fuzz-corpus/$$t tests/fuzz/corpus/$$t > $(FUZZ_BUILD)/fuzz-artifacts/$$t.log 2>&1 \
 	  || { tail -n 60 $(FUZZ_BUILD)/fuzz-artifacts/$$t.log; echo "fuzz-smoke: $$t failed (log: $(FUZZ_BUILD)/fuzz-artifacts/$$t.log)"; exit 1; }; \
-	  echo "fuzz-smoke: $$t $$(grep -o 'stat::number_of_executed_units: [0-9]*' $(FUZZ_BUILD)/fuzz-artifacts/$$t.log | grep -o '[0-9]*$$') runs in $(FUZZ_SECONDS) s, no crash"; \
+	  runs=$$(grep -o 'stat::number_of_executed_units: [0-9]*' $(FUZZ_BUILD)/fuzz-artifacts/$$t.log | grep -o '[0-9]*$$'); \
+	  if [[ $$budget == -runs=0 ]]; then echo "fuzz-smoke: $$t: seed corpus only ($$runs inputs, no crash; mutation off while its known crashes are open, docs/fuzzing.md)"; \
+	  else echo "fuzz-smoke: $$t: $$runs runs in $(FUZZ_SECONDS) s, no crash"; fi; \
 	done
 
 clean:
