@@ -58,15 +58,19 @@ SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(abspath tests/fuzz/ubsan.supp) \
   LSAN_OPTIONS=suppressions=$(abspath tests/fuzz/lsan.supp):print_suppressions=0
 
+# ccache keys relative to the clone (base_dir, no cwd in the key of -g objects): a fresh clone anywhere on the
+# machine reuses the objects of the last one.
+FUZZ_CCACHE := CCACHE_BASEDIR=$(CURDIR) CCACHE_NOHASHDIR=1
+
 $(FUZZ_BUILD)/build.ninja: CMakeLists.txt | deps
 	@mkdir -p $(FUZZ_BUILD)
-	@cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+	@$(FUZZ_CCACHE) cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo '-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG' \
 	  '-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG' -DGRASPSIM_SANITIZE=ON -DGRASPSIM_FUZZ=ON \
 	  > $(FUZZ_BUILD)/cmake-configure.log 2>&1 || (cat $(FUZZ_BUILD)/cmake-configure.log; exit 1)
 
 build-fuzz: deps $(FUZZ_BUILD)/build.ninja
-	@ninja -C $(FUZZ_BUILD) --quiet graspsim_tests fuzz_targets | sed '/^ninja: no work to do\.$$/d'
+	@$(FUZZ_CCACHE) ninja -C $(FUZZ_BUILD) --quiet graspsim_tests fuzz_targets | sed '/^ninja: no work to do\.$$/d'
 
 test-sanitize: build-fuzz
 	@$(SANITIZER_ENV) ctest --test-dir $(FUZZ_BUILD) --output-on-failure --progress -j2 | tail -n 3
