@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include <absl/synchronization/mutex.h>
 #include <grpcpp/grpcpp.h>
 
 #include "echo.grpc.pb.h"
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);  // as graspsim-server (app/main.cpp)
   EchoService service;
   int port = 0;
   grpc::ServerBuilder builder;

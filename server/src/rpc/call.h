@@ -54,7 +54,7 @@ grpc::ServerUnaryReactor* RunUnary(grpc::CallbackServerContext* context, const c
 }
 
 // A unary call that is a short read of a scene. `try_body` runs on gRPC's thread and returns false, having
-// answered nothing, when it would have to wait for a lock (Scene::TryView, SceneRegistry::TryGet); then `body`
+// answered nothing, when it would have to wait for a lock (Scene::TryRead, SceneRegistry::TryGet); then `body`
 // runs on the pool as in RunUnary. Saves the two thread switches of the pool's hand-off, which cost a cheap read
 // more than its work (tests/bench/run rpc, docs/benchmarks.md).
 template <typename TryBody, typename Body>

@@ -1,6 +1,7 @@
 #include "rpc/scene_service.h"
 
 #include <cmath>
+#include <functional>
 
 #include "core/error.h"
 #include "core/validate.h"
@@ -14,14 +15,27 @@ namespace graspsim::rpc {
 namespace {
 
 // The body an id names for pose reads: an object, a robot (its base body) or any body.
-size_t BodyIndexForRead(const SceneView& view, const std::string& id) {
-  const SceneModel& model = *view.model;
+size_t BodyIndexForRead(const SceneModel& model, const std::string& scene_id, const std::string& id) {
   if (auto robot = model.robot_index.find(id); robot != model.robot_index.end()) {
     return model.body_index.at(model.robots[robot->second].base_body);
   }
   auto body = model.body_index.find(id);
-  if (body == model.body_index.end()) ThrowNotFound("body_ids: no body '" + id + "' in scene '" + view.id + "'");
+  if (body == model.body_index.end()) ThrowNotFound("body_ids: no body '" + id + "' in scene '" + scene_id + "'");
   return body->second;
+}
+
+// A short read of one scene (RunShortRead): in place on gRPC's thread when the registry and the scene are free,
+// else on the pool, waiting for them.
+template <typename Fill>
+grpc::ServerUnaryReactor* ShortSceneRead(grpc::CallbackServerContext* context, const char* method, WorkerPool* pool,
+                                         SceneRegistry* registry, const std::string& scene_id, Fill fill) {
+  return RunShortRead(
+      context, method, pool,
+      [=] {
+        const std::shared_ptr<Scene> scene = registry->TryGet(scene_id);
+        return scene && scene->TryRead(std::cref(fill));  // a reference: no copy of the lambda per call
+      },
+      [=] { registry->Get(scene_id)->Read(std::cref(fill)); });
 }
 
 }  // namespace
@@ -110,29 +124,21 @@ grpc::ServerUnaryReactor* SceneServiceImpl::SetBodyPoses(grpc::CallbackServerCon
 
 grpc::ServerUnaryReactor* SceneServiceImpl::GetBodyPoses(grpc::CallbackServerContext* context, const v1::GetBodyPosesRequest* request,
                                             v1::GetBodyPosesResponse* response) {
-  auto fill = [request, response](const SceneView& view) {
+  const std::string& scene_id = request->scene_id();
+  return ShortSceneRead(context, "GetBodyPoses", pool_, registry_, scene_id,
+                        [request, response, &scene_id](const SceneModel& model, const SceneState& state, uint64_t revision) {
     auto add = [&](const std::string& id, size_t index) {
       auto* entry = response->add_poses();
       entry->set_body_id(id);
-      ToProto(view.state.body_poses[index], entry->mutable_pose());
+      ToProto(state.body_poses[index], entry->mutable_pose());
     };
     if (request->body_ids().empty()) {
-      for (size_t i = 0; i < view.model->bodies.size(); ++i) add(view.model->bodies[i].id, i);
+      for (size_t i = 0; i < model.bodies.size(); ++i) add(model.bodies[i].id, i);
     }
-    for (const auto& id : request->body_ids()) add(id, BodyIndexForRead(view, id));
-    response->set_revision(view.revision);
-    response->set_time(view.state.time);
-  };
-  return RunShortRead(
-      context, "GetBodyPoses", pool_,
-      [=, this] {
-        const std::shared_ptr<Scene> scene = registry_->TryGet(request->scene_id());
-        SceneView view;
-        if (!scene || !scene->TryView(&view)) return false;
-        fill(view);
-        return true;
-      },
-      [=, this] { fill(registry_->Get(request->scene_id())->View()); });
+    for (const auto& id : request->body_ids()) add(id, BodyIndexForRead(model, scene_id, id));
+    response->set_revision(revision);
+    response->set_time(state.time);
+  });
 }
 
 grpc::ServerUnaryReactor* SceneServiceImpl::SetJointPositions(grpc::CallbackServerContext* context,
@@ -149,24 +155,23 @@ grpc::ServerUnaryReactor* SceneServiceImpl::SetJointPositions(grpc::CallbackServ
 grpc::ServerUnaryReactor* SceneServiceImpl::GetJointPositions(grpc::CallbackServerContext* context,
                                                  const v1::GetJointPositionsRequest* request,
                                                  v1::GetJointPositionsResponse* response) {
-  return RunUnary(context, "GetJointPositions", pool_, [=, this] {
-    const SceneView view = registry_->Get(request->scene_id())->View();
+  const std::string& scene_id = request->scene_id();
+  return ShortSceneRead(context, "GetJointPositions", pool_, registry_, scene_id,
+                        [request, response, &scene_id](const SceneModel& model, const SceneState& state, uint64_t revision) {
     auto add = [&](const std::string& id, size_t index) {
       auto* entry = response->add_positions();
       entry->set_joint_id(id);
-      entry->set_position(view.state.joint_positions[index]);
+      entry->set_position(state.joint_positions[index]);
     };
     if (request->joint_ids().empty()) {
-      for (size_t j = 0; j < view.model->joints.size(); ++j) add(view.model->joints[j].id, j);
+      for (size_t j = 0; j < model.joints.size(); ++j) add(model.joints[j].id, j);
     }
     for (const auto& id : request->joint_ids()) {
-      auto it = view.model->joint_index.find(id);
-      if (it == view.model->joint_index.end()) {
-        ThrowNotFound("joint_ids: no joint '" + id + "' in scene '" + view.id + "'");
-      }
+      auto it = model.joint_index.find(id);
+      if (it == model.joint_index.end()) ThrowNotFound("joint_ids: no joint '" + id + "' in scene '" + scene_id + "'");
       add(id, it->second);
     }
-    response->set_revision(view.revision);
+    response->set_revision(revision);
   });
 }
 

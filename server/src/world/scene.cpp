@@ -35,10 +35,15 @@ SceneView Scene::View() const {
   return {id_, name_, revision_, model_, state_, files_};
 }
 
-bool Scene::TryView(SceneView* view) const {
+void Scene::Read(const ReadFn& read) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  read(*model_, state_, revision_);
+}
+
+bool Scene::TryRead(const ReadFn& read) const {
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) return false;
-  *view = {id_, name_, revision_, model_, state_, files_};
+  read(*model_, state_, revision_);
   return true;
 }
 

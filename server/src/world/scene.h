@@ -48,9 +48,14 @@ class Scene {
 
   const std::string& id() const { return id_; }
   SceneView View() const;
-  // The same without waiting: false (and *view untouched) while a writer holds the scene, e.g. during the
+  // A short read in place, under the scene's lock: `read` sees the model, the state and the revision without
+  // the copy a View makes (the state's contacts, bristles and pad forces are hundreds of entries while a hand
+  // holds something). `read` must be quick and must not call back into the scene; what it throws propagates.
+  using ReadFn = std::function<void(const SceneModel& model, const SceneState& state, uint64_t revision)>;
+  void Read(const ReadFn& read) const;
+  // The same without waiting: false (and `read` not called) while a writer holds the scene, e.g. during the
   // journal's commit. For short reads answered on gRPC's own threads, which must never wait.
-  bool TryView(SceneView* view) const;
+  bool TryRead(const ReadFn& read) const;
   uint64_t revision() const;
   SnapshotHub& snapshots() { return hub_; }
 

@@ -1,4 +1,4 @@
-// Scene::TryView and SceneRegistry::TryGet, the no-wait reads that short calls make on gRPC's own threads
+// Scene::TryRead and SceneRegistry::TryGet, the no-wait reads that short calls make on gRPC's own threads
 // (rpc/call.h RunShortRead): they give up while a writer holds the lock — here a journal commit held open —
 // and read the same as View / Get otherwise.
 #include <condition_variable>
@@ -79,26 +79,39 @@ TEST(SceneTryView, GivesUpWhileAWriterCommitsAndReadsLikeViewOtherwise) {
   op.kind = "AddObject";  // the journal here stores nothing; a model edit only needs to say what it was
   scene->AddObject(Ball("ball"), At(0.1), &op);
 
-  SceneView view;
-  ASSERT_TRUE(scene->TryView(&view));
+  // What a read sees in place: the revision and a body's position.
+  struct Seen {
+    uint64_t revision = 12345;
+    double x = -1;
+  };
+  auto read_into = [](Seen* seen) {
+    return [seen](const SceneModel&, const SceneState& state, uint64_t revision) {
+      seen->revision = revision;
+      seen->x = state.body_poses[0].position.x();
+    };
+  };
+  Seen seen;
+  ASSERT_TRUE(scene->TryRead(read_into(&seen)));
   const SceneView reference = scene->View();
-  EXPECT_EQ(view.revision, reference.revision);
-  EXPECT_EQ(view.state.body_poses[0].position, reference.state.body_poses[0].position);
+  EXPECT_EQ(seen.revision, reference.revision);
+  EXPECT_DOUBLE_EQ(seen.x, reference.state.body_poses[0].position.x());
 
   journal.Arm();
   auto writer = std::async(std::launch::async, [&] { return scene->SetBodyPoses({{"ball", At(0.2)}}); });
   journal.WaitEntered();
-  SceneView during;
-  during.revision = 12345;
-  EXPECT_FALSE(scene->TryView(&during));
-  EXPECT_EQ(during.revision, 12345u);  // untouched
+  Seen during;
+  EXPECT_FALSE(scene->TryRead(read_into(&during)));
+  EXPECT_EQ(during.revision, 12345u);  // not called
   EXPECT_TRUE(registry.TryGet(scene->id()) != nullptr);  // the registry itself is free
   journal.Release();
   const uint64_t revision = writer.get();
 
-  ASSERT_TRUE(scene->TryView(&view));
-  EXPECT_EQ(view.revision, revision);
-  EXPECT_DOUBLE_EQ(view.state.body_poses[0].position.x(), 0.2);
+  ASSERT_TRUE(scene->TryRead(read_into(&seen)));
+  EXPECT_EQ(seen.revision, revision);
+  EXPECT_DOUBLE_EQ(seen.x, 0.2);
+  Seen waited;
+  scene->Read(read_into(&waited));
+  EXPECT_EQ(waited.revision, revision);
 }
 
 TEST(SceneTryView, RegistryGivesUpWhileASceneIsCreatedAndNamesUnknownIds) {
