@@ -116,3 +116,17 @@ def test_triangle_and_body_limits(start_server):
         c.remove_body(sid, "second")
         assert_rejected(c, sid, EXHAUSTED, ["2"], lambda: c.add_robot(sid, "pg70", builtin="schunk_pg70"))
         c.add_object(sid, "third", sphere=0.05, mass=0.1)
+
+
+REGRESSIONS = __import__("pathlib").Path(__file__).resolve().parents[1] / "fuzz" / "regressions"
+
+
+@pytest.mark.parametrize("name", ["mesh_ply_unterminated_header", "mesh_ply_face_count_abort"])
+def test_mesh_file_that_crashes_the_parser(client, world, name):
+    """Files on which Assimp itself crashes or aborts (found by tests/fuzz/mesh_fuzz.cpp; the first byte of the
+    fuzz input picked the extension): the request fails naming the file, the server and the scene go on."""
+    data = (REGRESSIONS / name).read_bytes()[1:]
+    client.upload_file(world, "hostile.ply", data)
+    assert_rejected(client, world, IA, ["geometry.mesh_file", "hostile.ply", "could not be parsed"],
+                    lambda: client.add_object(world, "new", mesh_file="hostile.ply", mass=1.0, inertia=UNIT_INERTIA))
+    assert client.get_body_poses(world)  # still serving

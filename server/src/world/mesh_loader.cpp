@@ -1,4 +1,5 @@
-// Mesh files → TriangleMesh with Assimp, read from memory (uploads never touch the disk).
+// Mesh files → TriangleMesh with Assimp, read from memory (uploads never touch the disk). This runs in
+// graspsim-mesh-import, never in the server (world/mesh_import.h says why).
 //
 // Conventions, chosen to match what ROS tools (RViz, MoveIt's geometric_shapes) do with the same files:
 // - COLLADA <unit meter="..."> is honoured: Assimp 5.2 folds it into the root node's transform, so a DAE drawn in
@@ -25,6 +26,7 @@
 #include "core/error.h"
 #include "core/validate.h"
 #include "world/loaders.h"
+#include "world/mesh_import.h"
 
 namespace graspsim {
 namespace {
@@ -96,8 +98,8 @@ void AppendInstance(const MeshInstance& instance, const Vec3& scale, TriangleMes
 
 }  // namespace
 
-TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std::string_view bytes,
-                          const Vec3& scale, const Limits& limits) {
+void CheckMeshFileRequest(const std::string& field, const std::string& path, std::string_view bytes,
+                          const Vec3& scale) {
   const std::string extension = LowerCaseExtension(path);
   if (std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), extension) ==
       kSupportedExtensions.end()) {
@@ -109,6 +111,12 @@ TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std
     ThrowInvalidArgument(field + ": scale of mesh file '" + path + "' has a zero component");
   }
   if (bytes.empty()) ThrowInvalidArgument(field + ": mesh file '" + path + "' is empty");
+}
+
+TriangleMesh ImportMeshInProcess(const std::string& field, const std::string& path, std::string_view bytes,
+                                 const Vec3& scale, const Limits& limits) {
+  CheckMeshFileRequest(field, path, bytes, scale);
+  const std::string extension = LowerCaseExtension(path);
 
   // No DefaultLogger is created, so Assimp logs nowhere (its NullLogger) and never writes to stdout.
   Assimp::Importer importer;
