@@ -75,5 +75,13 @@ TEST(AuthRoleTable, WritesNeedScripterAndSceneOwnership) {
   EXPECT_EQ(table.at("/graspsim.v1.AuthService/RevokeToken").role, Role::kAdmin);
 }
 
+TEST(AuthRoleTable, HardwareCommandsAreAllInGatewayService) {
+  // With tokens off the interceptor is created only for GatewayService and AuthService calls (grpc_auth.cpp):
+  // a device grant anywhere else would go unlogged there.
+  for (const auto& [method, rule] : RoleTable()) {
+    if (rule.device_grant) EXPECT_TRUE(method.starts_with("/graspsim.v1.GatewayService/")) << method;
+  }
+}
+
 }  // namespace
 }  // namespace graspsim::auth
