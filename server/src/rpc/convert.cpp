@@ -80,8 +80,9 @@ TriangleMesh MeshFromProto(const std::string& field, const v1::MeshData& mesh, c
   TriangleMesh out;
   out.vertices.resize(vertices.size() / 12);
   out.triangles.resize(triangles.size() / 12);
-  std::memcpy(out.vertices.data(), vertices.data(), vertices.size());
-  std::memcpy(out.triangles.data(), triangles.data(), triangles.size());
+  // Empty arrays have no data pointer to copy to (memcpy with nullptr is undefined even for 0 bytes).
+  if (!vertices.empty()) std::memcpy(out.vertices.data(), vertices.data(), vertices.size());
+  if (!triangles.empty()) std::memcpy(out.triangles.data(), triangles.data(), triangles.size());
   ValidateMesh(out, field, limits.max_triangles_per_mesh);
   return out;
 }

@@ -162,7 +162,7 @@ void ServeFeed(std::unique_ptr<FeedTicket> ticket, double max_seconds, httplib::
 template <typename T>
 std::vector<T> Unpack(const std::string& bytes) {
   std::vector<T> values(bytes.size() / sizeof(T));
-  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+  if (!values.empty()) std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));  // no nullptr to memcpy
   return values;
 }
 
