@@ -162,7 +162,8 @@ TEST(UrdfLoaderTest, CollisionGeometryAllElementsKept) {
 }
 
 TEST(UrdfLoaderTest, FrameOnlyLinkGetsOneGram) {
-  const Inertial& lower = LoadUrdf(kArm, nullptr, Limits()).links[2].inertial;
+  const RobotDescription arm = LoadUrdf(kArm, nullptr, Limits());  // a reference into the temporary dangled (ASan)
+  const Inertial& lower = arm.links[2].inertial;
   EXPECT_EQ(lower.mass, 1e-3);
   EXPECT_GT(lower.inertia.diagonal().minCoeff(), 0);
 }
