@@ -1,10 +1,8 @@
-// Mesh loading (world/loaders.h LoadMeshFile: Assimp's STL, OBJ, PLY and COLLADA importers and graspsim's checks),
-// as an uploaded mesh file or an inline Geometry.mesh_file reaches it. The first byte picks the extension (the
-// loader takes the format from it), the rest is the file. A mesh that loads must be a valid mesh.
-// Assimp 5.2.5 itself crashes, aborts and runs out of memory on small hostile files (docs/fuzzing.md, "Found";
-// tests/fuzz/regressions/mesh_*): until LoadMeshFile no longer runs Assimp on untrusted bytes in the server's
-// process, `make fuzz-smoke` runs this target over its seed corpus only, and a longer run needs
-// -fork=1 -ignore_crashes=1 to get past them.
+// Mesh loading as the server does it (world/loaders.h LoadMeshFile): the file is parsed by Assimp (STL, OBJ, PLY,
+// COLLADA) in a child process, graspsim-mesh-import (world/mesh_import.h), found beside this binary. The first
+// byte picks the extension (the loader takes the format from it), the rest is the file. Whatever the child does
+// (crash, abort, run out of memory or time), LoadMeshFile must answer a valid mesh or an Error; a mesh that
+// loads must pass ValidateMesh. Assimp's own crashes are hunted in-process by assimp_fuzz.
 #include "core/mesh.h"
 #include "fuzz_common.h"
 #include "world/loaders.h"
