@@ -44,7 +44,7 @@ test-python: build python
 test-matlab: build
 	@GRASPSIM_SERVER=$(abspath $(SERVER)) tests/matlab/run.sh
 
-test: test-cpp test-python test-matlab
+test: test-cpp test-python test-matlab test-sanitize fuzz-smoke
 
 # Bad input (issue 11, docs/fuzzing.md): one clang build in $(FUZZ_BUILD) holds the ASan + UBSan build of the C++
 # tests and the libFuzzer targets of tests/fuzz.
@@ -61,19 +61,15 @@ SANITIZER_ENV := ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$(abspath tests/fuzz/ubsan.supp) \
   LSAN_OPTIONS=suppressions=$(abspath tests/fuzz/lsan.supp):print_suppressions=0
 
-# ccache keys relative to the clone (base_dir, no cwd in the key of -g objects): a fresh clone anywhere on the
-# machine reuses the objects of the last one.
-FUZZ_CCACHE := CCACHE_BASEDIR=$(CURDIR) CCACHE_NOHASHDIR=1
-
 $(FUZZ_BUILD)/build.ninja: CMakeLists.txt | deps
 	@mkdir -p $(FUZZ_BUILD)
-	@$(FUZZ_CCACHE) cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+	@cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo '-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG' \
 	  '-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG' -DGRASPSIM_SANITIZE=ON -DGRASPSIM_FUZZ=ON \
 	  > $(FUZZ_BUILD)/cmake-configure.log 2>&1 || (cat $(FUZZ_BUILD)/cmake-configure.log; exit 1)
 
 build-fuzz: deps $(FUZZ_BUILD)/build.ninja
-	@$(FUZZ_CCACHE) ninja -C $(FUZZ_BUILD) --quiet graspsim_tests fuzz_targets | sed '/^ninja: no work to do\.$$/d'
+	@ninja -C $(FUZZ_BUILD) --quiet graspsim_tests fuzz_targets | sed '/^ninja: no work to do\.$$/d'
 
 # Left out while the bug its sanitizer report shows is open (docs/fuzzing.md, "Found"); never silently:
 # ConvertMesh.EveryMalformedMeshIsRejected: memcpy(nullptr, ..., 0) in rpc/convert.cpp MeshFromProto (empty mesh).
@@ -86,7 +82,10 @@ test-sanitize: build-fuzz
 	@echo "test-sanitize: left out while open: $(SANITIZE_EXCLUDE) (docs/fuzzing.md)"
 	@if [[ -n '$(SANITIZE_SLOW)' ]]; then echo "test-sanitize: left out for time (run with SANITIZE_SLOW= to include): $(SANITIZE_SLOW)"; fi
 	@$(SANITIZER_ENV) ctest --test-dir $(FUZZ_BUILD) --output-on-failure --progress -j2 \
-	  -E '$(SANITIZE_EXCLUDE)$(if $(SANITIZE_SLOW),|$(SANITIZE_SLOW))' | tail -n 3
+	  -E '$(SANITIZE_EXCLUDE)$(if $(SANITIZE_SLOW),|$(SANITIZE_SLOW))' > $(FUZZ_BUILD)/test-sanitize.log 2>&1 \
+	  || { grep -E -B2 -A40 'ERROR: (Address|Leak)Sanitizer|runtime error|\[  FAILED  \]' $(FUZZ_BUILD)/test-sanitize.log | head -n 150; \
+	       tail -n 20 $(FUZZ_BUILD)/test-sanitize.log; echo "test-sanitize failed (log: $(FUZZ_BUILD)/test-sanitize.log)"; exit 1; }
+	@tail -n 3 $(FUZZ_BUILD)/test-sanitize.log
 
 # Each target for FUZZ_SECONDS over its seed corpus, with a fixed seed; new inputs go to a scratch corpus in the
 # build tree (emptied first, so every run starts alike), crashes to $(FUZZ_BUILD)/fuzz-artifacts/.
@@ -106,4 +105,4 @@ fuzz-smoke: build-fuzz
 	done
 
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(FUZZ_BUILD)
