@@ -85,7 +85,7 @@ test-sanitize: build-fuzz
 	  -E '$(SANITIZE_EXCLUDE)$(if $(SANITIZE_SLOW),|$(SANITIZE_SLOW))' > $(FUZZ_BUILD)/test-sanitize.log 2>&1 \
 	  || { grep -E -B2 -A40 'ERROR: (Address|Leak)Sanitizer|runtime error|\[  FAILED  \]' $(FUZZ_BUILD)/test-sanitize.log | head -n 150; \
 	       tail -n 20 $(FUZZ_BUILD)/test-sanitize.log; echo "test-sanitize failed (log: $(FUZZ_BUILD)/test-sanitize.log)"; exit 1; }
-	@tail -n 3 $(FUZZ_BUILD)/test-sanitize.log
+	@grep -E '^[0-9]+% tests passed|^Total Test time' $(FUZZ_BUILD)/test-sanitize.log
 
 # Each target for FUZZ_SECONDS over its seed corpus, with a fixed seed; new inputs go to a scratch corpus in the
 # build tree (emptied first, so every run starts alike), crashes to $(FUZZ_BUILD)/fuzz-artifacts/.
