@@ -17,19 +17,9 @@
 
 namespace {
 
-// KNOWN OPEN (docs/fuzzing.md, "Found"): PointsFromBytes and ImageFromProto call memcpy with a null destination
-// for an empty cloud or an empty depth (an empty vector's data()), which UBSan stops on
-// (tests/fuzz/regressions/perception_empty_cloud). Until they skip the copy of nothing, the target skips these
-// inputs so it can look for the next bug; remove this filter with that fix.
-bool KnownOpenEmpty(const graspsim::v1::CompleteShapeRequest& request) {
-  return (request.input_case() == graspsim::v1::CompleteShapeRequest::kCloud && request.cloud().points().empty()) ||
-         (request.input_case() == graspsim::v1::CompleteShapeRequest::kDepthImage && request.depth_image().depth().empty());
-}
-
 void CompleteShape(const uint8_t* data, size_t size, const graspsim::Limits& limits) {
   graspsim::v1::CompleteShapeRequest request;
   if (!request.ParseFromArray(data, int(size))) return;
-  if (KnownOpenEmpty(request)) return;
   graspsim::fuzz::Rejects([&] {
     graspsim::rpc::OptionsFromProto(request, limits);
     const graspsim::PartialView view = graspsim::rpc::ViewFromProto(request, limits);
@@ -44,7 +34,6 @@ void CompleteShape(const uint8_t* data, size_t size, const graspsim::Limits& lim
 void SegmentScene(const uint8_t* data, size_t size, const graspsim::Limits& limits) {
   graspsim::v1::SegmentSceneRequest request;
   if (!request.ParseFromArray(data, int(size))) return;
-  if (request.cloud().points().empty()) return;  // KNOWN OPEN, as KnownOpenEmpty above
   graspsim::fuzz::Rejects([&] {
     // As PerceptionServiceImpl::SegmentScene maps them.
     graspsim::SegmentationParams params;

@@ -35,7 +35,7 @@ std::vector<Vec3> PointsFromBytes(const std::string& field, const std::string& b
   }
   std::vector<Vec3> points(n);
   std::vector<float> raw(3 * n);
-  std::memcpy(raw.data(), bytes.data(), bytes.size());
+  if (!raw.empty()) std::memcpy(raw.data(), bytes.data(), bytes.size());  // no memcpy to an empty vector's nullptr
   for (size_t i = 0; i < n; ++i) points[i] = Vec3(raw[3 * i], raw[3 * i + 1], raw[3 * i + 2]);
   return points;
 }
@@ -56,7 +56,7 @@ DepthImage ImageFromProto(const v1::DepthImage& in, size_t max_points) {
                          "of float32 values");
   }
   image.depth.resize(in.depth().size() / 4);
-  std::memcpy(image.depth.data(), in.depth().data(), in.depth().size());
+  if (!image.depth.empty()) std::memcpy(image.depth.data(), in.depth().data(), in.depth().size());
   image.mask.assign(in.mask().begin(), in.mask().end());
   return image;
 }

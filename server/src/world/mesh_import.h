@@ -3,8 +3,8 @@
 // Why: Assimp 5.2 crashes (SEGV), aborts (ai_assert) and allocates gigabytes on hostile files of a few hundred
 // bytes (tests/fuzz/regressions/mesh_*, docs/fuzzing.md), and a mesh file is whatever a client uploads. In a
 // child such a file costs only the child: the request answers INVALID_ARGUMENT naming the file, and the server
-// and every scene go on. The child runs under an address-space and a CPU-time limit. The price is one
-// posix_spawn and Assimp's start-up per file (a few ms; parsing a 200k-triangle STL takes ~0.3 s).
+// and every scene go on. The child runs under an address-space limit and a deadline (10 s + 1 s per MiB).
+// The price is one posix_spawn and Assimp's start-up per file (a few ms; a 200k-triangle STL parses in ~0.3 s).
 // LoadMeshFile (world/loaders.h) is the one entry point for the rest of the server.
 #pragma once
 

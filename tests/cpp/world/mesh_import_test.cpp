@@ -45,7 +45,7 @@ TEST_P(HostileMeshFile, IsAnErrorNamingTheFileNotACrash) {
 
 INSTANTIATE_TEST_SUITE_P(FuzzRegressions, HostileMeshFile,
                          testing::Values("mesh_ply_unterminated_header", "mesh_ply_face_count_abort",
-                                         "mesh_dae_oom"));
+                                         "mesh_dae_oom", "mesh_ply_cpu_spin"));
 
 TEST(MeshImport, ParserErrorsKeepTheirCodeAndMessage) {
   // An unsupported extension is refused before a child starts; a file the parser rejects comes back as its
