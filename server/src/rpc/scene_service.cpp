@@ -76,7 +76,7 @@ grpc::ServerReadReactor<v1::UploadFileChunk>* SceneServiceImpl::UploadFile(grpc:
 
 grpc::ServerUnaryReactor* SceneServiceImpl::ListBuiltinModels(grpc::CallbackServerContext* context, const v1::ListBuiltinModelsRequest*,
                                                  v1::ListBuiltinModelsResponse* response) {
-  return RunUnary(context, "ListBuiltinModels", pool_, [=, this] {
+  return RunUnary(context, "ListBuiltinModels", pool_, [response] {
     for (const auto& info : BuiltinModels()) {
       auto* model = response->add_models();
       model->set_name(info.name);
