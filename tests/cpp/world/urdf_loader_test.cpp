@@ -239,6 +239,16 @@ TEST(UrdfLoaderTest, RejectsMalformedXmlWithItsLine) {
   ExpectInvalid("<model name=\"r\"/>", {"<robot>"});
 }
 
+TEST(UrdfLoaderTest, RejectsTextThatIsNotUtf8BeforeTinyXmlReadsPastItsEnd) {
+  // The fuzz input that made TinyXML read past the string (tests/fuzz/regressions/urdf_tinyxml_read_past_end)
+  // ends in "\xd6\xd6...": lead bytes of two-byte sequences without their continuation.
+  ExpectInvalid("<robot name=\"r\"><link name=\"a\xd6\xd6\xd6\"/></robot>", {"urdf", "not UTF-8", "byte 29"});
+  ExpectInvalid(std::string("<robot name=\"r\">\0</robot>", 24), {"NUL", "byte 16"});
+  ExpectInvalid("<robot name=\"r\xe2\x82\"/>", {"not UTF-8", "byte 14"});  // cut short at the end
+  // Well-formed multi-byte text passes the check (and fails later only for what it says).
+  ExpectInvalid("<robot name=\"r\xc3\xa9\">\n  <link name=\"a\">\n</robot>", {"XML error", "line 3"});
+}
+
 TEST(UrdfLoaderTest, RejectsMissingParentLink) {
   ExpectInvalid(Robot(Link("a") + Joint("j", "fixed", "ghost", "a")), {"'j'", "'ghost'"});
 }
