@@ -27,6 +27,7 @@
 #include "core/limits.h"
 #include "motion/exact_checker.h"
 #include "motion/planner.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 #include "world/scene.h"
 

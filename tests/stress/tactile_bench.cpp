@@ -36,6 +36,7 @@
 #include "sensors/readings.h"
 #include "stress/sweep.h"
 #include "workcycle/work_cycle.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 #include "world/scene.h"
 

@@ -13,8 +13,10 @@ completed mesh joins a table scene as an object, and the PG70's grasp set is pla
 grasp_planning.py does all three hands on the true cube and draws them). Last, the hardware gateway
 with emulated grippers (examples/hardware_gateway.py): commands through the server, an e-stop, and a PG70 move
 beside its simulated twin with the surprise. Last, a KUKA KR 5 with the PG70 picks the completed cube up and
-puts it 25 cm away, planned and executed in the dynamic simulation (examples/pick_and_place.py). Exits non-zero
-on any error.
+puts it 25 cm away, planned and executed in the dynamic simulation (examples/pick_and_place.py). And when the
+`pybullet` package is installed, a robot nobody here wrote: pybullet_data's Franka Panda loaded from its URDF by
+path (its meshes uploaded by the client), with the repairs the server made (docs/import.md). Exits non-zero on
+any error.
 
     python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080 [--out DIR]
 """
@@ -203,6 +205,26 @@ def pick_and_place_completed(client: graspsim.Client, scene_id: str) -> None:
     client.delete_scene(scene_id)
 
 
+def load_public_robot(client) -> None:
+    """pybullet_data's Franka Panda by path, beside the built-ins, when the pybullet wheel is installed."""
+    try:
+        import pybullet_data
+    except ImportError:
+        print("\npublic robot files: pybullet not installed (pip install pybullet), skipped")
+        return
+    path = Path(pybullet_data.getDataPath()) / "franka_panda" / "panda.urdf"
+    scene_id = client.create_scene("public-robot").id
+    reply = client.add_robot(scene_id, "panda", path=str(path))
+    mass = sum(body.inertial.mass for body in reply.bodies)
+    print(f"\npublic robot file {path.name} (pybullet_data) loaded by path: {len(reply.bodies)} links, "
+          f"{len(reply.joints)} joints, {mass:.2f} kg; {len(reply.warnings)} repair(s):")
+    for warning in reply.warnings:
+        print(f"  {warning.element} = {warning.value}: {warning.action}")
+    hand = client.get_body_poses(scene_id, ["panda/panda_hand"])["panda/panda_hand"]
+    print(f"  panda_hand at {format_pose(hand)} with every joint at 0")
+    client.delete_scene(scene_id)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--server", default="127.0.0.1:50051", help="host:port of graspsim-server")
@@ -230,6 +252,7 @@ def main(argv=None) -> int:
             completed_scene = plan_grasps(client)
             hardware_gateway.demo(client, args.server)
             pick_and_place_completed(client, completed_scene)
+            load_public_robot(client)
     except (graspsim.GraspsimError, OSError) as err:
         print(f"demo failed: {err}", file=sys.stderr)
         return 1

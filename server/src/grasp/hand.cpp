@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/limits.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 
 namespace graspsim::grasp {

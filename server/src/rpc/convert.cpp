@@ -38,6 +38,27 @@ Inertial InertialFromProto(const std::string& field, const v1::Inertial& inertia
   return out;
 }
 
+ImportOptions ImportOptionsFromProto(const std::string& field, const v1::ImportOptions& options) {
+  ImportOptions out;
+  switch (options.inertia()) {
+    case v1::INERTIA_SOURCE_AUTO: out.inertia = InertiaSource::kAuto; break;
+    case v1::INERTIA_SOURCE_FROM_FILE: out.inertia = InertiaSource::kFromFile; break;
+    case v1::INERTIA_SOURCE_FROM_GEOMETRY: out.inertia = InertiaSource::kFromGeometry; break;
+    default: ThrowInvalidArgument(field + ".inertia: " + std::to_string(options.inertia()) + " is not an InertiaSource");
+  }
+  CheckNonNegative(field + ".density", options.density());
+  if (options.density() > 0) out.density = options.density();
+  out.strict = options.strict();
+  out.model_name = options.model_name();
+  return out;
+}
+
+void ToProto(const ImportWarning& warning, v1::ImportWarning* out) {
+  out->set_element(warning.element);
+  out->set_value(warning.value);
+  out->set_action(warning.action);
+}
+
 Material MaterialFromProto(const std::string& field, const v1::Material& material, const Material& base) {
   Material out = base;
   if (material.has_static_friction()) out.static_friction = material.static_friction();

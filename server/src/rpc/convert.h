@@ -6,6 +6,7 @@
 
 #include "graspsim/v1/common.pb.h"
 #include "graspsim/v1/scene.pb.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 #include "world/scene.h"
 
@@ -21,6 +22,10 @@ TriangleMesh MeshFromProto(const std::string& field, const v1::MeshData& mesh, c
 // Loads mesh_file geometry from the scene's files.
 Geometry GeometryFromProto(const std::string& field, const v1::Geometry& geometry, const FileLookup& files,
                            const Limits& limits);
+
+// Robot and object import options (docs/import.md); density 0 = 1000 kg/m^3.
+ImportOptions ImportOptionsFromProto(const std::string& field, const v1::ImportOptions& options);
+void ToProto(const ImportWarning& warning, v1::ImportWarning* out);
 
 void ToProto(const Vec3& v, v1::Vec3* out);
 void ToProto(const Pose& pose, v1::Pose* out);

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/validate.h"
 #include "physics/simulation.h"
+#include "import/robot_import.h"
 #include "rpc/convert.h"
 
 namespace graspsim::rpc {
@@ -45,14 +46,19 @@ void AddObjectFromRequest(Scene* scene, const v1::AddObjectRequest& request, con
                           v1::Body* response) {
   CheckName("name", request.name());
   const Pose pose = PoseFromProto("pose", request.pose());
+  const ImportOptions options = ImportOptionsFromProto("import_options", request.import_options());
   BodySpec body;
   body.id = request.name();
   body.motion = request.is_static() ? BodyMotion::kStatic : BodyMotion::kFree;
+  std::vector<ImportWarning> warnings;
   switch (request.source_case()) {
     case v1::AddObjectRequest::kGeometry: {
-      if (!request.has_inertial()) ThrowInvalidArgument("inertial: required when the object is given by geometry");
       const auto files = scene->Files();  // meshes are parsed outside the scene's lock
       body.collision.push_back(GeometryFromProto("geometry", request.geometry(), LookupIn(files), limits));
+      // A static body never moves: it needs no mass.
+      if (!request.has_inertial() && !request.is_static()) {
+        body.inertial = ObjectInertialFromGeometry("inertial", body.collision, options, &warnings);
+      }
       break;
     }
     case v1::AddObjectRequest::kBuiltin: {
@@ -70,13 +76,16 @@ void AddObjectFromRequest(Scene* scene, const v1::AddObjectRequest& request, con
   if (request.has_material()) body.material = MaterialFromProto("material", request.material(), body.material);
   const SceneOp op = OpOf("AddObject", request);
   const BodySpec added = scene->AddObject(std::move(body), pose, &op);
-  if (response) ToProto(added, pose, false, response);
+  if (!response) return;
+  ToProto(added, pose, false, response);
+  for (const ImportWarning& warning : warnings) ToProto(warning, response->add_warnings());
 }
 
 void AddRobotFromRequest(Scene* scene, const v1::AddRobotRequest& request, const Limits& limits,
                          v1::AddRobotResponse* response) {
   CheckName("name", request.name());
   const Pose base_pose = PoseFromProto("base_pose", request.base_pose());
+  const ImportOptions options = ImportOptionsFromProto("import_options", request.import_options());
   auto files = scene->Files();
   for (int i = 0; i < request.files_size(); ++i) {
     const auto& file = request.files(i);
@@ -84,21 +93,29 @@ void AddRobotFromRequest(Scene* scene, const v1::AddRobotRequest& request, const
     files[file.path()] = {std::make_shared<const std::string>(file.data()), ""};
   }
   std::string source;
-  RobotDescription description;
+  ImportedRobot imported;
   switch (request.source_case()) {
     case v1::AddRobotRequest::kUrdf:
       source = "urdf";
-      description = LoadUrdf(request.urdf(), LookupIn(files), limits);
+      imported = ImportUrdf(request.urdf(), LookupIn(files), options, limits);
+      break;
+    case v1::AddRobotRequest::kMjcf:
+      source = "mjcf";
+      imported = ImportMjcf(request.mjcf(), LookupIn(files), options, limits);
+      break;
+    case v1::AddRobotRequest::kSdf:
+      source = "sdf";
+      imported = ImportSdf(request.sdf(), LookupIn(files), options, limits);
       break;
     case v1::AddRobotRequest::kBuiltin:
       source = "builtin:" + FindBuiltin(request.builtin(), "robot").name;
-      description = LoadUrdf(BuiltinModelUrdf(request.builtin()), LookupIn(files), limits);
+      imported.description = LoadUrdf(BuiltinModelUrdf(request.builtin()), LookupIn(files), limits);
       break;
     case v1::AddRobotRequest::SOURCE_NOT_SET:
-      ThrowInvalidArgument("source: give urdf or builtin");
+      ThrowInvalidArgument("source: give urdf, mjcf, sdf or builtin");
   }
   const SceneOp op = OpOf("AddRobot", request);
-  const AddedRobot added = scene->AddRobot(request.name(), source, description, base_pose, &op);
+  const AddedRobot added = scene->AddRobot(request.name(), source, imported.description, base_pose, &op);
   if (!response) return;
   // Report the placed links as the scene holds them now.
   const SceneView view = scene->View();
@@ -110,6 +127,7 @@ void AddRobotFromRequest(Scene* scene, const v1::AddRobotRequest& request, const
     ToProto(joint, view.state.joint_positions[view.model->joint_index.at(joint.id)], response->add_joints());
   }
   for (const auto& pad : added.tactile_arrays) ToProto(pad, response->add_tactile_arrays());
+  for (const ImportWarning& warning : imported.warnings) ToProto(warning, response->add_warnings());
 }
 
 std::vector<std::string> RemoveBodyFromRequest(Scene* scene, const v1::RemoveBodyRequest& request) {

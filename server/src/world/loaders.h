@@ -1,6 +1,6 @@
-// Turning files into models: URDF (urdfdom) and mesh files (Assimp: STL, OBJ, PLY, DAE), and the built-in
-// model library (server/models, compiled into the binary). Every loader validates what it reads and throws
-// Error(kInvalidArgument) naming the field, the file and the problem; it never returns half a model.
+// Turning files into models: mesh files (Assimp: STL, OBJ, PLY, DAE) and the built-in model library (server/models,
+// compiled into the binary); robot formats are in import/robot_import.h. Every loader validates what it reads and
+// throws Error(kInvalidArgument) naming the field, the file and the problem; it never returns half a model.
 #pragma once
 
 #include <functional>
@@ -24,14 +24,6 @@ using FileLookup = std::function<const std::string*(const std::string& path)>;
 TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std::string_view bytes,
                           const Vec3& scale, const Limits& limits);
 
-// Parses URDF text into a RobotDescription: links with collision geometry (boxes, spheres, cylinders, meshes
-// from `files`; "package://pkg/" and "file://" prefixes are stripped before the lookup), inertials, joints
-// (revolute, continuous, prismatic, fixed; floating and planar are rejected), mimic joints, and graspsim's
-// <tactile_array> extension elements. Rejects text that does not parse, joint cycles, missing parents,
-// missing mesh files, non-positive masses, inertias that are not positive definite, NaN/Inf.
-// A link without <inertial> gets a mass of 1e-3 kg (URDF's convention for massless links in simulators) only
-// when it has no collision geometry; otherwise it is an error naming the link.
-RobotDescription LoadUrdf(const std::string& urdf_text, const FileLookup& files, const Limits& limits);
 
 struct BuiltinModelInfo {
   std::string name;         // "schunk_pg70", "table", "cube_5cm"

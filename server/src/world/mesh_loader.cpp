@@ -88,7 +88,10 @@ void AppendInstance(const MeshInstance& instance, const Vec3& scale, TriangleMes
   const bool mirrored = instance.to_root.Determinant() * scale.prod() < 0;
   for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
     const aiFace& face = mesh.mFaces[f];
-    if (face.mNumIndices != 3) continue;
+    if (face.mNumIndices != 3 || face.mIndices[0] >= mesh.mNumVertices || face.mIndices[1] >= mesh.mNumVertices ||
+        face.mIndices[2] >= mesh.mNumVertices) {
+      continue;
+    }
     std::array<uint32_t, 3> triangle = {first_vertex + face.mIndices[0], first_vertex + face.mIndices[1],
                                         first_vertex + face.mIndices[2]};
     if (mirrored) std::swap(triangle[1], triangle[2]);
@@ -126,6 +129,14 @@ TriangleMesh ImportMeshInProcess(const std::string& field, const std::string& pa
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                          aiProcess_ValidateDataStructure;  // rejects out-of-range indices of hostile files
   const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, extension.c_str());
+  // Assimp's OBJ reader marks a mesh with line elements as triangles only, which its own validation then refuses
+  // (pybullet_data's samurai_monastry.obj). Without the validation step, SortByPType drops the lines and
+  // AppendInstance skips any face index outside its mesh.
+  if (scene == nullptr && (std::string(importer.GetErrorString()).find("LINE but") != std::string::npos ||
+                           std::string(importer.GetErrorString()).find("POINT but") != std::string::npos)) {
+    scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags & ~aiProcess_ValidateDataStructure,
+                                        extension.c_str());
+  }
   if (scene == nullptr || scene->mRootNode == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
     // Assimp names a file read from memory "$$$___magic___$$$.<ext>"; the client knows it by its path.
     std::string reason = importer.GetErrorString();

@@ -16,6 +16,7 @@
 #include "drivers/robotiq/robotiq_gripper.h"
 #include "gateway/simulated_gripper.h"
 #include "test_bodies.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 #include "world/scene.h"
 

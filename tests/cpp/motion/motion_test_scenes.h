@@ -8,6 +8,7 @@
 #include "collision/tessellation.h"
 #include "core/limits.h"
 #include "motion/arm.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 #include "world/scene.h"
 

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "import/robot_import.h"
 #include "world/loaders.h"
 #include "world/scene.h"
 

@@ -12,6 +12,7 @@
 
 #include "test_bodies.h"
 #include "test_util.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 #include "world/scene.h"
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 
 namespace graspsim {

@@ -1,6 +1,7 @@
 // URDF text → RobotDescription, with urdfdom for the standard elements and TinyXML for what urdfdom does not
 // report well: XML syntax errors (line and column), the shape of the kinematic tree (urdfdom silently keeps the
 // last of two parents and only says "not a valid tree" for a cycle), and graspsim's <tactile_array> elements.
+// Unless strict, the document is repaired first (urdf_repairs.h) and the inertials resolved (loader_common.h).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -21,23 +22,24 @@
 #include "core/format.h"
 #include "core/log.h"
 #include "core/validate.h"
-#include "world/loaders.h"
+#include "import/loader_common.h"
+#include "import/robot_import.h"
+#include "import/urdf_repairs.h"
 
 namespace graspsim {
 namespace {
 
-// A link with neither inertial nor geometry is a frame (a tool point, a mounting flange). It gets the contract's
-// 1 g and the inertia of a 1 g solid sphere of 1 cm radius, 2/5 m r^2, so the body stays integrable.
-constexpr double kFrameLinkMass = 1e-3;                            // kg
-constexpr double kFrameLinkInertia = 0.4 * kFrameLinkMass * 1e-4;  // kg m^2
+using import::FileInertial;
+using import::FileInertials;
+using import::MeshFiles;
+using import::Quoted;
+
 // Mesh cells per texel edge: 16 gives 256 elements per texel, far finer than any foam's resolution.
 constexpr unsigned kMaxSubdivision = 16;
 // Far above any real tactile sensor; it only keeps a typo from allocating millions of texels downstream.
 constexpr unsigned kMaxTexelsPerSide = 1024;
 
 std::string Format(double value) { return FormatNumber(value); }
-
-std::string Quoted(const std::string& name) { return "'" + name + "'"; }
 
 // urdfdom explains why it rejected a file only through console_bridge's log, and it even returns a model after
 // logging some errors (a collision element it could not parse is dropped). This handler records the error
@@ -178,56 +180,9 @@ TreeOrder CheckTree(const TiXmlElement& robot) {
 
 // ---- Links --------------------------------------------------------------------------------------------------
 
-// "package://pkg/meshes/a.stl" → "meshes/a.stl", "file:///x/a.stl" → "/x/a.stl".
-std::string StripMeshUri(const std::string& filename) {
-  constexpr std::string_view kPackage = "package://", kFile = "file://";
-  if (filename.starts_with(kPackage)) {
-    const size_t slash = filename.find('/', kPackage.size());
-    return slash == std::string::npos ? "" : filename.substr(slash + 1);
-  }
-  if (filename.starts_with(kFile)) return filename.substr(kFile.size());
-  return filename;
-}
-
-// Loads each (file, scale) once per URDF, however many links use it.
-class MeshSource {
- public:
-  MeshSource(const FileLookup& files, const Limits& limits) : files_(files), limits_(limits) {}
-
-  void Load(const std::string& link, const urdf::Mesh& mesh, Geometry* geometry) {
-    const std::string stripped = StripMeshUri(mesh.filename);
-    const std::string basename = stripped.substr(stripped.find_last_of('/') + 1);
-    const std::string* bytes = nullptr;
-    for (const std::string& candidate : {stripped, basename}) {
-      bytes = (files_ && !candidate.empty()) ? files_(candidate) : nullptr;
-      if (bytes != nullptr) {
-        geometry->mesh_file = candidate;
-        break;
-      }
-    }
-    if (bytes == nullptr) {
-      ThrowInvalidArgument("urdf: link " + Quoted(link) + " mesh file " + Quoted(mesh.filename) +
-                           " was not uploaded");
-    }
-    const Vec3 scale = ToVec3(mesh.scale);
-    const auto key = std::make_tuple(geometry->mesh_file, scale.x(), scale.y(), scale.z());
-    auto& cached = cache_[key];
-    if (cached == nullptr) {
-      cached = std::make_shared<const TriangleMesh>(LoadMeshFile(
-          "urdf: link " + Quoted(link) + " mesh " + Quoted(mesh.filename), geometry->mesh_file, *bytes, scale,
-          limits_));
-    }
-    geometry->mesh = cached;
-  }
-
- private:
-  const FileLookup& files_;
-  const Limits& limits_;
-  std::map<std::tuple<std::string, double, double, double>, std::shared_ptr<const TriangleMesh>> cache_;
-};
-
-Geometry ConvertCollision(const std::string& link, size_t index, const urdf::Collision& collision,
-                          MeshSource* meshes) {
+// The link's collision geometry; a mesh file that was not uploaded is left out and remembered by `meshes`.
+std::vector<Geometry> ConvertCollision(const std::string& link, size_t index, const urdf::Collision& collision,
+                                       MeshFiles* meshes) {
   const std::string field = "urdf: link " + Quoted(link) + " collision " + std::to_string(index);
   Geometry geometry;
   geometry.origin = ToPose(field + " origin", collision.origin);
@@ -253,50 +208,41 @@ Geometry ConvertCollision(const std::string& link, size_t index, const urdf::Col
       CheckPositive(field + " cylinder length", geometry.length);
       break;
     }
-    case urdf::Geometry::MESH:
+    case urdf::Geometry::MESH: {
+      const auto& mesh = static_cast<const urdf::Mesh&>(*collision.geometry);
       geometry.kind = Geometry::Kind::kMesh;
-      meshes->Load(link, static_cast<const urdf::Mesh&>(*collision.geometry), &geometry);
+      if (!meshes->Load("urdf: link " + Quoted(link) + " mesh " + Quoted(mesh.filename), mesh.filename,
+                        import::MeshPathCandidates(mesh.filename), ToVec3(mesh.scale), &geometry)) {
+        return {};
+      }
       break;
-  }
-  return geometry;
-}
-
-Inertial ConvertInertial(const urdf::Link& link, bool has_collision) {
-  Inertial inertial;
-  if (link.inertial == nullptr) {
-    if (has_collision) {
-      ThrowInvalidArgument("urdf: link " + Quoted(link.name) +
-                           " has collision geometry but no <inertial>; give it a mass and an inertia");
     }
-    inertial.mass = kFrameLinkMass;
-    inertial.inertia = Mat3::Identity() * kFrameLinkInertia;
-    return inertial;
   }
-  const std::string field = "urdf: link " + Quoted(link.name) + " inertial";
-  const urdf::Inertial& in = *link.inertial;
-  CheckPositive(field + " mass (kg)", in.mass);
-  const Pose origin = ToPose(field + " origin", in.origin);
-  Mat3 tensor;  // in the inertial frame, which <origin> places in the body frame
-  tensor << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-  const Mat3 rotation = origin.orientation.toRotationMatrix();
-  const Mat3 in_body = rotation * tensor * rotation.transpose();
-  inertial.mass = in.mass;
-  inertial.center_of_mass = origin.position;
-  inertial.inertia = 0.5 * (in_body + in_body.transpose());  // exact symmetry despite rounding
-  CheckInertia(field, inertial.inertia);
-  return inertial;
+  return {geometry};
 }
 
-BodySpec ConvertLink(const urdf::Link& link, MeshSource* meshes) {
+FileInertial ConvertInertial(const urdf::Link& link) {
+  const urdf::Inertial& in = *link.inertial;
+  FileInertial file;
+  file.field = "urdf: link " + Quoted(link.name) + " inertial";
+  file.mass = in.mass;
+  file.origin = ToPose(file.field + " origin", in.origin);
+  file.inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  return file;
+}
+
+BodySpec ConvertLink(const urdf::Link& link, const std::vector<Geometry>& extra, MeshFiles* meshes,
+                     FileInertials* inertials) {
   BodySpec body;
   body.id = link.name;
   body.motion = BodyMotion::kArticulated;
   std::vector<urdf::CollisionSharedPtr> collisions = link.collision_array;
   if (collisions.empty() && link.collision != nullptr) collisions.push_back(link.collision);
   for (size_t i = 0; i < collisions.size(); ++i) {
-    body.collision.push_back(ConvertCollision(link.name, i, *collisions[i], meshes));
+    for (Geometry& g : ConvertCollision(link.name, i, *collisions[i], meshes)) body.collision.push_back(std::move(g));
   }
-  body.inertial = ConvertInertial(link, !body.collision.empty());
+  body.collision.insert(body.collision.end(), extra.begin(), extra.end());
+  if (link.inertial != nullptr) (*inertials)[link.name] = ConvertInertial(link);
   return body;
 }
 
@@ -486,10 +432,20 @@ void CheckXmlText(const std::string& text) {
 
 }  // namespace
 
-RobotDescription LoadUrdf(const std::string& urdf_text, const FileLookup& files, const Limits& limits) {
-  CheckXmlText(urdf_text);
+ImportedRobot ImportUrdf(const std::string& urdf_text, const FileLookup& files, const ImportOptions& options,
+                         const Limits& limits) {
+  ImportedRobot imported;
+  std::vector<ImportWarning>& warnings = imported.warnings;
+  // Files saved by some tools end in NUL bytes (pybullet_data's humanoid.urdf); TinyXML must not see them.
+  std::string text = urdf_text;
+  if (!options.strict && !text.empty() && text.back() == '\0') {
+    const size_t end = text.find_last_not_of('\0') + 1;
+    warnings.push_back({"urdf: the text's last bytes", std::to_string(text.size() - end) + " NUL byte(s)", "ignored"});
+    text.resize(end);
+  }
+  CheckXmlText(text);
   TiXmlDocument document;
-  document.Parse(urdf_text.c_str());
+  document.Parse(text.c_str());
   if (document.Error()) {
     // TinyXML reports row 0 when it cannot place the error (e.g. text that is not XML at all).
     const std::string where = document.ErrorRow() > 0 ? " at line " + std::to_string(document.ErrorRow()) +
@@ -497,40 +453,71 @@ RobotDescription LoadUrdf(const std::string& urdf_text, const FileLookup& files,
                                                       : "";
     ThrowInvalidArgument("urdf: XML error" + where + ": " + document.ErrorDesc());
   }
-  const TiXmlElement* robot = document.RootElement();
+  TiXmlElement* robot = document.RootElement();
   if (robot == nullptr || robot->ValueStr() != "robot") {
     ThrowInvalidArgument("urdf: the root element is not <robot>");
   }
+  const import::UrdfRepairs repairs = options.strict ? import::UrdfRepairs{} : import::RepairUrdfDocument(robot, &warnings);
   const TreeOrder order = CheckTree(*robot);
 
+  std::string repaired_text;
+  if (!warnings.empty()) {
+    TiXmlPrinter printer;
+    document.Accept(&printer);
+    repaired_text = printer.Str();
+  }
   std::string urdfdom_errors;
-  const urdf::ModelInterfaceSharedPtr model = UrdfdomErrorCapture::Parse(urdf_text, &urdfdom_errors);
+  const urdf::ModelInterfaceSharedPtr model =
+      UrdfdomErrorCapture::Parse(repaired_text.empty() ? text : repaired_text, &urdfdom_errors);
   if (model == nullptr || !urdfdom_errors.empty()) {
     ThrowInvalidArgument("urdf: " + (urdfdom_errors.empty() ? std::string("urdfdom rejected the robot description")
                                                             : urdfdom_errors));
   }
 
-  RobotDescription description;
+  RobotDescription& description = imported.description;
   description.name = model->getName();
   description.root_link = order.root;
-  MeshSource meshes(files, limits);
+  MeshFiles meshes(files, limits);
+  FileInertials inertials;
   // urdfdom and CheckTree read the same elements, so a name missing from urdfdom's model is a bug, not bad input.
   const auto missing = [](const std::string& what) {
     return Error(ErrorCode::kInternal, "urdf: urdfdom's model has no " + what);
   };
+  static const std::vector<Geometry> kNone;
   for (const std::string& link : order.links) {
     const urdf::LinkConstSharedPtr parsed = model->getLink(link);
     if (parsed == nullptr) throw missing("link " + Quoted(link));
-    description.links.push_back(ConvertLink(*parsed, &meshes));
+    const auto extra = repairs.extra_collision.find(link);
+    description.links.push_back(
+        ConvertLink(*parsed, extra == repairs.extra_collision.end() ? kNone : extra->second, &meshes, &inertials));
   }
+  meshes.ThrowIfMissing("urdf");
   for (const std::string& joint : order.joints) {
     const urdf::JointConstSharedPtr parsed = model->getJoint(joint);
     if (parsed == nullptr) throw missing("joint " + Quoted(joint));
-    description.joints.push_back(ConvertJoint(*parsed, *model));
+    JointSpec spec = ConvertJoint(*parsed, *model);
+    if (const auto chain = repairs.chain_joints.find(joint); chain != repairs.chain_joints.end()) {
+      // A ball joint's <limit upper> bounds each angle, as PyBullet reads it; a floating joint is unbounded.
+      const double limit = parsed->limits != nullptr && parsed->limits->upper > 0 ? parsed->limits->upper : 0;
+      if (chain->second == "ball") {
+        import::AppendBallJoint(spec, limit, &description, &inertials);
+      } else {
+        import::AppendFreeJoint(spec, 0, &description, &inertials);
+      }
+      continue;
+    }
+    description.joints.push_back(std::move(spec));
   }
+  import::ResolveInertials("urdf", inertials, options, &description, &warnings);
   description.tactile_arrays =
       ParseTactileArrays(*robot, std::set<std::string>(order.links.begin(), order.links.end()));
-  return description;
+  return imported;
+}
+
+RobotDescription LoadUrdf(const std::string& urdf_text, const FileLookup& files, const Limits& limits) {
+  ImportOptions strict;
+  strict.strict = true;
+  return ImportUrdf(urdf_text, files, strict, limits).description;
 }
 
 }  // namespace graspsim

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 
 namespace graspsim {
@@ -275,7 +276,7 @@ TEST(UrdfLoaderTest, RejectsUnknownMeshFile) {
   ExpectRejected(
       Robot(Link("a", InertialXml() + "<collision><geometry><mesh filename=\"package://p/meshes/gone.stl\"/>"
                                    "</geometry></collision>")),
-      ErrorCode::kInvalidArgument, {"link 'a' mesh file 'package://p/meshes/gone.stl' was not uploaded"},
+      ErrorCode::kInvalidArgument, {"mesh file the model names was not uploaded: 'package://p/meshes/gone.stl'"},
       Files({{"other.stl", "x"}}));
 }
 
