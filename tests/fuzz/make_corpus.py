@@ -132,10 +132,30 @@ def meshes():
     write("mesh", "tetra.dae", b"\3" + DAE.encode())
 
 
+# What the import repairs (docs/import.md): zero masses, an unphysical tensor, PyBullet's plane, a capsule, a
+# spherical joint, a limit with lower above upper, numbers PyBullet's parser reads liberally, a name with a space.
+URDF_REPAIRS = """<?xml version="1.0"?>
+<robot name="repairs">
+  <link name="world base"><inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>
+    </inertial><collision><geometry><plane normal="0 0 1"/></geometry></collision></link>
+  <link name="arm"><inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0"/></inertial>
+    <collision><geometry><capsule radius="0.05" length="0.3"/></geometry></collision></link>
+  <link name="tip"><inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="head"><collision><geometry><sphere radius="0.1"/></geometry></collision></link>
+  <joint name="shoulder" type="revolute"><parent link="world base"/><child link="arm"/><origin xyz="0 0 0.5,"/>
+    <limit lower="1" upper="-1"/></joint>
+  <joint name="wrist" type="fixed"><parent link="arm"/><child link="tip"/><origin xyz="0 0 0.3 0" rpy="0 0 0"/></joint>
+  <joint name="neck" type="spherical"><parent link="tip"/><child link="head"/><limit upper="0.5"/></joint>
+</robot>
+"""
+
+
 def urdfs():
     for path in sorted((ROOT / "server" / "models").glob("*.urdf")):
         shutil.copyfile(path, (CORPUS / "urdf").joinpath(path.name))
     write("urdf", "tetra_arm.urdf", URDF_MESH)
+    write("urdf", "repairs.urdf", URDF_REPAIRS)
 
 
 # --- perception -------------------------------------------------------------------------------------------------

@@ -1,7 +1,9 @@
-// URDF loading (world/loaders.h LoadUrdf: urdfdom + graspsim's checks), as AddRobot runs it on a client's text.
+// URDF loading (import/robot_import.h: urdfdom + graspsim's checks), as AddRobot runs it on a client's text: with
+// the default options (the repairs of import/urdf_repairs.cpp and the inertia rules) and strictly.
 // The input is the URDF text. One mesh file is "uploaded": meshes/tetra.stl, a tetrahedron, so inputs that name
 // it reach the mesh path (package:// and file:// prefixes are stripped by the loader).
 #include "fuzz_common.h"
+#include "import/robot_import.h"
 #include "world/loaders.h"
 
 namespace {
@@ -23,6 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   };
   graspsim::Limits limits;
   limits.max_triangles_per_mesh = 100'000;
+  graspsim::fuzz::Rejects([&] { graspsim::ImportUrdf(text, files, graspsim::ImportOptions(), limits); });
   graspsim::fuzz::Rejects([&] { graspsim::LoadUrdf(text, files, limits); });
   return 0;
 }

@@ -19,7 +19,7 @@ addpath(fullfile(here, '..', '..', 'clients', 'matlab', 'examples'));
 tests = {@test_list_methods, @test_scene_lifecycle, @test_builtin_models, @test_text_round_trip, ...
          @test_primitive_objects_and_inertia, @test_builtin_objects, @test_inline_mesh_round_trip, ...
          @test_mesh_inertia_from_mass, @test_large_request_body, @test_upload_file_chunks, @test_upload_large_file_and_mesh_file, ...
-         @test_urdf_robot_with_files, @test_pg70_structure_and_tactile_arrays, @test_mimic_joint_follows, ...
+         @test_urdf_robot_with_files, @test_urdf_robot_by_path, @test_pg70_structure_and_tactile_arrays, @test_mimic_joint_follows, ...
          @test_pose_round_trip, @test_joint_positions, @test_watch_scene, @test_remove_body, @test_generic_call, ...
          @test_error_nan_pose, @test_error_bad_quaternion, @test_error_unknown_scene, @test_error_duplicate_name, ...
          @test_error_joint_outside_limits, @test_body_and_joint_velocity_fields, @test_simulation_cube_settles, ...
@@ -266,6 +266,51 @@ c.setJointPositions(sid, 'arm/shoulder', 0.5);
 [ids, values] = c.getJointPositions(sid);
 check(isequal(ids, {'arm/shoulder'}), 'joint ids');
 near(values, 0.5, 1e-15, 'joint position');
+end
+
+function test_urdf_robot_by_path(c, sid)
+% 'Path' reads a URDF from disk and uploads its meshes itself: package:// against the file's folder and its
+% parents (or 'PackageRoots'), relative paths against the file's folder; a second robot uploads nothing new;
+% meshes missing on disk are named all at once before anything is sent.
+root = tempname();
+cleanup = onCleanup(@() rmdir(root, 's'));
+mkdir(fullfile(root, 'my_pkg', 'urdf'));
+mkdir(fullfile(root, 'my_pkg', 'meshes'));
+[v, t] = boxMesh([0.02 0.02 0.02]);
+writeBytes(fullfile(root, 'my_pkg', 'meshes', 'arm.stl'), stlBytes(v, t));
+[v, t] = boxMesh([0.1 0.1 0.05]);
+writeBytes(fullfile(root, 'my_pkg', 'meshes', 'base.stl'), stlBytes(v, t));
+inertial = '<inertial><mass value="0.5"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>';
+text = ['<robot name="r"><link name="base">' inertial ...
+        '<collision><geometry><mesh filename="package://my_pkg/meshes/base.stl"/></geometry></collision></link>' ...
+        '<link name="arm">' inertial ...
+        '<collision><geometry><mesh filename="../meshes/arm.stl"/></geometry></collision></link>' ...
+        '<joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 0.1"/>' ...
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint></robot>'];
+file = fullfile(root, 'my_pkg', 'urdf', 'robot.urdf');
+writeBytes(file, uint8(text));
+added = c.addRobot(sid, 'arm', 'Path', file, 'BasePose', [0 0 0.5 1 0 0 0]);
+check(isequal(sort(added.robot.bodyIds), {'arm/arm'; 'arm/base'}), 'robot body ids');
+check(isequal(sort([added.bodies.triangleCount]), [12 12]), 'meshes of both links');
+scene = c.getScene(sid);
+check(isequal(sort({scene.files.path}), {'meshes/arm.stl', 'meshes/base.stl'}), 'uploaded paths %s', ...
+      strjoin({scene.files.path}, ', '));
+uploaded = c.uploadMissing(sid, {'meshes/arm.stl'}, {fullfile(root, 'my_pkg', 'meshes', 'arm.stl')});
+check(isempty(uploaded), 'a file the scene holds with the same SHA-256 is not uploaded again');
+added = c.addRobot(sid, 'arm2', 'Path', file, 'PackageRoots', struct('my_pkg', fullfile(root, 'my_pkg')));
+check(numel(added.bodies) == 2, 'second robot with PackageRoots');
+delete(fullfile(root, 'my_pkg', 'meshes', 'arm.stl'));
+delete(fullfile(root, 'my_pkg', 'meshes', 'base.stl'));
+before = c.getScene(sid);
+expectError(@() c.addRobot(sid, 'arm3', 'Path', file), 'graspsim:missingFiles', ...
+            {'package://my_pkg/meshes/base.stl', '../meshes/arm.stl', '2 referenced'});
+check(numel(c.getScene(sid).robots) == numel(before.robots), 'nothing added after a missing file');
+end
+
+function writeBytes(file, bytes)
+fid = fopen(file, 'w');
+fwrite(fid, bytes, 'uint8');
+fclose(fid);
 end
 
 function test_pg70_structure_and_tactile_arrays(c, sid)

@@ -57,7 +57,12 @@ CASES = {
         s, c, inertia=np.diag([-1.0, 1.0, 1.0]))),
     "inertia triangle inequality": (IA, ["inertial", "triangle inequality"], lambda s, c: box(
         s, c, inertia=np.diag([3.0, 1.0, 1.0]))),
-    "geometry without inertial": (IA, ["inertial"], lambda s, c: lambda: c.add_object(s, "new", sphere=0.1)),
+    "geometry without inertial, strict": (IA, ["inertial", "strict"], lambda s, c: lambda: c.add_object(
+        s, "new", sphere=0.1, strict=True)),
+    "geometry without inertial, from_file": (IA, ["inertial", "FROM_FILE"], lambda s, c: lambda: c.add_object(
+        s, "new", sphere=0.1, inertia_source="from_file")),
+    "import options density": (IA, ["import_options.density", "-1"], lambda s, c: lambda: c.add_object(
+        s, "new", sphere=0.1, density=-1.0)),
     "static friction below dynamic": (IA, ["material", "static_friction", "0.2"], lambda s, c: lambda: c.add_object(
         s, "new", builtin="cube_5cm", friction=(0.2, 0.5))),
     "mesh index out of range": (IA, ["geometry.mesh", "index 8"], lambda s, c: mesh(

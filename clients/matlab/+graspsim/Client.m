@@ -213,10 +213,13 @@ classdef Client < handle
       %     'CenterOfMass', [x y z]      m, body frame
       %     'Friction', [static dynamic] coefficients (default: the server's 0.6, 0.4 or the model's own)
       %     'Pose', [x y z qw qx qy qz]  body frame in the world
-      %     'Static', true               a fixed body (a table)
+      %     'Static', true               a fixed body (a table); it needs no Mass
+      %     'InertiaSource', 'auto'      without a Mass, a moving shape takes the solid's mass properties at
+      %                                  'Density' kg/m^3 (default 1000; reported in body.warnings);
+      %                                  'from_file' or 'Strict', true require the Mass
       defaults = struct('Builtin', [], 'Box', [], 'Sphere', [], 'Cylinder', [], 'Vertices', [], 'Triangles', [], ...
                         'MeshFile', [], 'Mass', [], 'Inertia', [], 'CenterOfMass', [], 'Friction', [], ...
-                        'Pose', [], 'Static', false);
+                        'Pose', [], 'Static', false, 'InertiaSource', 'auto', 'Density', [], 'Strict', false);
       o = graspsim.internal.parseOptions(defaults, varargin, 'addObject');
       [kind, value] = pickShape(o);
       request = struct('scene_id', sceneId, 'name', name);
@@ -248,27 +251,51 @@ classdef Client < handle
         request.pose = graspsim.internal.toPose(o.Pose, 'Pose');
       end
       request.is_static = logical(o.Static);
-      body = graspsim.internal.decode('Body', obj.sceneCall('AddObject', request));
+      request.import_options = importOptions(o.InertiaSource, o.Density, o.Strict, '', 'addObject');
+      response = obj.sceneCall('AddObject', request);
+      body = graspsim.internal.decode('Body', response);
+      body.warnings = importWarnings(field(response, 'warnings', []));
     end
 
     function robot = addRobot(obj, sceneId, name, varargin)
-      %ADDROBOT added = c.addRobot(sceneId, name, 'Builtin', 'schunk_pg70' | 'Urdf', text, ...): adds a
-      %   robot whose root link sits at 'BasePose' [x y z qw qx qy qz] (world; default the origin).
+      %ADDROBOT added = c.addRobot(sceneId, name, 'Builtin', 'schunk_pg70' | 'Urdf', text | 'Mjcf', text |
+      %   'Sdf', text | 'Path', file, ...): adds a robot whose root link sits at 'BasePose' [x y z qw qx qy qz]
+      %   (world; default the origin).
+      %   'Path', 'robot.urdf' (or .xml MJCF, .sdf) reads a local file and uploads every mesh its collision
+      %   geometry names that the scene does not already hold with the same SHA-256, then adds it: one call.
+      %   package://pkg/... resolves under 'PackageRoots': a struct or containers.Map {pkg: folder}, or a
+      %   cellstr of folders holding package folders ([] = the file's folder and its parents); relative paths
+      %   against the file's folder. Files missing on disk: one graspsim:missingFiles error naming them all,
+      %   before anything is sent. (MJCF <include> is not followed here; the Python client follows it.)
       %   'Files', struct('path', {...}, 'data', {...}) sends small mesh files with the request (data uint8
       %   or a local file name); bigger ones go through uploadFile first.
+      %   'Inertia', 'auto' | 'from_file' | 'from_geometry' (default 'auto': the file's where physical, else from
+      %   the collision geometry at 'Density' kg/m^3, default 1000); 'Strict', true refuses anything that needs
+      %   a repair; 'ModelName' picks a model of an SDF <world>.
       %   Returns a struct: robot (id, source, baseBody, bodyIds, jointIds, tactileArrayIds), bodies,
-      %   joints, tactileArrays (as in getScene). Body ids are '<name>/<link>', joint ids '<name>/<joint>'.
-      defaults = struct('Builtin', [], 'Urdf', [], 'BasePose', [], 'Files', []);
+      %   joints, tactileArrays (as in getScene), warnings (struct array: element, value, action; every
+      %   repair made to the file). Body ids are '<name>/<link>', joint ids '<name>/<joint>'.
+      defaults = struct('Builtin', [], 'Urdf', [], 'Mjcf', [], 'Sdf', [], 'Path', [], 'PackageRoots', [], ...
+                        'BasePose', [], 'Files', [], 'Inertia', 'auto', 'Density', [], 'Strict', false, ...
+                        'ModelName', '');
       o = graspsim.internal.parseOptions(defaults, varargin, 'addRobot');
-      if isempty(o.Builtin) == isempty(o.Urdf)
-        error('graspsim:badArgument', 'addRobot: give exactly one of ''Builtin'', ''Urdf''');
+      sources = {'Builtin', 'Urdf', 'Mjcf', 'Sdf', 'Path'};
+      given = sources(cellfun(@(s) ~isempty(o.(s)), sources));
+      if numel(given) ~= 1
+        error('graspsim:badArgument', 'addRobot: give exactly one of ''Builtin'', ''Urdf'', ''Mjcf'', ''Sdf'', ''Path''');
       end
       request = struct('scene_id', sceneId, 'name', name);
-      if isempty(o.Urdf)
-        request.builtin = o.Builtin;
-      else
-        request.urdf = o.Urdf;
+      switch given{1}
+        case 'Builtin'
+          request.builtin = o.Builtin;
+        case 'Path'
+          [format, text, scenePaths, localPaths] = graspsim.internal.robotFiles(o.Path, o.PackageRoots);
+          obj.uploadMissing(sceneId, scenePaths, localPaths);
+          request.(format) = text;
+        otherwise
+          request.(lower(given{1})) = o.(given{1});
       end
+      request.import_options = importOptions(o.Inertia, o.Density, o.Strict, o.ModelName, 'addRobot');
       if ~isempty(o.BasePose)
         request.base_pose = graspsim.internal.toPose(o.BasePose, 'BasePose');
       end
@@ -287,7 +314,31 @@ classdef Client < handle
       robot = struct('robot', graspsim.internal.decode('Robot', field(response, 'robot', struct())), ...
                      'bodies', graspsim.internal.decode('Body', field(response, 'bodies', [])), ...
                      'joints', graspsim.internal.decode('Joint', field(response, 'joints', [])), ...
-                     'tactileArrays', graspsim.internal.decode('TactileArray', field(response, 'tactile_arrays', [])));
+                     'tactileArrays', graspsim.internal.decode('TactileArray', field(response, 'tactile_arrays', [])), ...
+                     'warnings', importWarnings(field(response, 'warnings', [])));
+    end
+
+    function uploaded = uploadMissing(obj, sceneId, scenePaths, localPaths)
+      %UPLOADMISSING uploaded = c.uploadMissing(sceneId, scenePaths, localPaths): uploads each local file
+      %   localPaths{k} as scenePaths{k} unless the scene holds that path with the same SHA-256 already;
+      %   returns the uploaded scene paths (cellstr).
+      uploaded = {};
+      if isempty(scenePaths)
+        return
+      end
+      files = obj.getScene(sceneId).files;
+      for k = 1:numel(scenePaths)
+        bytes = graspsim.internal.readBytes(localPaths{k}, 'addRobot Path');
+        held = [];
+        if ~isempty(files)
+          held = files(strcmp({files.path}, scenePaths{k}));
+        end
+        if ~isempty(held) && strcmp(held(1).sha256, graspsim.internal.sha256hex(bytes))
+          continue
+        end
+        obj.uploadFile(sceneId, scenePaths{k}, bytes);
+        uploaded{end + 1} = scenePaths{k}; %#ok<AGROW>
+      end
     end
 
     function removed = removeBody(obj, sceneId, id)
@@ -906,5 +957,30 @@ for k = 1:numel(names)
     error('graspsim:badArgument', '%s.%s must be one real number', what, names{k});
   end
   message.(known{row, 2}) = double(v);
+end
+end
+
+function list = importWarnings(x)
+% ImportWarning messages as an N-by-1 struct array (element, value, action).
+list = struct('element', {}, 'value', {}, 'action', {});
+entries = items(x);
+for k = 1:numel(entries)
+  w = entries{k};
+  list(end + 1, 1) = struct('element', field(w, 'element', ''), 'value', field(w, 'value', ''), ...
+                            'action', field(w, 'action', '')); %#ok<AGROW>
+end
+end
+
+function options = importOptions(source, density, strict, modelName, caller)
+% The ImportOptions message: inertia source 'auto' | 'from_file' | 'from_geometry', density kg/m^3 ([] = the
+% server's 1000), strict, the SDF model name.
+sources = struct('auto', 'INERTIA_SOURCE_AUTO', 'from_file', 'INERTIA_SOURCE_FROM_FILE', ...
+                 'from_geometry', 'INERTIA_SOURCE_FROM_GEOMETRY');
+if ~ischar(source) || ~isfield(sources, source)
+  error('graspsim:badArgument', '%s: the inertia source must be ''auto'', ''from_file'' or ''from_geometry''', caller);
+end
+options = struct('inertia', sources.(source), 'strict', logical(strict), 'model_name', modelName);
+if ~isempty(density)
+  options.density = double(density);
 end
 end

@@ -64,8 +64,8 @@ std::string StripMeshUri(const std::string& filename) {
     path = filename.substr(kModel.size());
   } else if (filename.starts_with(kFile)) {
     path = filename.substr(kFile.size());
-    while (path.starts_with("/")) path = path.substr(1);
   }
+  while (path.starts_with("/")) path = path.substr(1);  // upload paths are relative: "/meshes/a.stl" as PyBullet
   // Lexically normal, with the leading "./" and "../" a file's own directory layout adds dropped: the client
   // uploads what the model needs under these relative paths (clients/python graspsim/_robot_files.py).
   std::string normal = std::filesystem::path(path).lexically_normal().generic_string();
@@ -143,7 +143,9 @@ void ResolveInertials(const std::string& format, const FileInertials& file, cons
 
     if (in == nullptr) {
       if (!has_geometry) {
-        link.inertial = FrameLink();
+        // URDF's meaning of a link with no inertial: massless. Fixed to its parent (a tool point, a flange) it is
+        // a frame of the parent; behind a moving joint it needs some inertia to be integrable.
+        link.inertial = fixed_to_parent ? Inertial{} : FrameLink();
         continue;
       }
       if (from_file_only) {

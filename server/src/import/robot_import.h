@@ -58,7 +58,8 @@ Inertial ObjectInertialFromGeometry(const std::string& field, const std::vector<
 
 // Strict URDF loading (no repairs), for the built-in models and graspsim's own files: links with collision geometry
 // need an <inertial> with positive mass and a positive definite inertia; a link without inertial or geometry is a
-// 1 g frame. Joints: revolute, continuous, prismatic, fixed; mimic joints; graspsim's <tactile_array> elements.
+// massless frame when fixed to its parent (or the root), else 1 g. Joints: revolute, continuous, prismatic, fixed;
+// mimic joints; graspsim's <tactile_array> elements.
 RobotDescription LoadUrdf(const std::string& urdf_text, const FileLookup& files, const Limits& limits);
 
 }  // namespace graspsim

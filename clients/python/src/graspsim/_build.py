@@ -61,8 +61,10 @@ def _inertia_of_shape(kind: str, value, mass: float, center_of_mass):
 
 
 def inertial(kind: str, value, mass: Optional[float], inertia, center_of_mass) -> Optional[common_pb2.Inertial]:
-    """The Inertial message: None when no mass is given (a builtin keeps its own; geometry needs one and the
-    server says so). With a mass but no inertia, a primitive's or closed mesh's uniform-density inertia is used."""
+    """The Inertial message: None when no mass is given (a builtin keeps its own, a static body needs none, a
+    moving body given by geometry gets the server's from the geometry unless import options say from_file or
+    strict: then the server says a mass is needed). With a mass but no inertia, a primitive's or closed mesh's
+    uniform-density inertia is used."""
     if mass is None:
         if inertia is not None or center_of_mass is not None:
             raise ValueError("inertia and center_of_mass need a mass (kg)")
@@ -87,3 +89,16 @@ def material(friction: Optional[Sequence[float]]) -> Optional[common_pb2.Materia
         return None
     static, dynamic = friction
     return common_pb2.Material(static_friction=float(static), dynamic_friction=float(dynamic))
+
+
+_INERTIA_SOURCES = {"auto": common_pb2.INERTIA_SOURCE_AUTO, "from_file": common_pb2.INERTIA_SOURCE_FROM_FILE,
+                    "from_geometry": common_pb2.INERTIA_SOURCE_FROM_GEOMETRY}
+
+
+def import_options(inertia: str = "auto", density: Optional[float] = None, strict: bool = False,
+                   model_name: str = "") -> common_pb2.ImportOptions:
+    """ImportOptions from the keyword arguments of add_robot / add_object (docs/import.md)."""
+    if inertia not in _INERTIA_SOURCES:
+        raise ValueError(f"inertia: {inertia!r} is not one of {', '.join(_INERTIA_SOURCES)}")
+    return common_pb2.ImportOptions(inertia=_INERTIA_SOURCES[inertia], density=density or 0.0, strict=strict,
+                                    model_name=model_name)

@@ -5,7 +5,7 @@ from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence
 
 import grpc
 
-from graspsim import _build
+from graspsim import _build, _robot_files
 from graspsim._auth import AuthMethods, PemLike, open_channel
 from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
 from graspsim._gateway import GatewayMethods
@@ -13,6 +13,7 @@ from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, tar
 from graspsim._motion import MotionMethods
 from graspsim._perception import PerceptionMethods
 from graspsim._pose import Pose, PoseLike, as_pose
+from graspsim._robot_files import FilePath, PackageRoots
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
 from graspsim._upload import FileData, upload_chunks
 from graspsim._watch import SceneWatch
@@ -114,7 +115,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods):
                    cylinder: Optional[Sequence[float]] = None, mesh: Optional[tuple] = None,
                    mesh_file: Optional[str] = None, mass: Optional[float] = None, inertia=None,
                    center_of_mass: Optional[Sequence[float]] = None, friction: Optional[Sequence[float]] = None,
-                   pose: Optional[PoseLike] = None, is_static: bool = False) -> common_pb2.Body:
+                   pose: Optional[PoseLike] = None, is_static: bool = False, inertia_source: str = "auto",
+                   density: Optional[float] = None, strict: bool = False) -> common_pb2.Body:
         """Adds a rigid object; give exactly one shape:
 
         builtin="cube_5cm" (its own mass and friction unless given), box=(x, y, z) full edge lengths m,
@@ -125,12 +127,16 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods):
         the uniform-density inertia is computed here: box m(b²+c²)/12 …, sphere 2/5 m r², cylinder m r²/2
         about z and m(3r²+l²)/12 about x and y, closed mesh by the divergence theorem (its volume centroid
         becomes center_of_mass unless given); mesh_file and builtin need an explicit inertia with a mass.
+        Without a mass, a static body needs none; a moving one given by geometry takes the server's solid-geometry
+        mass properties at density kg/m^3 (default 1000) with inertia_source "auto" or "from_geometry" (reported
+        in the reply's warnings), while "from_file" or strict=True require the mass here.
         friction=(static, dynamic) coefficients; pose is the body frame in the world; is_static fixes it.
         Returns the Body as the server holds it.
         """
         kind, value = _build.pick_shape(dict(builtin=builtin, box=box, sphere=sphere, cylinder=cylinder,
                                              mesh=mesh, mesh_file=mesh_file))
         request = scene_pb2.AddObjectRequest(scene_id=scene_id, name=name, is_static=is_static)
+        request.import_options.CopyFrom(_build.import_options(inertia_source, density, strict))
         if kind == "builtin":
             request.builtin = value
         else:
@@ -146,24 +152,43 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods):
         return self._unary("AddObject", request)
 
     def add_robot(self, scene_id: str, name: str, *, urdf: Optional[str] = None, builtin: Optional[str] = None,
-                  base_pose: Optional[PoseLike] = None,
-                  files: Optional[Mapping[str, bytes]] = None) -> scene_pb2.AddRobotResponse:
-        """Adds a robot from URDF text or a built-in model ("schunk_pg70"), its root link at base_pose (world).
+                  mjcf: Optional[str] = None, sdf: Optional[str] = None, path: Optional[FilePath] = None,
+                  package_roots: PackageRoots = None, base_pose: Optional[PoseLike] = None,
+                  files: Optional[Mapping[str, bytes]] = None, inertia: str = "auto",
+                  density: Optional[float] = None, strict: bool = False,
+                  model_name: str = "") -> scene_pb2.AddRobotResponse:
+        """Adds a robot from URDF, MJCF or SDF text, a file on this machine, or a built-in model ("schunk_pg70"),
+        its root link at base_pose (world).
 
-        Meshes the URDF names must be uploaded first or given in files ({path: content}, small files only).
-        Returns the robot with its bodies ("<name>/<link>"), joints and tactile arrays.
+        path="robot.urdf" | "model.xml" | "model.sdf" reads the file (format from the extension, else the root
+        element), uploads every mesh its collision geometry needs that the scene does not already hold (same
+        SHA-256), then adds it: one call. package:// and model:// resolve under package_roots ({package: dir},
+        or directories holding package dirs; None = the file's directory and its parents); relative paths
+        against the file's directory. Files missing on disk raise MissingFilesError (a FileNotFoundError) naming
+        every one, before anything is sent.
+        With text, meshes must be uploaded first or given in files ({path: content}, small files only).
+        inertia: "auto" (the file's where physical, else from the collision geometry), "from_file" or
+        "from_geometry" (solid geometry at density kg/m^3, default 1000); strict=True refuses anything that
+        would need a repair. model_name picks a model of an SDF <world>. Returns the robot with its bodies
+        ("<name>/<link>"), joints, tactile arrays and warnings (every repair made to the file, docs/import.md).
         """
-        if (urdf is None) == (builtin is None):
-            raise ValueError("give exactly one of urdf, builtin")
+        sources = dict(urdf=urdf, builtin=builtin, mjcf=mjcf, sdf=sdf, path=path)
+        given = [k for k, v in sources.items() if v is not None]
+        if len(given) != 1:
+            raise ValueError("give exactly one of urdf, mjcf, sdf, builtin, path")
+        if package_roots is not None and path is None:
+            raise ValueError("package_roots applies to path= only")
+        if path is not None:
+            robot_files = _robot_files.collect(path, package_roots)
+            _robot_files.upload_missing(self, scene_id, robot_files.files)
+            given, sources = [robot_files.format], {robot_files.format: robot_files.text}
         request = scene_pb2.AddRobotRequest(scene_id=scene_id, name=name)
-        if urdf is not None:
-            request.urdf = urdf
-        else:
-            request.builtin = builtin
+        setattr(request, given[0], sources[given[0]])
+        request.import_options.CopyFrom(_build.import_options(inertia, density, strict, model_name))
         if base_pose is not None:
             request.base_pose.CopyFrom(as_pose(base_pose).to_proto())
-        for path, data in (files or {}).items():
-            request.files.add(path=path, data=bytes(data))
+        for file_path, data in (files or {}).items():
+            request.files.add(path=file_path, data=bytes(data))
         return self._unary("AddRobot", request)
 
     def remove_body(self, scene_id: str, id: str) -> List[str]:
