@@ -1,5 +1,6 @@
 """Robot files nobody here wrote (pybullet_data, from the pybullet wheel of the test extra), loaded by path and
-checked against PyBullet, an independent loader of the same files, and against closed forms and trimesh.
+checked against PyBullet and MuJoCo's URDF compiler, independent loaders of the same files, and against closed
+forms and trimesh.
 
 What PyBullet reports, found by experiment (pybullet 3.2.7) and relied on below:
 - FK: getLinkState(..., computeForwardKinematics=True)[4], [5] is the URDF link frame in the world, in single
@@ -29,6 +30,7 @@ import pytest
 
 import graspsim
 from graspsim import _robot_files
+from graspsim.v1 import common_pb2
 
 from _support import IA, expect_error
 
@@ -596,3 +598,67 @@ def test_scene_paths():
              "./meshes/../b.stl": "b.stl", "../../meshes/b.stl": "meshes/b.stl", "meshes//x/./y.obj": "meshes/x/y.obj",
              "/abs/c.dae": "c.dae"}
     assert {ref: _robot_files.scene_path(ref) for ref in cases} == cases
+
+
+# --- FK against MuJoCo's URDF compiler (double precision) -------------------------------------------------------
+def mujoco_model_of_urdf(path: Path):
+    """MuJoCo's own URDF compiler on the file's kinematics: geometry left out (FK does not depend on it), static
+    links kept as bodies (fusestatic off), massless links given MuJoCo's bounds so that it compiles."""
+    mujoco = pytest.importorskip("mujoco", reason="mujoco (test extra) is not installed")
+    import xml.etree.ElementTree as ET
+    root = xml_root(path)
+    for link in root.iterfind("link"):
+        for element in list(link):
+            if element.tag in ("collision", "visual"):
+                link.remove(element)
+    extension = ET.SubElement(root, "mujoco")
+    ET.SubElement(extension, "compiler", fusestatic="false", discardvisual="true", boundmass="1e-6",
+                  boundinertia="1e-9", balanceinertia="true")
+    model = mujoco.MjModel.from_xml_string(ET.tostring(root, encoding="unicode"))
+    return mujoco, model
+
+
+@pytest.mark.parametrize("robot", sorted(ROBOTS))
+def test_fk_matches_mujocos_urdf_compiler(client, scene_id, robot):
+    """Every link frame of the robot loaded by path equals MuJoCo's (its URDF compiler and mj_kinematics, double
+    precision, an independent implementation) to 1e-9 m and 1e-9 in the rotation matrix at 100 random
+    configurations within the joint limits, base at the same pose."""
+    mujoco, model = mujoco_model_of_urdf(DATA / ROBOTS[robot])
+    data = mujoco.MjData(model)
+    added = client.add_robot(scene_id, robot, path=DATA / ROBOTS[robot], base_pose=BASE_POSE)
+    ours = {j.id.split("/", 1)[1]: j for j in added.joints}
+    leaders = {name: j for name, j in ours.items()
+               if j.type != common_pb2.JOINT_TYPE_FIXED and not j.HasField("mimic")}
+    bodies = [model.body(i).name for i in range(1, model.nbody)]
+    assert {f"{robot}/{name}" for name in bodies} <= {b.id for b in added.bodies}
+    base = np.eye(4)
+    base[:3, :3] = quaternion_matrix(*BASE_POSE[3:])
+    base[:3, 3] = BASE_POSE[:3]
+    rng = np.random.default_rng(1919)
+    worst = 0.0
+    for _ in range(CONFIGURATIONS):
+        q = {}
+        for name, joint in leaders.items():
+            limited = joint.type in (common_pb2.JOINT_TYPE_REVOLUTE, common_pb2.JOINT_TYPE_PRISMATIC)
+            lower, upper = (joint.lower, joint.upper) if limited else (-math.pi, math.pi)
+            q[name] = float(rng.uniform(lower, upper))
+        client.set_joint_positions(scene_id, {f"{robot}/{name}": value for name, value in q.items()})
+        data.qpos[:] = 0
+        for name, joint in ours.items():
+            if joint.type == common_pb2.JOINT_TYPE_FIXED:
+                continue
+            value = q[name] if name in q else \
+                joint.mimic.multiplier * q[joint.mimic.joint_id.split("/", 1)[1]] + joint.mimic.offset
+            data.qpos[model.joint(name).qposadr[0]] = value
+        mujoco.mj_kinematics(model, data)
+        poses = client.get_body_poses(scene_id, [f"{robot}/{name}" for name in bodies])
+        for name in bodies:
+            expected = base @ np.block([[data.body(name).xmat.reshape(3, 3), data.body(name).xpos[:, None]],
+                                        [np.zeros((1, 3)), np.ones((1, 1))]])
+            pose = poses[f"{robot}/{name}"]
+            dp = np.abs(pose.position - expected[:3, 3]).max()
+            dr = np.abs(quaternion_matrix(*pose.orientation) - expected[:3, :3]).max()
+            worst = max(worst, dp, dr)
+            assert dp <= FK_TOLERANCE_M and dr <= FK_TOLERANCE_M, \
+                f"{robot}/{name} at {q}: off MuJoCo's FK by {dp:.3g} m, rotation by {dr:.3g}"
+    print(f"{robot}: worst deviation from MuJoCo's FK {worst:.3g}")
