@@ -13,6 +13,9 @@ panda_load_ms: franka_panda/panda.urdf with its meshes already in the scene, the
 to client, the server parses the URDF and its 10 collision meshes), median of 20 with p10/p90; the robot is
 removed between calls. panda_load_server_ms: the server's own time in those 20 handlers (its debug log).
 panda_load_by_path_ms: add_robot(path=...) as a user calls it (read, resolve, hash, GetScene, AddRobot).
+The server keeps meshes it parsed (by content hash, world/parsed_mesh_cache.h), so these are warm figures: the
+corpus pass loaded the Panda before. panda_load_cold_ms: the first AddRobot of the Panda in a fresh server (its
+10 meshes parsed in child processes), one per server, median of 5 servers.
 pybullet_panda_load_ms: PyBullet's loadURDF of the same file in this process, for context.
 
 Per failure, the file and the message go to build/bench/import_failures.txt (tab-separated: format, file,
@@ -33,6 +36,7 @@ from graspsim import _robot_files
 from _harness import REPO, Server, log
 
 REPEATS = 20
+COLD_REPEATS = 5
 ROBOSUITE = REPO / "build" / "bench-data" / "robosuite-1.5.2" / "robosuite" / "models" / "assets"
 FAILURES = REPO / "build" / "bench" / "import_failures.txt"
 
@@ -113,6 +117,17 @@ def peer_loads(files):
                 log(f"peer crashed on {started}: counted as not loaded")
             remaining = [p for p in remaining if Path(p) not in loads]
     return loads
+
+
+def cold_panda_load_s(panda: Path) -> float:
+    """The first AddRobot of the Panda, meshes uploaded, in a server of its own: nothing parsed before."""
+    with Server() as server, graspsim.connect(server.address) as client:
+        scene_id = client.create_scene("import-panda-cold").id
+        robot_files = _robot_files.collect(panda)
+        _robot_files.upload_missing(client, scene_id, robot_files.files)
+        t0 = time.perf_counter()
+        client.add_robot(scene_id, "panda", urdf=robot_files.text)
+        return time.perf_counter() - t0
 
 
 def pybullet_panda_ms(panda: Path):
@@ -206,6 +221,7 @@ def run():
         figures.update(spread("panda_load_by_path", by_path))
         figures.update(spread("pybullet_panda_load", pybullet_panda_ms(panda)))
         figures["panda_repeats"] = REPEATS
+    figures.update(spread("panda_load_cold", [cold_panda_load_s(panda) for _ in range(COLD_REPEATS)]))
 
     FAILURES.parent.mkdir(parents=True, exist_ok=True)
     with open(FAILURES, "w") as out:

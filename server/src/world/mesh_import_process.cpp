@@ -28,6 +28,7 @@
 #include "core/mesh.h"
 #include "world/loaders.h"
 #include "world/mesh_import.h"
+#include "world/parsed_mesh_cache.h"
 
 extern char** environ;
 
@@ -174,9 +175,10 @@ std::string MeshImporterPath() {
   return (error ? std::filesystem::path(".") : self.parent_path()) / "graspsim-mesh-import";
 }
 
-TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std::string_view bytes,
+namespace {
+
+TriangleMesh ParseInChild(const std::string& field, const std::string& path, std::string_view bytes,
                           const Vec3& scale, const Limits& limits) {
-  CheckMeshFileRequest(field, path, bytes, scale);
   const std::string importer = MeshImporterPath();
   const std::string where = field + ": mesh file '" + path + "'";
   if (access(importer.c_str(), X_OK) != 0) {
@@ -254,6 +256,19 @@ TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std
     throw Error(ErrorCode::kInternal, where + ": the parser's answer is truncated");
   }
   ValidateMesh(mesh, where, limits.max_triangles_per_mesh);  // trust nothing that crossed a process boundary
+  return mesh;
+}
+
+}  // namespace
+
+TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std::string_view bytes,
+                          const Vec3& scale, const Limits& limits) {
+  CheckMeshFileRequest(field, path, bytes, scale);
+  ParsedMeshCache& cache = ParsedMeshCache::Instance();
+  const std::string key = ParsedMeshCache::Key(path, bytes, scale, limits.max_triangles_per_mesh);
+  if (const auto parsed = cache.Find(key)) return *parsed;
+  TriangleMesh mesh = ParseInChild(field, path, bytes, scale, limits);
+  cache.Put(key, std::make_shared<const TriangleMesh>(mesh));
   return mesh;
 }
 
