@@ -11,6 +11,8 @@ DEBIAN_PACKAGES=(
   libcpp-httplib-dev libgtest-dev libgmock-dev libbenchmark-dev octave
   libssl-dev openssl python3 python3-venv python3-pip  # openssl: the CLI makes test certificates (tests/python/test_security.py)
   nodejs chromium chromium-driver
+  libtinyxml2-dev  # MJCF (MuJoCo XML) robot files: server/src/import/mjcf_*.cpp
+  libsdformat-dev  # SDF robot and world files (libsdformat 12): server/src/import/sdf_*.cpp
   clang libclang-rt-14-dev  # libFuzzer targets and the ASan/UBSan build of the C++ tests (docs/fuzzing.md)
 )
 

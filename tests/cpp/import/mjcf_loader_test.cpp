@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "import/mjcf_geometry.h"
 #include "import/robot_import.h"
 #include "world/state.h"
 
@@ -271,6 +272,13 @@ TEST(MjcfLoaderTest, BallAndFreeJoints) {
                         Pose{Vec3(0, 0, 0.1), Quat::Identity()};
   EXPECT_LT((poses.at("ball_child").position - expected.position).norm(), kTolerance);
   EXPECT_LT(poses.at("ball_child").orientation.angularDistance(expected.orientation), kTolerance);
+  // A free joint that inherits limited="true" from its class has no limits (MuJoCo ignores them); one in a child
+  // body moves it relative to its parent.
+  const ImportedRobot nested = Mjcf(R"(<mujoco><default><joint limited="true"/></default><worldbody>
+      <body name="a"><geom size="0.1"/><body name="b" pos="1 0 0"><joint type="free"/><geom size="0.1"/></body></body>
+    </worldbody></mujoco>)");
+  EXPECT_EQ(JointOf(nested.description, "joint0_x").type, JointType::kContinuous);
+  EXPECT_LT((LinkPoses(nested.description, {{"joint0_py", 0.5}}).at("b").position - Vec3(1, 0.5, 0)).norm(), kTolerance);
   // Chain links are massless; the bodies carry the mass.
   EXPECT_EQ(LinkOf(d, "floating__px").inertial.mass, 0);
   EXPECT_GT(LinkOf(d, "ball_child").inertial.mass, 0);
@@ -424,7 +432,7 @@ TEST(MjcfLoaderTest, BadInputNamesTheElementAndValue) {
   ExpectInvalid(World("<body name=\"x\"><inertial mass=\"-1\" diaginertia=\"1 1 1\"/><joint/></body>"), {"-1"});
   ExpectInvalid("<mujoco><include file=\"missing.xml\"/></mujoco>", {"<include>", "'missing.xml'"});
   ExpectInvalid("<mujoco><compiler angle=\"grad\"/></mujoco>", {"angle", "'grad'"});
-  ExpectInvalid(World("<body name=\"x\"><body name=\"y\"><freejoint/></body></body>"), {"free joint"});
+  ExpectInvalid(World("<body name=\"x\"><joint name=\"j\" limited=\"true\"/></body>"), {"joint 'j' limited", "no range"});
   ExpectInvalid(std::string("<mujoco>\0</mujoco>", 18), {"NUL"});
 }
 
@@ -458,6 +466,121 @@ TEST(MjcfLoaderTest, GlobalCoordinatesAsTheirLocalTwin) {
     EXPECT_LT(a.at(body).orientation.angularDistance(b.at(body).orientation), 1e-12) << body;
   }
   EXPECT_TRUE(LinkOf(global.description, "b").inertial.center_of_mass.isApprox(Vec3(0, 0, 0.1), 1e-12));
+}
+
+}  // namespace
+}  // namespace graspsim
+
+namespace graspsim {
+namespace {
+
+// Cheap fuzzing in the normal test run (tests/fuzz/mjcf_fuzz.cpp is the real one): random edits of the arm and
+// of a model with every joint and geom kind must load or be refused with graspsim::Error, nothing else.
+TEST(MjcfLoaderTest, MutatedModelsLoadOrAreRefused) {
+  const std::string every_kind = R"(<mujoco><compiler angle="radian" eulerseq="zyx"/>
+    <asset><mesh name="tri" vertex="0 0 0 1 0 0 0 1 0 0 0 1" face="0 2 1 0 1 3 0 3 2 1 2 3"/></asset>
+    <default><default class="c"><joint type="slide" range="0 1"/><geom type="ellipsoid" size="0.1 0.2 0.3"/></default></default>
+    <worldbody><geom type="plane" size="1 1 1"/><frame pos="1 0 0" euler="0 0 1">
+      <body name="a" xyaxes="1 0 0 0 1 0"><freejoint/><geom type="mesh" mesh="tri"/>
+        <body name="b" childclass="c" zaxis="0 1 0"><joint name="s"/><joint type="ball" pos="0 0 1"/><geom/>
+          <body name="d" axisangle="1 0 0 1"><joint name="h" limited="true" range="-1 1"/><inertial mass="1" fullinertia="1 1 1 0 0 0"/>
+            <geom type="capsule" fromto="0 0 0 1 1 1" size="0.1"/><geom type="cylinder" size="0.1 0.2" mass="2"/></body></body></body>
+    </frame></worldbody>
+    <equality><joint joint1="h" joint2="s" polycoef="0 2"/></equality>
+    <actuator><motor joint="h" ctrlrange="-1 1"/><position joint="s" forcerange="-3 3"/></actuator></mujoco>)";
+  const std::string alphabet = "<>/=\" 01-.e+xyzabc\n";
+  std::mt19937 random(11);
+  size_t loaded = 0, refused = 0;
+  for (const std::string& seed : {kArmMjcf, every_kind}) {
+    EXPECT_NO_THROW(Mjcf(seed));
+    for (int trial = 0; trial < 1500; ++trial) {
+      std::string text = seed;
+      for (int edits = 1 + static_cast<int>(random() % 3); edits > 0 && !text.empty(); --edits) {
+        const size_t at = random() % text.size();
+        switch (random() % 4) {
+          case 0: text.erase(at, 1 + random() % 8); break;
+          case 1: text[at] = alphabet[random() % alphabet.size()]; break;
+          case 2: text.insert(at, text.substr(random() % text.size(), random() % 40)); break;
+          default: text.insert(at, 1, alphabet[random() % alphabet.size()]); break;
+        }
+      }
+      try {
+        Mjcf(text);
+        ++loaded;
+      } catch (const Error&) {
+        ++refused;
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << "not a graspsim::Error: " << e.what() << "\n" << text;
+      }
+    }
+  }
+  EXPECT_GT(loaded, 100u);
+  EXPECT_GT(refused, 100u);
+}
+
+}  // namespace
+}  // namespace graspsim
+
+namespace graspsim {
+namespace {
+
+TEST(MjcfLoaderTest, CompilerBoundsAndTotalMass) {
+  const ImportedRobot robot = Mjcf(R"(
+    <mujoco><compiler settotalmass="10" boundmass="0.5"/><worldbody>
+      <body name="a"><joint/><inertial mass="0.1" diaginertia="1 1 1"/>
+        <body name="b"><joint/><inertial mass="3" diaginertia="1 1 1"/></body></body>
+    </worldbody></mujoco>)");
+  // boundmass lifts a to 0.5 kg, then both scale by 10 / 3.5.
+  EXPECT_NEAR(LinkOf(robot.description, "a").inertial.mass, 0.5 * 10 / 3.5, 1e-12);
+  EXPECT_NEAR(LinkOf(robot.description, "b").inertial.mass, 3 * 10 / 3.5, 1e-12);
+  EXPECT_NEAR(LinkOf(robot.description, "b").inertial.inertia(0, 0), 10 / 3.5, 1e-12);
+}
+
+}  // namespace
+}  // namespace graspsim
+
+namespace graspsim {
+namespace {
+
+TEST(MjcfLoaderTest, StrictLoadingNeedsNoRepair) {
+  // The arm needs no repair (its site and motor are notes of what graspsim does not import, not repairs).
+  ImportOptions strict;
+  strict.strict = true;
+  const ImportedRobot robot = Mjcf(kArmMjcf, nullptr, strict);
+  EXPECT_EQ(LinkOf(robot.description, "world").inertial.mass, 0);  // welded: massless, even with its floor
+  for (const ImportWarning& w : robot.warnings) {
+    EXPECT_TRUE(w.element == "mjcf: <site>" || w.element == "mjcf: <actuator>") << w.element << ": " << w.action;
+  }
+  // A plane needs one: refused.
+  EXPECT_THROW(Mjcf("<mujoco><worldbody><geom type=\"plane\" size=\"1 1 1\"/></worldbody></mujoco>", nullptr, strict),
+               Error);
+}
+
+}  // namespace
+}  // namespace graspsim
+
+namespace graspsim {
+namespace {
+
+TEST(MjcfLoaderTest, MeshMassIsMuJoCosLegacyIntegral) {
+  // A unit cube as 12 triangles; MuJoCo's default ("legacy") counts every pyramid positive, so the cube turned
+  // inside out weighs the same, and the cube without its top still weighs (almost) as much.
+  const std::vector<Eigen::Vector3f> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0},
+                                                {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+  TriangleMesh cube;
+  cube.vertices = corners;
+  cube.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  const import::mjcf::MeshVolume closed = import::mjcf::LegacyMeshVolume(cube);
+  EXPECT_NEAR(closed.volume, 1, 1e-12);
+  EXPECT_TRUE(closed.centroid.isApprox(Vec3::Constant(0.5), 1e-12));
+  EXPECT_TRUE(closed.inertia_per_density.isApprox(Mat3::Identity() / 6, 1e-12)) << closed.inertia_per_density;
+  TriangleMesh inside_out = cube;
+  for (auto& t : inside_out.triangles) std::swap(t[1], t[2]);
+  EXPECT_NEAR(import::mjcf::LegacyMeshVolume(inside_out).volume, 1, 1e-12);
+  TriangleMesh open = cube;
+  open.triangles.erase(open.triangles.begin() + 2, open.triangles.begin() + 4);
+  EXPECT_GT(import::mjcf::LegacyMeshVolume(open).volume, 0.5);
 }
 
 }  // namespace
