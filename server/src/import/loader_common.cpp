@@ -54,6 +54,21 @@ Inertial InLinkFrame(const FileInertial& in) {
 
 std::string Quoted(const std::string& name) { return "'" + name + "'"; }
 
+void CheckXmlText(const std::string& format, const std::string& text) {
+  const auto* bytes = reinterpret_cast<const unsigned char*>(text.data());
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char lead = bytes[i];
+    const size_t length = lead < 0x80 ? 1 : (lead >> 5) == 0x6 ? 2 : (lead >> 4) == 0xe ? 3 : (lead >> 3) == 0x1e ? 4 : 0;
+    bool valid = length > 0 && lead != 0 && i + length <= text.size();
+    for (size_t k = 1; valid && k < length; ++k) valid = (bytes[i + k] & 0xc0) == 0x80;
+    if (!valid) {
+      ThrowInvalidArgument(format + ": " + std::string(lead == 0 ? "a NUL byte" : "text that is not UTF-8") +
+                           " at byte " + std::to_string(i));
+    }
+    i += length;
+  }
+}
+
 std::string StripMeshUri(const std::string& filename) {
   constexpr std::string_view kPackage = "package://", kModel = "model://", kFile = "file://";
   std::string path = filename;

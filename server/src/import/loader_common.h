@@ -16,6 +16,12 @@ namespace graspsim::import {
 
 std::string Quoted(const std::string& name);
 
+// Only well-formed UTF-8 without NUL bytes reaches an XML parser: TinyXML 2.6 steps over a multi-byte sequence by
+// its lead byte's length without looking, so a lead byte near the end of malformed text made it read past the
+// terminating NUL (a heap overflow found by tests/fuzz/urdf_fuzz.cpp: tests/fuzz/regressions/
+// urdf_tinyxml_read_past_end). Throws Error(kInvalidArgument) "<format>: ... at byte N".
+void CheckXmlText(const std::string& format, const std::string& text);
+
 // Loads each (file, scale) once per robot, however many links use it. A name that no candidate path finds is
 // remembered, not thrown, so that ThrowIfMissing lists every missing file in one error.
 class MeshFiles {

@@ -23,21 +23,6 @@ std::string Line(const tinyxml2::XMLElement& xml) { return " (line " + std::to_s
 
 }  // namespace
 
-void CheckXmlBytes(const std::string& format, const std::string& text) {
-  const auto* bytes = reinterpret_cast<const unsigned char*>(text.data());
-  for (size_t i = 0; i < text.size();) {
-    const unsigned char lead = bytes[i];
-    const size_t length = lead < 0x80 ? 1 : (lead >> 5) == 0x6 ? 2 : (lead >> 4) == 0xe ? 3 : (lead >> 3) == 0x1e ? 4 : 0;
-    bool valid = length > 0 && lead != 0 && i + length <= text.size();
-    for (size_t k = 1; valid && k < length; ++k) valid = (bytes[i + k] & 0xc0) == 0x80;
-    if (!valid) {
-      ThrowInvalidArgument(format + ": " + std::string(lead == 0 ? "a NUL byte" : "text that is not UTF-8") +
-                           " at byte " + std::to_string(i));
-    }
-    i += length;
-  }
-}
-
 // ---- Element ---------------------------------------------------------------------------------------------------
 
 const char* Element::Raw(const char* name) const {
@@ -187,7 +172,7 @@ Pose FramePose(const Element& element, const Compiler& compiler) {
 // ---- Document ----------------------------------------------------------------------------------------------------
 
 Document::Document(const std::string& text, const FileLookup& files) {
-  CheckXmlBytes("mjcf", text);
+  CheckXmlText("mjcf", text);
   if (xml_.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
     const int line = xml_.ErrorLineNum();
     ThrowInvalidArgument("mjcf: XML error" + (line > 0 ? " at line " + std::to_string(line) : std::string()) + ": " +
@@ -239,7 +224,7 @@ void Document::ExpandIncludes(const FileLookup& files) {
         if (bytes == nullptr && files && !candidate.empty()) bytes = files(candidate);
       }
       if (bytes == nullptr) ThrowInvalidArgument(field + " file " + Quoted(file) + " was not uploaded");
-      CheckXmlBytes(field + " file " + Quoted(file), *bytes);
+      CheckXmlText(field + " file " + Quoted(file), *bytes);
       tinyxml2::XMLDocument child;
       if (child.Parse(bytes->data(), bytes->size()) != tinyxml2::XML_SUCCESS) {
         ThrowInvalidArgument(field + " file " + Quoted(file) + ": XML error at line " +

@@ -86,7 +86,4 @@ class Document {
   std::map<std::string, std::map<std::string, Attributes>> classes_;  // class → tag → attributes, inherited ones too
 };
 
-// Throws Error(kInvalidArgument) for text tinyxml2 must not see: NUL bytes, malformed UTF-8.
-void CheckXmlBytes(const std::string& format, const std::string& text);
-
 }  // namespace graspsim::import::mjcf

@@ -25,7 +25,7 @@ enum class InertiaSource {
 struct ImportOptions {
   InertiaSource inertia = InertiaSource::kAuto;
   double density = 1000;  // kg/m^3, solid geometry for inertia from geometry (water, as MuJoCo's default)
-  bool strict = false;    // refuse anything that would need a repair: no warnings, only errors
+  bool strict = false;    // refuse anything that would need a repair (notes on elements not imported remain)
   std::string model_name; // SDF <world> with several models: the one to load (empty = the only or first one)
 };
 

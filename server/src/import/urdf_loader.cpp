@@ -411,25 +411,6 @@ std::vector<TactileArraySpec> ParseTactileArrays(const TiXmlElement& robot, cons
   return arrays;
 }
 
-// TinyXML 2.6 steps over a multi-byte UTF-8 sequence by its lead byte's length without looking, so a lead byte
-// near the end of malformed text makes it read past the terminating NUL (a heap overflow found by
-// tests/fuzz/urdf_fuzz.cpp: tests/fuzz/regressions/urdf_tinyxml_read_past_end). Only well-formed UTF-8 without
-// NUL bytes reaches it. Throws Error(kInvalidArgument) naming the byte offset.
-void CheckXmlText(const std::string& text) {
-  const auto* bytes = reinterpret_cast<const unsigned char*>(text.data());
-  for (size_t i = 0; i < text.size();) {
-    const unsigned char lead = bytes[i];
-    const size_t length = lead < 0x80 ? 1 : (lead >> 5) == 0x6 ? 2 : (lead >> 4) == 0xe ? 3 : (lead >> 3) == 0x1e ? 4 : 0;
-    bool valid = length > 0 && lead != 0 && i + length <= text.size();
-    for (size_t k = 1; valid && k < length; ++k) valid = (bytes[i + k] & 0xc0) == 0x80;
-    if (!valid) {
-      ThrowInvalidArgument("urdf: " + std::string(lead == 0 ? "a NUL byte" : "text that is not UTF-8") +
-                           " at byte " + std::to_string(i));
-    }
-    i += length;
-  }
-}
-
 }  // namespace
 
 ImportedRobot ImportUrdf(const std::string& urdf_text, const FileLookup& files, const ImportOptions& options,
@@ -443,7 +424,7 @@ ImportedRobot ImportUrdf(const std::string& urdf_text, const FileLookup& files, 
     warnings.push_back({"urdf: the text's last bytes", std::to_string(text.size() - end) + " NUL byte(s)", "ignored"});
     text.resize(end);
   }
-  CheckXmlText(text);
+  import::CheckXmlText("urdf", text);
   TiXmlDocument document;
   document.Parse(text.c_str());
   if (document.Error()) {
