@@ -322,7 +322,50 @@ TEST(SdfLoader, StrictLoadingRefusesRepairs) {
   EXPECT_THROW(Sdf(plane, strict), Error);
 }
 
-void ExpectInvalid(const std::string& text, const std::vector<std::string>& fragments, const FileLookup& files = kNoFiles) {
+// What pybullet_data's files do that libsdformat reports as errors and PyBullet loads: a link named "world" (reserved
+// in SDF) that the base is jointed to, collisions sharing a name, a model name with a space, two models of one name.
+TEST(SdfLoader, PyBulletsQuirksLoadAsPyBulletLoadsThem) {
+  const std::string text = R"(<sdf version="1.6"><world name="default">
+    <model name="Pod Two">
+      <link name="world"/>
+      <link name="base">)" + Inertial("1") + R"(
+        <collision name="c"><geometry><box><size>1 1 1</size></box></geometry></collision>
+        <collision name="c"><pose>0 0 2 0 0 0</pose><geometry><box><size>1 1 1</size></box></geometry></collision>
+      </link>
+      <joint name="lift" type="prismatic"><parent>world</parent><child>base</child>
+        <axis><xyz>0 0 1</xyz><limit><lower>0</lower><upper>1</upper></limit></axis></joint>
+    </model>
+    <model name="Pod Two"><link name="other"/></model>
+  </world></sdf>)";
+  const ImportedRobot robot = Sdf(text);
+  EXPECT_EQ(robot.description.name, "Pod_Two");
+  EXPECT_EQ(robot.description.root_link, "world");
+  ASSERT_EQ(robot.description.joints.size(), 1u);
+  EXPECT_EQ(robot.description.joints[0].parent_body, "world");
+  const BodySpec& base = Body(robot.description, "base");
+  ASSERT_EQ(base.collision.size(), 2u);
+  EXPECT_NEAR(base.collision[1].origin.position.z(), 2, kTolerance);
+  std::string elements;
+  for (const ImportWarning& w : robot.warnings) elements += w.element + " " + w.value + "\n";
+  EXPECT_NE(elements.find("collision 'c' (name repeated)"), std::string::npos) << elements;
+  EXPECT_NE(elements.find("model 'Pod Two' name 'Pod Two'"), std::string::npos) << elements;
+  EXPECT_NE(elements.find("model with name[Pod Two] already exists"), std::string::npos) << elements;
+  EXPECT_EQ(elements.find("not static"), std::string::npos) << elements;  // the "world" link holds it
+}
+
+TEST(SdfLoader, NestedCanonicalLinkIsTheRoot) {
+  const std::string text = R"(<sdf version="1.8"><model name="outer" canonical_link="inner::core">
+    <link name="side"><pose>1 0 0 0 0 0</pose>)" + Inertial("1") + R"(</link>
+    <model name="inner"><pose>0 0 1 0 0 0</pose><link name="core">)" + Inertial("1") + R"(</link></model>
+  </model></sdf>)";
+  const RobotDescription d = Sdf(text).description;
+  EXPECT_EQ(d.root_link, "inner.core");
+  const auto fk = Fk(d, {});
+  EXPECT_LT((fk.at("side").position - Vec3(1, 0, -1)).norm(), kTolerance);
+}
+
+void ExpectInvalid(const std::string& text, const std::vector<std::string>& fragments,
+                   const FileLookup& files = kNoFiles) {
   try {
     ImportSdf(text, files, ImportOptions{}, Limits{});
     FAIL() << "accepted: " << text;
@@ -340,9 +383,11 @@ std::string Model(const std::string& body) {
 }
 
 TEST(SdfLoader, BadInputIsRefusedNamingElementAndValue) {
-  ExpectInvalid("", {"sdf:"});
-  ExpectInvalid("not xml at all <", {"sdf:"});
+  ExpectInvalid("", {"sdf: XML error"});
+  ExpectInvalid("<sdf version=\"1.7\">\n<model name=\"m\">\n<link name=\"a\"></model></sdf>",
+                {"sdf: XML error at line 3"});
   ExpectInvalid("<sdf version=\"1.7\"><world name=\"w\"/></sdf>", {"sdf: the file has no <model>"});
+  ExpectInvalid("<!-- <sdf> --><robot name=\"r\"><link name=\"a\"/></robot>", {"<robot>", "send it as urdf"});
   ExpectInvalid(Model(R"(<link name="b"><collision name="c"><geometry><box><size>1 -2 3</size></box></geometry>
       </collision></link>)"),
                 {"sdf: model 'm' link 'b' collision 'c' box size", "-2"});
@@ -365,6 +410,21 @@ TEST(SdfLoader, BadInputIsRefusedNamingElementAndValue) {
   ExpectInvalid(Model(R"(<link name="b"/><joint name="j" type="revolute"><parent>a</parent><child>nowhere</child>
       <axis><xyz>0 0 1</xyz></axis></joint>)"),
                 {"nowhere"});
+}
+
+// libsdformat spends about 1.6 ms per <link> (it copies the element's schema): counted before parsing.
+TEST(SdfLoader, ElementCountsAreBoundedBeforeParsing) {
+  Limits limits;
+  limits.max_bodies_per_scene = 4;
+  std::string links;
+  for (int i = 0; i < 5; ++i) links += "<link name=\"l" + std::to_string(i) + "\"/>";
+  try {
+    ImportSdf("<sdf version=\"1.7\"><model name=\"m\">" + links + "</model></sdf>", kNoFiles, {}, limits);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kResourceExhausted);
+    EXPECT_NE(std::string(e.what()).find("5 <link> elements, above the limit of 4"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
