@@ -54,6 +54,33 @@ Inertial InLinkFrame(const FileInertial& in) {
 
 std::string Quoted(const std::string& name) { return "'" + name + "'"; }
 
+std::string SanitiseName(const std::string& name, bool* changed) {
+  std::string result;
+  bool other = false;
+  for (size_t i = 0; i < name.size(); ++i) {
+    const char c = name[i];
+    if (c == ':' && i + 1 < name.size() && name[i + 1] == ':') {
+      result += '.';
+      ++i;
+      continue;
+    }
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+                    c == '-' || c == '.';
+    result += ok ? c : '_';
+    other = other || !ok;
+  }
+  if (result.size() > 64) {
+    result.resize(64);
+    other = true;
+  }
+  if (result.empty()) {
+    result = "unnamed";
+    other = true;
+  }
+  if (changed != nullptr) *changed = other;
+  return result;
+}
+
 void CheckXmlText(const std::string& format, const std::string& text) {
   const auto* bytes = reinterpret_cast<const unsigned char*>(text.data());
   for (size_t i = 0; i < text.size();) {
@@ -142,7 +169,7 @@ void ResolveInertials(const std::string& format, const FileInertials& file, cons
   for (BodySpec& link : description->links) {
     const auto found = file.find(link.id);
     const FileInertial* in = found == file.end() ? nullptr : &found->second;
-    if (in != nullptr && in->chain_link) {
+    if (in != nullptr && in->massless) {
       link.inertial = Inertial{};  // massless by design: the chain's last link carries the mass
       continue;
     }
@@ -264,7 +291,7 @@ void AppendChain(const JointSpec& joint, const std::vector<std::tuple<std::strin
       link.motion = BodyMotion::kArticulated;
       chain_links.push_back(link);
       FileInertial massless;
-      massless.chain_link = true;
+      massless.massless = true;
       (*file)[child] = massless;
     }
     parent = child;

@@ -16,6 +16,11 @@ namespace graspsim::import {
 
 std::string Quoted(const std::string& name);
 
+// A name graspsim accepts (core/validate.h CheckName): "::" (SDF scopes) → ".", any other character outside
+// [A-Za-z0-9_.-] → '_', at most 64 characters; empty → "unnamed". *changed (if not null) is set when anything
+// but the "::" replacement was needed.
+std::string SanitiseName(const std::string& name, bool* changed);
+
 // Only well-formed UTF-8 without NUL bytes reaches an XML parser: TinyXML 2.6 steps over a multi-byte sequence by
 // its lead byte's length without looking, so a lead byte near the end of malformed text made it read past the
 // terminating NUL (a heap overflow found by tests/fuzz/urdf_fuzz.cpp: tests/fuzz/regressions/
@@ -58,7 +63,9 @@ struct FileInertial {
   Pose origin;                // the inertial frame in the link frame
   Mat3 inertia = Mat3::Zero();  // kg m^2 about the centre of mass, in the inertial frame
   std::string field;          // how the file names it, for errors and warnings: "urdf: link 'a' inertial"
-  bool chain_link = false;    // a massless link of a ball or free joint's chain (AppendBallJoint): kept massless
+  // Massless by design, not a zero mass to repair: a link of a ball or free joint's chain (AppendBallJoint), a
+  // joint-frame link, MJCF's world body.
+  bool massless = false;
 };
 using FileInertials = std::map<std::string, FileInertial>;
 

@@ -11,6 +11,7 @@
 #include "core/format.h"
 #include "core/validate.h"
 #include "import/mass_properties.h"
+#include "import/primitive_shapes.h"
 
 namespace graspsim::import::mjcf {
 namespace {
@@ -18,7 +19,6 @@ namespace {
 // A plane of size 0 (infinite in MuJoCo) becomes a square of this edge, and every plane a slab this thick below
 // its surface: graspsim has no unbounded shapes.
 constexpr double kInfinitePlaneEdge = 100;  // m
-constexpr double kPlaneThickness = 0.1;     // m
 
 std::string Format(double value) { return FormatNumber(value); }
 
@@ -54,39 +54,6 @@ void Warnings::NoteOnce(const std::string& element, const std::string& value, co
   if (noted_[element]) return;
   noted_[element] = true;
   Note(element, value, action);
-}
-
-const TriangleMesh& UnitIcosphere() {
-  static const TriangleMesh sphere = [] {
-    const double t = (1 + std::sqrt(5.0)) / 2;
-    std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    std::vector<std::array<uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                              {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                              {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                              {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-    for (Vec3& p : v) p.normalize();
-    for (int level = 0; level < 2; ++level) {
-      std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
-      const auto midpoint = [&](uint32_t a, uint32_t b) {
-        const auto key = std::minmax(a, b);
-        const auto [it, inserted] = midpoints.emplace(key, static_cast<uint32_t>(v.size()));
-        if (inserted) v.push_back((v[a] + v[b]).normalized());
-        return it->second;
-      };
-      std::vector<std::array<uint32_t, 3>> finer;
-      for (const auto& [a, b, c] : f) {
-        const uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-        finer.insert(finer.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
-      }
-      f = std::move(finer);
-    }
-    TriangleMesh mesh;
-    for (const Vec3& p : v) mesh.vertices.push_back(p.cast<float>());
-    mesh.triangles = f;
-    return mesh;
-  }();
-  return sphere;
 }
 
 MeshVolume LegacyMeshVolume(const TriangleMesh& mesh) {
@@ -306,9 +273,7 @@ GeomResult GeomReader::Read(const Element& geom, const Pose& frame, bool with_ma
     }
   } else if (type == "ellipsoid") {
     const Vec3 radii(positive(0, "x radius"), positive(1, "y radius"), positive(2, "z radius"));
-    auto mesh = std::make_shared<TriangleMesh>(UnitIcosphere());
-    for (Eigen::Vector3f& v : mesh->vertices) v = v.cwiseProduct(radii.cast<float>());
-    shape(Geometry::Kind::kMesh, pose).mesh = std::move(mesh);
+    shape(Geometry::Kind::kMesh, pose).mesh = EllipsoidMesh(radii);
     const Vec3 sq = radii.cwiseProduct(radii);
     local_mass = {4.0 / 3.0 * M_PI * radii.prod(), Vec3(sq.y() + sq.z(), sq.x() + sq.z(), sq.x() + sq.y()) / 5};
   } else if (type == "plane") {

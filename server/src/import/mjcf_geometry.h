@@ -74,7 +74,5 @@ struct MeshVolume {
 };
 MeshVolume LegacyMeshVolume(const TriangleMesh& mesh);
 
-// A mesh of the unit sphere: an icosahedron subdivided twice (162 vertices, 320 triangles), outward facing.
-const TriangleMesh& UnitIcosphere();
 
 }  // namespace graspsim::import::mjcf

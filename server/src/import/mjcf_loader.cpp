@@ -29,15 +29,6 @@ constexpr size_t kMaxNameLength = 64;
 
 std::string Format(double value) { return FormatNumber(value); }
 
-// graspsim's names (core/validate.h CheckName): 1..64 of [A-Za-z0-9_.-].
-std::string Sanitised(const std::string& name) {
-  std::string out = name.substr(0, kMaxNameLength);
-  for (char& c : out) {
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) c = '_';
-  }
-  return out.empty() ? "_" : out;
-}
-
 struct Child {
   const tinyxml2::XMLElement* xml;
   Pose frame;               // the enclosing <frame>s' pose in the body frame
@@ -91,7 +82,7 @@ class Builder {
     // links of a joint chain (no repair, no warning; MuJoCo's world body has no mass either).
     FileInertial massless;
     massless.field = "mjcf: worldbody";
-    massless.chain_link = true;
+    massless.massless = true;
     inertials_["world"] = massless;
     AddLink(std::move(world));
     for (const Child& body : bodies) Body(body, "world", Pose{}, 1);
@@ -135,7 +126,7 @@ class Builder {
   // `generated`: a name the loader made up (a joint's link, a weld), renamed without a warning.
   std::string UniqueName(const std::string& wanted, const std::string& field, std::set<std::string>* used,
                          bool generated = false) {
-    std::string name = Sanitised(wanted);
+    std::string name = SanitiseName(wanted, nullptr);
     if (name != wanted && !generated) {
       warnings_.Repair(field + " name", Quoted(wanted), "renamed " + Quoted(name) + " (graspsim names are 1..64 of "
                                                         "letters, digits, '_', '-', '.')");
@@ -166,7 +157,7 @@ class Builder {
     link.id = name;
     AddLink(std::move(link));
     FileInertial massless;
-    massless.chain_link = true;
+    massless.massless = true;
     massless.field = "mjcf: link " + Quoted(name);
     inertials_[name] = massless;
   }

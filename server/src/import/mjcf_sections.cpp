@@ -12,7 +12,7 @@ namespace graspsim::import::mjcf {
 void CompilerMasses(const Compiler& compiler, FileInertials* inertials) {
   double total = 0;
   for (auto& [link, inertial] : *inertials) {
-    if (inertial.chain_link || link == "world") continue;
+    if (inertial.massless || link == "world") continue;
     if (compiler.boundmass > 0 && inertial.mass < compiler.boundmass) inertial.mass = compiler.boundmass;
     if (compiler.boundinertia > 0) {
       for (int axis = 0; axis < 3; ++axis) {
@@ -24,7 +24,7 @@ void CompilerMasses(const Compiler& compiler, FileInertials* inertials) {
   if (compiler.settotalmass > 0 && total > 0) {
     const double scale = compiler.settotalmass / total;
     for (auto& [link, inertial] : *inertials) {
-      if (inertial.chain_link || link == "world") continue;
+      if (inertial.massless || link == "world") continue;
       inertial.mass *= scale;
       inertial.inertia *= scale;
     }

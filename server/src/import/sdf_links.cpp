@@ -1,5 +1,5 @@
 // SDF links → bodies (sdf_internal.h): collision geometry, including the shapes graspsim builds from its own
-// primitives (sdf_shapes.h), and the file's inertials as stated.
+// primitives (primitive_shapes.h), and the file's inertials as stated.
 #include <map>
 #include <string>
 #include <utility>
@@ -8,7 +8,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "import/sdf_internal.h"
-#include "import/sdf_shapes.h"
+#include "import/primitive_shapes.h"
 
 namespace graspsim::import {
 
@@ -84,12 +84,8 @@ void ConvertCollision(const sdf::Collision& collision, const Pose& origin, const
         repairs->Warn(field + " mesh submesh", Quoted(mesh.Submesh()), "the whole mesh file is used");
       }
       const std::string uri = mesh.Uri();
-      const std::string path = NormalisePath(StripMeshUri(uri));
-      std::vector<std::string> candidates{path};
-      const std::string basename = path.substr(path.find_last_of('/') + 1);
-      if (!basename.empty() && basename != path) candidates.push_back(basename);
       g.kind = Geometry::Kind::kMesh;
-      if (!meshes->Load(field + " mesh " + Quoted(uri), uri, candidates, scale, &g)) return;  // listed later
+      if (!meshes->Load(field + " mesh " + Quoted(uri), uri, MeshPathCandidates(uri), scale, &g)) return;  // listed later
       break;
     }
     case sdf::GeometryType::EMPTY:

@@ -12,7 +12,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "import/sdf_internal.h"
-#include "import/sdf_shapes.h"
+#include "import/primitive_shapes.h"
 
 namespace graspsim::import {
 namespace {
@@ -144,7 +144,7 @@ void SdfConverter::AddChainLink(const std::string& name) {
   result_.description.links.push_back(body);
   FileInertial massless;
   massless.field = model_field_ + " link " + Quoted(name);
-  massless.chain_link = true;
+  massless.massless = true;
   inertials_[name] = massless;
 }
 

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "import/loader_common.h"
+#include "import/primitive_shapes.h"
 
 namespace graspsim::import {
 namespace {
@@ -15,19 +16,7 @@ namespace {
 constexpr size_t kMaxNameLength = 64;
 // A plane (PyBullet's <plane normal>) as a box: 200 m square (PyBullet's own plane.urdf uses a 200 m box) and
 // 0.1 m thick, its top face on the plane.
-constexpr double kPlaneSide = 200, kPlaneThickness = 0.1;
-
-bool ValidNameChar(char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
-         c == '.';
-}
-
-std::string Sanitised(const std::string& name) {
-  std::string out;
-  for (char c : name) out += ValidNameChar(c) ? c : '_';
-  if (out.size() > kMaxNameLength) out.resize(kMaxNameLength);
-  return out.empty() ? "_" : out;
-}
+constexpr double kPlaneSide = 200;
 
 // Numbers of an attribute; empty when absent or not numbers (urdfdom then reports it).
 std::vector<double> Numbers(const TiXmlElement& e, const char* attribute) {
@@ -67,9 +56,9 @@ void RepairNames(TiXmlElement* robot, std::vector<ImportWarning>* warnings) {
     auto& renames = std::string(tag) == "link" ? links : joints;
     for (TiXmlElement* e = robot->FirstChildElement(tag); e != nullptr; e = e->NextSiblingElement(tag)) {
       const char* name = e->Attribute("name");
-      if (name == nullptr || *name == '\0' || Sanitised(name) == name) continue;
-      std::string fixed = Sanitised(name);
-      for (int n = 2; taken.count(fixed); ++n) fixed = Sanitised(name).substr(0, kMaxNameLength - 4) + "_" + std::to_string(n);
+      if (name == nullptr || *name == '\0' || SanitiseName(name, nullptr) == name) continue;
+      std::string fixed = SanitiseName(name, nullptr);
+      for (int n = 2; taken.count(fixed); ++n) fixed = SanitiseName(name, nullptr).substr(0, kMaxNameLength - 4) + "_" + std::to_string(n);
       taken.insert(fixed);
       renames[name] = fixed;
       e->SetAttribute("name", fixed);
@@ -114,11 +103,7 @@ void RepairCollisions(TiXmlElement* robot, UrdfRepairs* repairs, std::vector<Imp
         std::vector<double> n = Numbers(*shape, "normal");
         Vec3 normal = n.size() == 3 ? Vec3(n[0], n[1], n[2]) : Vec3::UnitZ();
         normal = normal.norm() > 1e-12 && normal.allFinite() ? normal.normalized() : Vec3::UnitZ();
-        Geometry box;
-        box.kind = Geometry::Kind::kBox;
-        box.box_size = Vec3(kPlaneSide, kPlaneSide, kPlaneThickness);
-        const Quat tilt = Quat::FromTwoVectors(Vec3::UnitZ(), normal);
-        box.origin = origin * Pose{tilt * Vec3(0, 0, -kPlaneThickness / 2), tilt};
+        const Geometry box = PlaneBox(normal, kPlaneSide, kPlaneSide, origin);
         extra.push_back(box);
         warnings->push_back({element, "normal " + FormatNumber(normal.x()) + " " + FormatNumber(normal.y()) + " " +
                                           FormatNumber(normal.z()),
@@ -126,19 +111,7 @@ void RepairCollisions(TiXmlElement* robot, UrdfRepairs* repairs, std::vector<Imp
       } else if (kind == "capsule") {
         const std::vector<double> r = Numbers(*shape, "radius"), l = Numbers(*shape, "length");
         if (r.size() == 1 && l.size() == 1 && r[0] > 0 && l[0] >= 0) {
-          Geometry cylinder;
-          cylinder.kind = Geometry::Kind::kCylinder;
-          cylinder.radius = r[0];
-          cylinder.length = std::max(l[0], 1e-9);
-          cylinder.origin = origin;
-          extra.push_back(cylinder);
-          for (double end : {-0.5, 0.5}) {
-            Geometry sphere;
-            sphere.kind = Geometry::Kind::kSphere;
-            sphere.radius = r[0];
-            sphere.origin = origin * Pose{Vec3(0, 0, end * l[0]), Quat::Identity()};
-            extra.push_back(sphere);
-          }
+          for (const Geometry& part : CapsuleGeometries(r[0], std::max(l[0], 1e-9), origin)) extra.push_back(part);
           warnings->push_back({element, "radius " + FormatNumber(r[0]) + " length " + FormatNumber(l[0]),
                                "a cylinder and two spheres (the same solid)"});
         } else {

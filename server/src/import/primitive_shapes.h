@@ -1,6 +1,6 @@
-// The SDF shapes graspsim has no primitive for, built from its own (sdf_loader.cpp): a capsule as a cylinder and two
-// spheres, an ellipsoid as a triangle mesh (a subdivided icosahedron), a plane as a thin box below it. Internal to
-// import/; free of libsdformat types.
+// The shapes of robot files that graspsim has no primitive for, built from its own (URDF, MJCF and SDF loaders): a
+// capsule as a cylinder and two spheres, an ellipsoid as a triangle mesh (a subdivided icosahedron), a plane as a
+// thin box below it. Internal to import/.
 #pragma once
 
 #include <memory>
@@ -26,13 +26,5 @@ std::shared_ptr<const TriangleMesh> EllipsoidMesh(const Vec3& radii);
 // A plane through the origin of `origin` with unit normal `normal` (in that frame) and extent size_x × size_y: a box
 // of that extent, kPlaneThickness thick, whose top face is the plane. `normal` must be non-zero.
 Geometry PlaneBox(const Vec3& normal, double size_x, double size_y, const Pose& origin);
-
-// Lexically normalised relative form of a path: "a/./b//../c" → "a/c"; ".." past the start is kept.
-std::string NormalisePath(const std::string& path);
-
-// A name graspsim accepts (core/validate.h CheckName): "::" (SDF scopes) → ".", any other character outside
-// [A-Za-z0-9_.-] → '_', at most 64 characters; empty → "unnamed". *changed (if not null) is set when anything
-// but the "::" replacement was needed.
-std::string SanitiseName(const std::string& name, bool* changed);
 
 }  // namespace graspsim::import

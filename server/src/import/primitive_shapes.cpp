@@ -1,5 +1,5 @@
-// SDF shapes from graspsim's primitives (sdf_shapes.h).
-#include "import/sdf_shapes.h"
+// Shapes graspsim has no primitive for, from its own (primitive_shapes.h).
+#include "import/primitive_shapes.h"
 
 #include <array>
 #include <cmath>
@@ -66,56 +66,6 @@ Geometry PlaneBox(const Vec3& normal, double size_x, double size_y, const Pose& 
   const Quat tilt = Quat::FromTwoVectors(Vec3::UnitZ(), normal.normalized());
   box.origin = origin * Pose{tilt * Vec3(0, 0, -0.5 * kPlaneThickness), tilt};
   return box;
-}
-
-std::string NormalisePath(const std::string& path) {
-  std::vector<std::string> parts;
-  size_t start = 0;
-  while (start <= path.size()) {
-    size_t end = path.find('/', start);
-    if (end == std::string::npos) end = path.size();
-    const std::string part = path.substr(start, end - start);
-    if (part == "..") {
-      if (!parts.empty() && parts.back() != "..") {
-        parts.pop_back();
-      } else {
-        parts.push_back(part);
-      }
-    } else if (!part.empty() && part != ".") {
-      parts.push_back(part);
-    }
-    start = end + 1;
-  }
-  std::string result;
-  for (const std::string& part : parts) result += (result.empty() ? "" : "/") + part;
-  return result;
-}
-
-std::string SanitiseName(const std::string& name, bool* changed) {
-  std::string result;
-  bool other = false;
-  for (size_t i = 0; i < name.size(); ++i) {
-    const char c = name[i];
-    if (c == ':' && i + 1 < name.size() && name[i + 1] == ':') {
-      result += '.';
-      ++i;
-      continue;
-    }
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
-                    c == '-' || c == '.';
-    result += ok ? c : '_';
-    other = other || !ok;
-  }
-  if (result.size() > 64) {
-    result.resize(64);
-    other = true;
-  }
-  if (result.empty()) {
-    result = "unnamed";
-    other = true;
-  }
-  if (changed != nullptr) *changed = other;
-  return result;
 }
 
 }  // namespace graspsim::import
