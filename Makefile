@@ -35,8 +35,12 @@ python: $(VENV)/.installed
 demo: build python
 	@deploy/run-demo.sh $(SERVER) $(PYTHON)
 
+# The summary line ("100% tests passed, 0 tests failed out of N") and the tests that did not run; on a failure,
+# the failing tests' output.
 test-cpp: build
-	@ctest --test-dir $(BUILD) --output-on-failure --progress -j2 | tail -n 3
+	@ctest --test-dir $(BUILD) --output-on-failure --progress -j2 > $(BUILD)/test-cpp.log 2>&1 \
+	  || { grep -E -A40 '\[  FAILED  \]|\*\*\*Failed|\*\*\*Exception' $(BUILD)/test-cpp.log | head -n 150; tail -n 20 $(BUILD)/test-cpp.log; exit 1; }
+	@sed -n '/tests passed/,$$p' $(BUILD)/test-cpp.log
 
 test-python: build python
 	@GRASPSIM_SERVER=$(abspath $(SERVER)) $(PYTHON) -m pytest -q tests/python
