@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <future>
+#include <thread>
 
 #include <Eigen/Eigenvalues>
 
@@ -147,6 +149,45 @@ bool MeshFiles::Load(const std::string& field, const std::string& as_written,
   }
   geometry->mesh = cached;
   return true;
+}
+
+void MeshFiles::Prefetch(const std::vector<Request>& requests) {
+  struct Job {
+    std::tuple<std::string, double, double, double> key;
+    std::string field, path;
+    const std::string* bytes;
+    Vec3 scale;
+  };
+  std::vector<Job> jobs;
+  std::set<std::tuple<std::string, double, double, double>> queued;
+  for (const Request& request : requests) {
+    for (const std::string& candidate : request.candidates) {
+      const std::string* bytes = (files_ && !candidate.empty()) ? files_(candidate) : nullptr;
+      if (bytes == nullptr) continue;
+      auto key = std::make_tuple(candidate, request.scale.x(), request.scale.y(), request.scale.z());
+      if (!cache_.count(key) && request.scale.allFinite() && queued.insert(key).second) {
+        jobs.push_back({key, request.field, candidate, bytes, request.scale});
+      }
+      break;
+    }
+  }
+  if (jobs.size() < 2) return;  // nothing to overlap: Load parses it
+  const size_t parallel = std::max(2u, std::thread::hardware_concurrency());
+  for (size_t first = 0; first < jobs.size(); first += parallel) {
+    std::vector<std::future<std::shared_ptr<const TriangleMesh>>> parsed;
+    for (size_t i = first; i < std::min(jobs.size(), first + parallel); ++i) {
+      parsed.push_back(std::async(std::launch::async, [&job = jobs[i], this]() -> std::shared_ptr<const TriangleMesh> {
+        try {
+          return std::make_shared<const TriangleMesh>(LoadMeshFile(job.field, job.path, *job.bytes, job.scale, limits_));
+        } catch (const Error&) {
+          return nullptr;  // Load parses it again and reports it with its field
+        }
+      }));
+    }
+    for (size_t i = first; i < first + parsed.size(); ++i) {
+      if (auto mesh = parsed[i - first].get()) cache_[jobs[i].key] = std::move(mesh);
+    }
+  }
 }
 
 void MeshFiles::ThrowIfMissing(const std::string& format) const {

@@ -184,6 +184,11 @@ void GeomReader::ReadAssets() {
       }
     }
   }
+  std::vector<MeshFiles::Request> files;
+  for (const auto& [name, asset] : assets_) {
+    if (asset.inline_mesh == nullptr) files.push_back({asset.field, asset.candidates, asset.scale});
+  }
+  meshes_->Prefetch(files);
 }
 
 bool GeomReader::LoadMesh(const Element& geom, Geometry* geometry, const MeshAsset** found) {

@@ -269,6 +269,18 @@ ImportedRobot SdfConverter::Convert(const sdf::Model& model, const Pose& model_i
   static_ = model.Static();
   Flatten(model, "", Pose{});
   if (links_.empty()) ThrowInvalidArgument(model_field_ + " has no <link>");
+  std::vector<MeshFiles::Request> mesh_requests;  // parsed side by side before the links need them
+  for (const FlatLink& link : links_) {
+    for (uint64_t c = 0; c < link.link->CollisionCount(); ++c) {
+      const sdf::Geometry* geometry = link.link->CollisionByIndex(c)->Geom();
+      if (geometry == nullptr || geometry->Type() != sdf::GeometryType::MESH || geometry->MeshShape() == nullptr) continue;
+      const sdf::Mesh& mesh = *geometry->MeshShape();
+      const auto& scale = mesh.Scale();
+      mesh_requests.push_back({model_field_ + " link " + Quoted(link.sdf_name) + " mesh " + Quoted(mesh.Uri()),
+                               MeshPathCandidates(mesh.Uri()), Vec3(scale.X(), scale.Y(), scale.Z())});
+    }
+  }
+  meshes_.Prefetch(mesh_requests);
 
   std::map<std::string, size_t> link_index;
   std::map<std::string, std::string> by_sdf_name;  // "a::b" → graspsim's name

@@ -465,6 +465,20 @@ ImportedRobot ImportUrdf(const std::string& urdf_text, const FileLookup& files, 
     return Error(ErrorCode::kInternal, "urdf: urdfdom's model has no " + what);
   };
   static const std::vector<Geometry> kNone;
+  std::vector<MeshFiles::Request> mesh_requests;
+  for (const std::string& link : order.links) {
+    const urdf::LinkConstSharedPtr parsed = model->getLink(link);
+    if (parsed == nullptr) continue;
+    for (const urdf::CollisionSharedPtr& collision : parsed->collision_array) {
+      if (collision == nullptr || collision->geometry == nullptr || collision->geometry->type != urdf::Geometry::MESH) {
+        continue;
+      }
+      const auto& mesh = static_cast<const urdf::Mesh&>(*collision->geometry);
+      mesh_requests.push_back({"urdf: link " + Quoted(link) + " mesh " + Quoted(mesh.filename),
+                               import::MeshPathCandidates(mesh.filename), ToVec3(mesh.scale)});
+    }
+  }
+  meshes.Prefetch(mesh_requests);
   for (const std::string& link : order.links) {
     const urdf::LinkConstSharedPtr parsed = model->getLink(link);
     if (parsed == nullptr) throw missing("link " + Quoted(link));
