@@ -11,6 +11,16 @@
 
 namespace graspsim::fuzz {
 
+// The robot-file targets' one "uploaded" mesh, meshes/tetra.stl: a tetrahedron, so inputs that name it reach the
+// mesh path.
+inline const std::string kTetraStl =
+    "solid t\n"
+    " facet normal 0 0 -1\n  outer loop\n   vertex 0 0 0\n   vertex 0 1 0\n   vertex 1 0 0\n  endloop\n endfacet\n"
+    " facet normal 0 -1 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 0 1\n  endloop\n endfacet\n"
+    " facet normal -1 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 0 1\n   vertex 0 1 0\n  endloop\n endfacet\n"
+    " facet normal 1 1 1\n  outer loop\n   vertex 1 0 0\n   vertex 0 1 0\n   vertex 0 0 1\n  endloop\n endfacet\n"
+    "endsolid t\n";
+
 // Runs `f` on one input. graspsim::Error is the expected answer to bad input (the RPC layer maps it to a status
 // code naming the field); any other exception escapes to libFuzzer, which reports it as a crash: the server would
 // answer INTERNAL, which the design rules out for bad input.

@@ -6,13 +6,6 @@
 
 namespace {
 
-const std::string kTetraStl =
-    "solid t\n"
-    " facet normal 0 0 -1\n  outer loop\n   vertex 0 0 0\n   vertex 0 1 0\n   vertex 1 0 0\n  endloop\n endfacet\n"
-    " facet normal 0 -1 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 0 1\n  endloop\n endfacet\n"
-    " facet normal -1 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 0 1\n   vertex 0 1 0\n  endloop\n endfacet\n"
-    " facet normal 1 1 1\n  outer loop\n   vertex 1 0 0\n   vertex 0 1 0\n   vertex 0 0 1\n  endloop\n endfacet\n"
-    "endsolid t\n";
 
 const std::string kPart =
     "<mujoco><body name=\"part\" pos=\"0 0 0.1\"><joint type=\"ball\"/><geom type=\"capsule\" size=\"0.01 0.02\"/>"
@@ -23,7 +16,7 @@ const std::string kPart =
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text = graspsim::fuzz::Text(data, size);
   const graspsim::FileLookup files = [](const std::string& path) -> const std::string* {
-    if (path == "meshes/tetra.stl") return &kTetraStl;
+    if (path == "meshes/tetra.stl") return &graspsim::fuzz::kTetraStl;
     if (path == "part.xml") return &kPart;
     return nullptr;
   };

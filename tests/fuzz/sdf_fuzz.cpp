@@ -5,22 +5,10 @@
 #include "import/robot_import.h"
 #include "world/loaders.h"
 
-namespace {
-
-const std::string kTetraStl =
-    "solid t\n"
-    " facet normal 0 0 -1\n  outer loop\n   vertex 0 0 0\n   vertex 0 1 0\n   vertex 1 0 0\n  endloop\n endfacet\n"
-    " facet normal 0 -1 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 0 1\n  endloop\n endfacet\n"
-    " facet normal -1 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 0 1\n   vertex 0 1 0\n  endloop\n endfacet\n"
-    " facet normal 1 1 1\n  outer loop\n   vertex 1 0 0\n   vertex 0 1 0\n   vertex 0 0 1\n  endloop\n endfacet\n"
-    "endsolid t\n";
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text = graspsim::fuzz::Text(data, size);
   const graspsim::FileLookup files = [](const std::string& path) -> const std::string* {
-    return path == "meshes/tetra.stl" ? &kTetraStl : nullptr;
+    return path == "meshes/tetra.stl" ? &graspsim::fuzz::kTetraStl : nullptr;
   };
   graspsim::Limits limits;
   limits.max_triangles_per_mesh = 100'000;
