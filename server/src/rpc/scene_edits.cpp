@@ -2,8 +2,8 @@
 
 #include "core/error.h"
 #include "core/validate.h"
-#include "physics/simulation.h"
 #include "import/robot_import.h"
+#include "physics/simulation.h"
 #include "rpc/convert.h"
 
 namespace graspsim::rpc {
