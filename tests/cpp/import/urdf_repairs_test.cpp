@@ -27,6 +27,22 @@ std::string Arm(const std::string& tip_body, const std::string& tip_joint = "fix
          "<origin xyz=\"0 0 0.5\"/>" + (tip_joint == "fixed" ? "" : kRevolute) + "</joint>" + extra + "</robot>";
 }
 
+ImportOptions Strict() {
+  ImportOptions options;
+  options.strict = true;
+  return options;
+}
+ImportOptions AtDensity(double density) {
+  ImportOptions options;
+  options.density = density;
+  return options;
+}
+ImportOptions Inertia(InertiaSource source) {
+  ImportOptions options;
+  options.inertia = source;
+  return options;
+}
+
 ImportedRobot Import(const std::string& urdf, ImportOptions options = {}) {
   return ImportUrdf(urdf, nullptr, options, Limits());
 }
@@ -60,7 +76,7 @@ TEST(UrdfRepairsTest, ZeroMassFixedLinkIsAMasslessFrameOfItsParent) {
   EXPECT_EQ(Link(robot, "tip").inertial.mass, 0);
   EXPECT_EQ(robot.description.joints.at(0).origin.position, Vec3(0, 0, 0.5));  // the frame stays
   EXPECT_TRUE(Warned(robot, "link 'tip' inertial mass", "merged into its parent link 'base'"));
-  ExpectInvalid([] { Import(Arm(Inertial("0")), {.strict = true}); }, {"'tip'", "mass", ": 0 "});
+  ExpectInvalid([] { Import(Arm(Inertial("0")), Strict()); }, {"'tip'", "mass", ": 0 "});
 }
 
 TEST(UrdfRepairsTest, ZeroMassRootIsTheFixedBase) {
@@ -70,12 +86,12 @@ TEST(UrdfRepairsTest, ZeroMassRootIsTheFixedBase) {
 }
 
 TEST(UrdfRepairsTest, ZeroMassBehindAMovingJointTakesTheGeometryAtTheDensity) {
-  const ImportedRobot robot = Import(Arm(Inertial("0") + kBox, "revolute"), {.density = 500});
+  const ImportedRobot robot = Import(Arm(Inertial("0") + kBox, "revolute"), AtDensity(500));
   const double m = 500 * 0.1 * 0.2 * 0.3;
   EXPECT_NEAR(Link(robot, "tip").inertial.mass, m, kTolerance);
   EXPECT_NEAR(Link(robot, "tip").inertial.inertia(0, 0), m / 12 * (0.04 + 0.09), kTolerance);
   EXPECT_TRUE(Warned(robot, "'tip'", "from the collision geometry at 500 kg/m^3"));
-  ExpectInvalid([] { Import(Arm(Inertial("0") + kBox, "revolute"), {.inertia = InertiaSource::kFromFile}); },
+  ExpectInvalid([] { Import(Arm(Inertial("0") + kBox, "revolute"), Inertia(InertiaSource::kFromFile)); },
                 {"'tip'", "mass", "moving joint 'j'"});
 }
 
@@ -88,12 +104,12 @@ TEST(UrdfRepairsTest, UnphysicalTensorTakesTheGeometrysShapeAtTheFilesMass) {
   EXPECT_NEAR(I(1, 1), 2.0 / 12 * (0.01 + 0.09), kTolerance);
   EXPECT_NEAR(I(2, 2), 2.0 / 12 * (0.01 + 0.04), kTolerance);
   EXPECT_TRUE(Warned(robot, "principal moments", "scaled to the file's mass 2 kg"));
-  ExpectInvalid([] { Import(Arm(Inertial("2", "0") + kBox, "revolute"), {.inertia = InertiaSource::kFromFile}); },
+  ExpectInvalid([] { Import(Arm(Inertial("2", "0") + kBox, "revolute"), Inertia(InertiaSource::kFromFile)); },
                 {"'tip'", "positive definite"});
 }
 
 TEST(UrdfRepairsTest, FromGeometryReplacesEveryInertialThatHasGeometry) {
-  const ImportedRobot robot = Import(Arm(Inertial("7") + kBox, "revolute"), {.inertia = InertiaSource::kFromGeometry});
+  const ImportedRobot robot = Import(Arm(Inertial("7") + kBox, "revolute"), Inertia(InertiaSource::kFromGeometry));
   EXPECT_NEAR(Link(robot, "tip").inertial.mass, 1000 * 0.006, kTolerance);
   EXPECT_EQ(Link(robot, "base").inertial.mass, 1);  // no geometry: the file's
   EXPECT_TRUE(robot.warnings.empty());              // asked for, not a repair
@@ -103,7 +119,7 @@ TEST(UrdfRepairsTest, MissingInertialWithGeometryIsTakenFromIt) {
   const ImportedRobot robot = Import(Arm(kBox, "revolute"));
   EXPECT_NEAR(Link(robot, "tip").inertial.mass, 6, kTolerance);
   EXPECT_TRUE(Warned(robot, "'tip' inertial", "from the collision geometry"));
-  ExpectInvalid([] { Import(Arm(kBox, "revolute"), {.strict = true}); }, {"'tip'", "no <inertial>"});
+  ExpectInvalid([] { Import(Arm(kBox, "revolute"), Strict()); }, {"'tip'", "no <inertial>"});
 }
 
 TEST(UrdfRepairsTest, PlaneIsAThinBoxUnderItAndCapsuleACylinderWithTwoSpheres) {
@@ -121,7 +137,7 @@ TEST(UrdfRepairsTest, PlaneIsAThinBoxUnderItAndCapsuleACylinderWithTwoSpheres) {
   EXPECT_TRUE(Warned(robot, "<plane>", "box"));
   ExpectInvalid([&] {
     Import("<robot name=\"p\"><link name=\"g\"><collision><geometry><plane normal=\"0 0 1\"/></geometry></collision></link></robot>",
-           {.strict = true});
+           Strict());
   }, {"urdf"});
 }
 
@@ -177,7 +193,7 @@ TEST(UrdfRepairsTest, TrailingNulBytesAreIgnored) {
   std::string text = Arm(Inertial("1"));
   text.push_back('\0');
   EXPECT_EQ(Import(text).description.links.size(), 2u);
-  ExpectInvalid([&] { Import(text, {.strict = true}); }, {"NUL"});
+  ExpectInvalid([&] { Import(text, Strict()); }, {"NUL"});
 }
 
 }  // namespace
