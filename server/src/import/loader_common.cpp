@@ -310,6 +310,12 @@ void AppendChainJoint(const std::string& id, JointType type, const Vec3& axis, d
   description->joints.push_back(std::move(spec));
 }
 
+// `name` + `suffix` within graspsim's 64 characters (core/validate.h CheckName): the name is shortened, not the suffix.
+std::string WithSuffix(const std::string& name, const std::string& suffix) {
+  constexpr size_t kMaxName = 64;
+  return name.substr(0, kMaxName - std::min(kMaxName, suffix.size())) + suffix;
+}
+
 // Appends joints `axes` (type per entry) from joint.parent_body to joint.child_body through new massless links.
 void AppendChain(const JointSpec& joint, const std::vector<std::tuple<std::string, JointType, Vec3, double>>& axes,
                  RobotDescription* description, FileInertials* file) {
@@ -323,9 +329,9 @@ void AppendChain(const JointSpec& joint, const std::vector<std::tuple<std::strin
   for (size_t i = 0; i < axes.size(); ++i) {
     const auto& [suffix, type, axis, limit] = axes[i];
     const bool last = i + 1 == axes.size();
-    const std::string child = last ? joint.child_body : joint.child_body + "__" + suffix;
-    AppendChainJoint(joint.id + "_" + suffix, type, axis, limit, i == 0 ? joint.origin : Pose{}, parent, child,
-                     description);
+    const std::string child = last ? joint.child_body : WithSuffix(joint.child_body, "__" + suffix);
+    AppendChainJoint(WithSuffix(joint.id, "_" + suffix), type, axis, limit, i == 0 ? joint.origin : Pose{}, parent,
+                     child, description);
     if (!last) {
       BodySpec link;
       link.id = child;

@@ -169,6 +169,16 @@ TEST(UrdfRepairsTest, BallJointIsThreeRevoluteJointsThroughMasslessLinks) {
   EXPECT_EQ(Link(robot, "tip").inertial.mass, 1);
 }
 
+TEST(UrdfRepairsTest, ChainNamesStayValidNamesForLongLinks) {
+  const std::string tip(64, 't');
+  std::string urdf = Arm(Inertial("1"), "spherical");
+  for (size_t at; (at = urdf.find("\"tip\"")) != std::string::npos;) urdf.replace(at, 5, "\"" + tip + "\"");
+  const ImportedRobot robot = Import(urdf);
+  for (const BodySpec& link : robot.description.links) EXPECT_LE(link.id.size(), 64u) << link.id;
+  EXPECT_EQ(robot.description.links.size(), 4u);  // base, two chain links, the tip: no two share a name
+  EXPECT_EQ(robot.description.joints.back().child_body, tip);
+}
+
 TEST(UrdfRepairsTest, NamesAreMadeValidWithTheirReferences) {
   const ImportedRobot robot = Import(
       "<robot name=\"r\"><link name=\"my base\">" + Inertial("1") + "</link><link name=\"tip:1\">" + Inertial("1") +
