@@ -442,7 +442,7 @@ ImportedRobot ImportUrdf(const std::string& urdf_text, const FileLookup& files, 
   const TreeOrder order = CheckTree(*robot);
 
   std::string repaired_text;
-  if (!warnings.empty()) {
+  if (repairs.document_changed) {
     TiXmlPrinter printer;
     document.Accept(&printer);
     repaired_text = printer.Str();

@@ -168,28 +168,27 @@ void RepairNumbers(TiXmlElement* robot, std::vector<ImportWarning>* warnings) {
 }
 
 // Limits as PyBullet reads them: lower above upper, or no <limit> at all, means an unlimited joint; velocity and
-// effort may be left out.
-void RepairLimits(TiXmlElement* robot, std::vector<ImportWarning>* warnings) {
+// effort may be left out (0 = none given, no warning: nothing the file says is changed).
+void RepairLimits(TiXmlElement* robot, UrdfRepairs* repairs, std::vector<ImportWarning>* warnings) {
   for (TiXmlElement* j = robot->FirstChildElement("joint"); j != nullptr; j = j->NextSiblingElement("joint")) {
     const char* type_text = j->Attribute("type");
     const std::string type = type_text != nullptr ? type_text : "";
-    const std::string joint = "urdf: joint " + Quoted(j->Attribute("name") != nullptr ? j->Attribute("name") : "");
+    const bool limited = type == "revolute" || type == "prismatic";
     TiXmlElement* limit = j->FirstChildElement("limit");
-    if (limit != nullptr) {
-      for (const char* attribute : {"velocity", "effort"}) {
-        if (limit->Attribute(attribute) == nullptr) limit->SetAttribute(attribute, "0");  // 0 = none given
-      }
-    }
-    if (type != "revolute" && type != "prismatic") continue;
     double lower = 0, upper = 0;
     const bool bounded = limit != nullptr && limit->QueryDoubleAttribute("lower", &lower) == TIXML_SUCCESS &&
                          limit->QueryDoubleAttribute("upper", &upper) == TIXML_SUCCESS;
-    if (limit != nullptr && (!bounded || lower <= upper)) continue;
-    const std::string found = limit == nullptr ? "no <limit>"
-                                               : "lower " + FormatNumber(lower) + " > upper " + FormatNumber(upper);
+    const bool unlimited = limited && (limit == nullptr || (bounded && lower > upper));
+    if (limit == nullptr && !unlimited) continue;
     if (limit == nullptr) limit = static_cast<TiXmlElement*>(j->InsertEndChild(TiXmlElement("limit")));
-    limit->SetAttribute("velocity", limit->Attribute("velocity") ? limit->Attribute("velocity") : "0");
-    limit->SetAttribute("effort", limit->Attribute("effort") ? limit->Attribute("effort") : "0");
+    for (const char* attribute : {"velocity", "effort"}) {
+      if (limit->Attribute(attribute) != nullptr) continue;
+      limit->SetAttribute(attribute, "0");
+      repairs->document_changed = true;
+    }
+    if (!unlimited) continue;
+    const std::string joint = "urdf: joint " + Quoted(j->Attribute("name") != nullptr ? j->Attribute("name") : "");
+    const std::string found = bounded ? "lower " + FormatNumber(lower) + " > upper " + FormatNumber(upper) : "no <limit>";
     if (type == "revolute") {
       j->SetAttribute("type", "continuous");
       warnings->push_back({joint + " limit", found, "an unlimited joint: continuous"});
@@ -228,11 +227,13 @@ void RepairJoints(TiXmlElement* robot, UrdfRepairs* repairs, std::vector<ImportW
 
 UrdfRepairs RepairUrdfDocument(TiXmlElement* robot, std::vector<ImportWarning>* warnings) {
   UrdfRepairs repairs;
+  const size_t warned = warnings->size();
   RepairNames(robot, warnings);
   RepairNumbers(robot, warnings);
-  RepairLimits(robot, warnings);
+  RepairLimits(robot, &repairs, warnings);
   RepairCollisions(robot, &repairs, warnings);
   RepairJoints(robot, &repairs, warnings);
+  repairs.document_changed = repairs.document_changed || warnings->size() > warned;  // every other change warns
   return repairs;
 }
 

@@ -20,6 +20,8 @@ struct UrdfRepairs {
   std::map<std::string, std::vector<Geometry>> extra_collision;
   // Joints urdfdom is told are fixed and that become chains: "ball" (spherical) or "free" (floating).
   std::map<std::string, std::string> chain_joints;
+  // The document differs from the text: urdfdom must read it printed anew.
+  bool document_changed = false;
 };
 
 // Repairs *robot in place, appending warnings. In strict mode it changes nothing (the caller refuses instead).

@@ -157,6 +157,15 @@ TEST(UrdfRepairsTest, NumbersAndLimitsAsPyBulletReadsThem) {
   EXPECT_TRUE(Warned(robot, "joint 'ab' limit", "unlimited"));
 }
 
+TEST(UrdfRepairsTest, LimitWithoutVelocityLoadsWithNothingElseToRepair) {
+  const ImportedRobot robot = Import(
+      "<robot name=\"r\"><link name=\"a\">" + Inertial("1") + "</link><link name=\"b\">" + Inertial("1") +
+      "</link><joint name=\"ab\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>"
+      "<limit lower=\"-1\" upper=\"1\" effort=\"1\"/></joint></robot>");
+  EXPECT_EQ(robot.description.joints.at(0).upper, 1);
+  EXPECT_EQ(robot.description.joints.at(0).velocity_limit, 0);  // none given
+}
+
 TEST(UrdfRepairsTest, BallJointIsThreeRevoluteJointsThroughMasslessLinks) {
   const ImportedRobot robot = Import(Arm(Inertial("1"), "spherical"));
   const auto& joints = robot.description.joints;
