@@ -108,6 +108,13 @@ Observation FromPoints(const std::vector<Vec3>& points, const Pose& camera_pose,
   }
   const double extent = std::max(umax - umin, vmax - vmin);
   f = std::min(f, (kMaxDerivedSide - 2 * kDerivedMargin - 2) / std::max(extent, 1e-12));
+  // A point a hair in front of the camera projects to an infinite image coordinate (found by perception_fuzz):
+  // no image of finite size holds the cloud.
+  if (!(f > 0) || !std::isfinite(f * (umax - umin)) || !std::isfinite(f * (vmax - vmin)) ||
+      !std::isfinite(f * umin) || !std::isfinite(f * vmin)) {
+    ThrowInvalidArgument("cloud.points: the points span " + FormatNumber(extent) +
+                         " in the image plane as seen from camera_pose; no camera image of finite size holds them");
+  }
   Observation obs;
   obs.camera_pose = camera_pose;
   obs.derived_camera = true;
