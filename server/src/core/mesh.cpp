@@ -40,4 +40,30 @@ void MeshBounds(const TriangleMesh& mesh, Eigen::Vector3f* min, Eigen::Vector3f*
   }
 }
 
+SolidProperties ComputeSolidProperties(const TriangleMesh& mesh) {
+  // About a reference point inside the bounds (the vertices' mean) to keep the digits.
+  Vec3 reference = Vec3::Zero();
+  for (const auto& v : mesh.vertices) reference += v.cast<double>();
+  if (!mesh.vertices.empty()) reference /= double(mesh.vertices.size());
+  double volume = 0;
+  Vec3 first = Vec3::Zero();
+  Mat3 second = Mat3::Zero();
+  for (const auto& t : mesh.triangles) {
+    const Vec3 a = mesh.vertices[t[0]].cast<double>() - reference, b = mesh.vertices[t[1]].cast<double>() - reference,
+               c = mesh.vertices[t[2]].cast<double>() - reference;
+    const double v = a.dot(b.cross(c)) / 6;
+    const Vec3 s = a + b + c;
+    volume += v;
+    first += v * s / 4;
+    second += v / 20 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+  }
+  SolidProperties out;
+  out.volume = volume;
+  if (volume == 0) return out;
+  const Vec3 centre = first / volume;
+  out.centroid = reference + centre;
+  out.second_moment = second - volume * centre * centre.transpose();
+  return out;
+}
+
 }  // namespace graspsim

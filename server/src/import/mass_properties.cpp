@@ -11,27 +11,13 @@ Mat3 InertiaFromCovariance(const Mat3& covariance) {
 }
 
 SolidVolume MeshVolume(const TriangleMesh& mesh) {
-  // Each triangle (a, b, c) spans a tetrahedron with the origin of signed volume a·(b×c)/6; its covariance about
-  // the origin is v/20 (Σ x xᵀ + s sᵀ) with s = a + b + c (Tonon 2004; Mirtich 1996 in covariance form).
-  double volume = 0;
-  Vec3 first = Vec3::Zero();
-  Mat3 covariance = Mat3::Zero();
-  for (const auto& t : mesh.triangles) {
-    const Vec3 a = mesh.vertices[t[0]].cast<double>(), b = mesh.vertices[t[1]].cast<double>(),
-               c = mesh.vertices[t[2]].cast<double>();
-    const double v = a.dot(b.cross(c)) / 6.0;
-    const Vec3 s = a + b + c;
-    volume += v;
-    first += v * s / 4.0;
-    covariance += v / 20.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
-  }
+  const SolidProperties solid = ComputeSolidProperties(mesh);
   SolidVolume result;
-  if (!(std::abs(volume) > 1e-15)) return result;  // open or flat: no enclosed volume
-  const double sign = volume < 0 ? -1.0 : 1.0;      // a mesh wound inside out
-  result.volume = sign * volume;
-  result.centroid = first / volume;
-  const Mat3 about_centroid = sign * covariance - result.volume * result.centroid * result.centroid.transpose();
-  result.inertia_per_density = InertiaFromCovariance(about_centroid);
+  if (!(std::abs(solid.volume) > 1e-15)) return result;  // open or flat: no enclosed volume
+  const double sign = solid.volume < 0 ? -1.0 : 1.0;     // a mesh wound inside out
+  result.volume = sign * solid.volume;
+  result.centroid = solid.centroid;
+  result.inertia_per_density = InertiaFromCovariance(sign * solid.second_moment);
   return result;
 }
 

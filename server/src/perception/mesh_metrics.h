@@ -26,16 +26,6 @@ EdgeCounts CountEdges(const TriangleMesh& mesh);
 // seen from outside.
 double EnclosedVolume(const TriangleMesh& mesh);
 
-// The solid a closed mesh bounds (counter-clockwise from outside): volume (m³), centroid (m) and the second
-// moment ∫ (x − c)(x − c)ᵀ dV (m⁵), by the signed tetrahedra (origin, a, b, c) of the divergence theorem. A body of
-// uniform density ρ has the inertia ρ (trace(C) I − C) about its centroid.
-struct SolidProperties {
-  double volume = 0;
-  Vec3 centroid = Vec3::Zero();
-  Mat3 second_moment = Mat3::Zero();
-};
-SolidProperties ComputeSolidProperties(const TriangleMesh& mesh);
-
 // `count` points uniform over the surface (triangles chosen by area), reproducible for a seed.
 std::vector<Vec3> SampleSurface(const TriangleMesh& mesh, size_t count, uint64_t seed);
 
