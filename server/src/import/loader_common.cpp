@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <future>
+#include <optional>
 #include <thread>
 
 #include <Eigen/Eigenvalues>
@@ -145,7 +146,7 @@ bool MeshFiles::Load(const std::string& field, const std::string& as_written,
   const auto key = std::make_tuple(geometry->mesh_file, scale.x(), scale.y(), scale.z());
   auto& cached = cache_[key];
   if (cached == nullptr) {
-    cached = std::make_shared<const TriangleMesh>(LoadMeshFile(field, geometry->mesh_file, *bytes, scale, limits_));
+    cached = LoadSharedMeshFile(field, geometry->mesh_file, *bytes, scale, limits_);
   }
   geometry->mesh = cached;
   return true;
@@ -178,7 +179,7 @@ void MeshFiles::Prefetch(const std::vector<Request>& requests) {
     for (size_t i = first; i < std::min(jobs.size(), first + parallel); ++i) {
       parsed.push_back(std::async(std::launch::async, [&job = jobs[i], this]() -> std::shared_ptr<const TriangleMesh> {
         try {
-          return std::make_shared<const TriangleMesh>(LoadMeshFile(job.field, job.path, *job.bytes, job.scale, limits_));
+          return LoadSharedMeshFile(job.field, job.path, *job.bytes, job.scale, limits_);
         } catch (const Error&) {
           return nullptr;  // Load parses it again and reports it with its field
         }
@@ -222,7 +223,13 @@ void ResolveInertials(const std::string& format, const FileInertials& file, cons
     const auto warn = [&](const std::string& element, const std::string& value, const std::string& action) {
       warnings->push_back({element, value, action});
     };
-    const Inertial geometric = has_geometry ? SolidMassProperties(link.collision, density) : Inertial{};
+    // The solid collision geometry's mass properties, computed only where a rule below needs them (a mesh's
+    // volume integral is not free, and most links' inertials are kept as the file gives them).
+    std::optional<Inertial> solid;
+    const auto geometric = [&]() -> const Inertial& {
+      if (!solid) solid = has_geometry ? SolidMassProperties(link.collision, density) : Inertial{};
+      return *solid;
+    };
 
     if (in == nullptr) {
       if (!has_geometry) {
@@ -235,9 +242,9 @@ void ResolveInertials(const std::string& format, const FileInertials& file, cons
         ThrowInvalidArgument(format + ": link " + Quoted(link.id) +
                              " has collision geometry but no <inertial>; give it a mass and an inertia");
       }
-      if (geometric.mass > 0) {
-        link.inertial = geometric;
-        warn(field, "absent", "from the collision geometry " + at_density + ": " + FormatNumber(geometric.mass) + " kg");
+      if (geometric().mass > 0) {
+        link.inertial = geometric();
+        warn(field, "absent", "from the collision geometry " + at_density + ": " + FormatNumber(geometric().mass) + " kg");
       } else {
         link.inertial = FrameLink();
         warn(field, "absent", "the collision geometry encloses no volume: a 1 g frame");
@@ -249,8 +256,8 @@ void ResolveInertials(const std::string& format, const FileInertials& file, cons
     if (!std::isfinite(in->mass) || in->mass < 0 || (options.strict && in->mass == 0)) {
       CheckPositive(mass_field, in->mass);  // throws, naming the value
     }
-    if (options.inertia == InertiaSource::kFromGeometry && geometric.mass > 0 && !(in->mass == 0 && fixed_to_parent)) {
-      link.inertial = geometric;  // asked for: not a repair
+    if (options.inertia == InertiaSource::kFromGeometry && geometric().mass > 0 && !(in->mass == 0 && fixed_to_parent)) {
+      link.inertial = geometric();  // asked for: not a repair
       continue;
     }
     if (in->mass == 0) {
@@ -265,10 +272,10 @@ void ResolveInertials(const std::string& format, const FileInertials& file, cons
       if (from_file_only) {
         ThrowInvalidArgument(mass_field + ": 0 must be > 0 for a link behind the moving joint " + Quoted(joint->id));
       }
-      link.inertial = geometric.mass > 0 ? geometric : FrameLink();
+      link.inertial = geometric().mass > 0 ? geometric() : FrameLink();
       warn(mass_field, "0",
-           geometric.mass > 0 ? "behind the moving joint " + Quoted(joint->id) + ": from the collision geometry " +
-                                    at_density + ", " + FormatNumber(geometric.mass) + " kg"
+           geometric().mass > 0 ? "behind the moving joint " + Quoted(joint->id) + ": from the collision geometry " +
+                                    at_density + ", " + FormatNumber(geometric().mass) + " kg"
                               : "behind the moving joint " + Quoted(joint->id) + " with no collision volume: a 1 g frame");
       continue;
     }
@@ -277,9 +284,9 @@ void ResolveInertials(const std::string& format, const FileInertials& file, cons
     if (IsPhysical(field, link.inertial.inertia)) continue;
     if (from_file_only) CheckInertia(field, link.inertial.inertia);  // throws with today's message
     const std::string found_moments = Moments(link.inertial.inertia);
-    if (geometric.mass > 0) {
+    if (geometric().mass > 0) {
       // PyBullet's default: the file's mass, the inertia of the collision shape.
-      link.inertial.inertia = geometric.inertia * (in->mass / geometric.mass);
+      link.inertial.inertia = geometric().inertia * (in->mass / geometric().mass);
       warn(field + " principal moments (kg m^2)", found_moments,
            "not a physical inertia: the collision geometry's, scaled to the file's mass " + FormatNumber(in->mass) + " kg");
     } else {

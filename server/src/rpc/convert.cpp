@@ -148,7 +148,7 @@ Geometry GeometryFromProto(const std::string& field, const v1::Geometry& geometr
       CheckRelativePath(field + ".mesh_file", path);
       const std::string* bytes = files(path);
       if (!bytes) ThrowInvalidArgument(field + ".mesh_file: '" + path + "' was not uploaded to this scene");
-      out.mesh = std::make_shared<const TriangleMesh>(LoadMeshFile(field + ".mesh_file", path, *bytes, scale, limits));
+      out.mesh = LoadSharedMeshFile(field + ".mesh_file", path, *bytes, scale, limits);
       out.mesh_file = path;
       break;
     }

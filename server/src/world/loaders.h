@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,6 +24,10 @@ using FileLookup = std::function<const std::string*(const std::string& path)>;
 // `field` names the request field for error messages.
 TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std::string_view bytes,
                           const Vec3& scale, const Limits& limits);
+// The same mesh, shared (read-only) with every other load of the same bytes and scale: parsed meshes are kept by
+// content (world/parsed_mesh_cache.h), so a robot added to many scenes holds its triangles once.
+std::shared_ptr<const TriangleMesh> LoadSharedMeshFile(const std::string& field, const std::string& path,
+                                                       std::string_view bytes, const Vec3& scale, const Limits& limits);
 
 
 struct BuiltinModelInfo {

@@ -261,15 +261,20 @@ TriangleMesh ParseInChild(const std::string& field, const std::string& path, std
 
 }  // namespace
 
-TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std::string_view bytes,
-                          const Vec3& scale, const Limits& limits) {
+std::shared_ptr<const TriangleMesh> LoadSharedMeshFile(const std::string& field, const std::string& path,
+                                                       std::string_view bytes, const Vec3& scale, const Limits& limits) {
   CheckMeshFileRequest(field, path, bytes, scale);
   ParsedMeshCache& cache = ParsedMeshCache::Instance();
   const std::string key = ParsedMeshCache::Key(path, bytes, scale, limits.max_triangles_per_mesh);
-  if (const auto parsed = cache.Find(key)) return *parsed;
-  TriangleMesh mesh = ParseInChild(field, path, bytes, scale, limits);
-  cache.Put(key, std::make_shared<const TriangleMesh>(mesh));
+  if (auto parsed = cache.Find(key)) return parsed;
+  auto mesh = std::make_shared<const TriangleMesh>(ParseInChild(field, path, bytes, scale, limits));
+  cache.Put(key, mesh);
   return mesh;
+}
+
+TriangleMesh LoadMeshFile(const std::string& field, const std::string& path, std::string_view bytes,
+                          const Vec3& scale, const Limits& limits) {
+  return *LoadSharedMeshFile(field, path, bytes, scale, limits);
 }
 
 }  // namespace graspsim
