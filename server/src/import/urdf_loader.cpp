@@ -180,6 +180,26 @@ TreeOrder CheckTree(const TiXmlElement& robot) {
 
 // ---- Links --------------------------------------------------------------------------------------------------
 
+MeshFiles::Request MeshRequest(const std::string& link, const urdf::Mesh& mesh) {
+  return {"urdf: link " + Quoted(link) + " mesh " + Quoted(mesh.filename), import::MeshPathCandidates(mesh.filename),
+          ToVec3(mesh.scale)};
+}
+
+// Every collision mesh of the robot, for MeshFiles::Prefetch.
+std::vector<MeshFiles::Request> MeshRequests(const urdf::ModelInterface& model, const std::vector<std::string>& links) {
+  std::vector<MeshFiles::Request> requests;
+  for (const std::string& link : links) {
+    const urdf::LinkConstSharedPtr parsed = model.getLink(link);
+    if (parsed == nullptr) continue;
+    for (const urdf::CollisionSharedPtr& collision : parsed->collision_array) {
+      if (collision != nullptr && collision->geometry != nullptr && collision->geometry->type == urdf::Geometry::MESH) {
+        requests.push_back(MeshRequest(link, static_cast<const urdf::Mesh&>(*collision->geometry)));
+      }
+    }
+  }
+  return requests;
+}
+
 // The link's collision geometry; a mesh file that was not uploaded is left out and remembered by `meshes`.
 std::vector<Geometry> ConvertCollision(const std::string& link, size_t index, const urdf::Collision& collision,
                                        MeshFiles* meshes) {
@@ -210,9 +230,9 @@ std::vector<Geometry> ConvertCollision(const std::string& link, size_t index, co
     }
     case urdf::Geometry::MESH: {
       const auto& mesh = static_cast<const urdf::Mesh&>(*collision.geometry);
+      const MeshFiles::Request request = MeshRequest(link, mesh);
       geometry.kind = Geometry::Kind::kMesh;
-      if (!meshes->Load("urdf: link " + Quoted(link) + " mesh " + Quoted(mesh.filename), mesh.filename,
-                        import::MeshPathCandidates(mesh.filename), ToVec3(mesh.scale), &geometry)) {
+      if (!meshes->Load(request.field, mesh.filename, request.candidates, request.scale, &geometry)) {
         return {};
       }
       break;
@@ -465,20 +485,7 @@ ImportedRobot ImportUrdf(const std::string& urdf_text, const FileLookup& files, 
     return Error(ErrorCode::kInternal, "urdf: urdfdom's model has no " + what);
   };
   static const std::vector<Geometry> kNone;
-  std::vector<MeshFiles::Request> mesh_requests;
-  for (const std::string& link : order.links) {
-    const urdf::LinkConstSharedPtr parsed = model->getLink(link);
-    if (parsed == nullptr) continue;
-    for (const urdf::CollisionSharedPtr& collision : parsed->collision_array) {
-      if (collision == nullptr || collision->geometry == nullptr || collision->geometry->type != urdf::Geometry::MESH) {
-        continue;
-      }
-      const auto& mesh = static_cast<const urdf::Mesh&>(*collision->geometry);
-      mesh_requests.push_back({"urdf: link " + Quoted(link) + " mesh " + Quoted(mesh.filename),
-                               import::MeshPathCandidates(mesh.filename), ToVec3(mesh.scale)});
-    }
-  }
-  meshes.Prefetch(mesh_requests);
+  meshes.Prefetch(MeshRequests(*model, order.links));
   for (const std::string& link : order.links) {
     const urdf::LinkConstSharedPtr parsed = model->getLink(link);
     if (parsed == nullptr) throw missing("link " + Quoted(link));
