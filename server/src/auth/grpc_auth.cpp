@@ -38,21 +38,25 @@ std::string FieldText(const google::protobuf::Message& message, const std::strin
 }
 
 // Every scene a request names: string fields called scene_id or *_scene_id, at the top (GetScene's scene_id,
-// CompleteShape's add_to_scene_id) and in set message fields below it (UploadFile's header, PlanGrasps'
-// object), two levels deep. Repeated fields are not searched: no request names scenes in a list.
+// CompleteShape's add_to_scene_id) and in message fields below it, set or repeated (UploadFile's header,
+// PlanGrasps' object, each of PlanArmPaths' problems), two levels deep.
 void CollectSceneIds(const google::protobuf::Message& message, int depth, std::vector<std::string>* ids) {
   const auto* descriptor = message.GetDescriptor();
   const auto* reflection = message.GetReflection();
   for (int i = 0; i < descriptor->field_count(); ++i) {
     const auto* field = descriptor->field(i);
-    if (field->is_repeated()) continue;
-    if (field->type() == google::protobuf::FieldDescriptor::TYPE_STRING &&
-        (field->name() == "scene_id" || field->name().ends_with("_scene_id"))) {
+    if (field->type() == google::protobuf::FieldDescriptor::TYPE_MESSAGE && depth < 2) {
+      if (field->is_repeated()) {
+        for (int k = 0; k < reflection->FieldSize(message, field); ++k) {
+          CollectSceneIds(reflection->GetRepeatedMessage(message, field, k), depth + 1, ids);
+        }
+      } else if (reflection->HasField(message, field)) {
+        CollectSceneIds(reflection->GetMessage(message, field), depth + 1, ids);
+      }
+    } else if (!field->is_repeated() && field->type() == google::protobuf::FieldDescriptor::TYPE_STRING &&
+               (field->name() == "scene_id" || field->name().ends_with("_scene_id"))) {
       std::string id = reflection->GetString(message, field);
       if (!id.empty()) ids->push_back(std::move(id));
-    } else if (field->type() == google::protobuf::FieldDescriptor::TYPE_MESSAGE && depth < 2 &&
-               reflection->HasField(message, field)) {
-      CollectSceneIds(reflection->GetMessage(message, field), depth + 1, ids);
     }
   }
 }

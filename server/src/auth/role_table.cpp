@@ -35,6 +35,7 @@ const std::map<std::string, MethodRule, std::less<>>& RoleTable() {
       {"/graspsim.v1.GraspService/GetGraspSet", {kViewer, A::kNone}},
       {"/graspsim.v1.GraspService/EvaluateGrasp", {kScripter, A::kRead}},
       {"/graspsim.v1.GraspService/PlanArmPath", {kScripter, A::kRead}},
+      {"/graspsim.v1.GraspService/PlanArmPaths", {kScripter, A::kRead}},
       {"/graspsim.v1.GraspService/PickAndPlace", {kScripter, A::kWrite}},
       // TactileService: sampling and streaming a scene's sensors is watching; a work cycle moves the scene.
       {"/graspsim.v1.TactileService/Sample", {kViewer, A::kRead}},

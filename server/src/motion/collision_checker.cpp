@@ -57,28 +57,259 @@ Obstacles CollectObstacles(const SceneModel& model, const SceneState& state, con
   return out;
 }
 
-CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, Obstacles obstacles, double resolution)
-    : arm_(arm), spheres_(std::move(spheres)), obstacles_(std::move(obstacles)), resolution_(resolution),
-      inflate_(0.5 * resolution) {
-  for (const auto& box : obstacles_.boxes) bounds_.push_back({box.centre, box.half.norm()});
-  for (const auto& ball : obstacles_.balls) bounds_.push_back({ball.centre, ball.radius});
-  for (const auto& c : obstacles_.cylinders) bounds_.push_back({c.centre, std::hypot(c.radius, c.half_length)});
-  // A grid's bound: the ball of everything closer than its padding, from its lower bound's own frame: the
-  // grid is small, so take no broad phase for it (radius infinite).
-  for (size_t g = 0; g < obstacles_.grids.size(); ++g) bounds_.push_back({Vec3::Zero(), INFINITY});
-  sphere_begin_.push_back(0);
-  for (const LinkSpheres& link : spheres_.links) {
-    for (double r : link.radii) radii_.push_back(r + inflate_);
-    sphere_begin_.push_back(static_cast<uint32_t>(radii_.size()));
+namespace {
+
+void StoreRotation(const Mat3& r, float* out) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) out[3 * i + j] = static_cast<float>(r(i, j));
   }
+}
+
+void StoreVector(const Vec3& v, float* out) {
+  for (int i = 0; i < 3; ++i) out[i] = static_cast<float>(v[i]);
+}
+
+}  // namespace
+
+CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, Obstacles obstacles, double resolution)
+    : arm_(arm), spheres_(std::move(spheres)), obstacles_(std::move(obstacles)), resolution_(resolution) {
+  const std::vector<ArmLink>& links = arm_.links();
+  // The kernel turns revolute joints about z only: each revolute link's frame is rotated by A (A z = its axis),
+  // so its offset becomes A_parent^T O A, its spheres A^T c, its children's offsets A^T O_child.
+  std::vector<Mat3> to_kernel_frame(links.size(), Mat3::Identity());
+  sphere_begin_.push_back(0);
+  for (size_t l = 0; l < links.size(); ++l) {
+    const LinkSpheres& link_spheres = spheres_.links[l];
+    kernel::Link link;
+    link.parent = links[l].parent;
+    link.dof = links[l].dof;
+    link.kind = links[l].dof < 0 ? kernel::kRigid
+                                 : (links[l].type == JointType::kPrismatic ? kernel::kPrismatic : kernel::kRevolute);
+    if (link.kind == kernel::kRevolute) {
+      const Vec3 z = links[l].axis.normalized(), x = z.unitOrthogonal();
+      to_kernel_frame[l].col(0) = x;
+      to_kernel_frame[l].col(1) = z.cross(x);
+      to_kernel_frame[l].col(2) = z;
+    }
+    const Mat3& frame = to_kernel_frame[l];
+    const Mat3 parent_frame = link.parent >= 0 ? to_kernel_frame[link.parent] : Mat3::Identity();
+    StoreRotation(parent_frame.transpose() * links[l].offset.rotation * frame, link.rotation);
+    StoreVector(parent_frame.transpose() * links[l].offset.translation, link.translation);
+    StoreVector(links[l].axis.normalized(), link.axis);  // prismatic: its frame is not rotated
+    link.sphere_begin = static_cast<int32_t>(sphere_x_.size());
+    for (size_t s = 0; s < link_spheres.centres.size(); ++s) {
+      const Vec3 c = frame.transpose() * link_spheres.centres[s];
+      sphere_x_.push_back(static_cast<float>(c.x()));
+      sphere_y_.push_back(static_cast<float>(c.y()));
+      sphere_z_.push_back(static_cast<float>(c.z()));
+      sphere_radius_.push_back(static_cast<float>(link_spheres.radii[s]) + kernel::kFloatMargin);
+      radii_.push_back(link_spheres.radii[s] + kernel::kFloatMargin);
+    }
+    link.sphere_end = static_cast<int32_t>(sphere_x_.size());
+    sphere_begin_.push_back(static_cast<uint32_t>(radii_.size()));
+    StoreVector(frame.transpose() * link_spheres.bound_centre, link.bound_centre);
+    link.bound_radius = link_spheres.bound_radius < 0 ? -1.0f
+                                                      : static_cast<float>(link_spheres.bound_radius) + 2 * kernel::kFloatMargin;
+    // Links rigid on the base never move: where they meet the scene (the base standing on the table) no plan
+    // can change it, so the arm's mounting is not a collision.
+    link.against_obstacles = spheres_.group[l] >= 0 ? 1 : 0;
+    kernel_links_.push_back(link);
+  }
+  for (const auto& box : obstacles_.boxes) {
+    kernel::Box k;
+    StoreRotation(box.rotation.transpose(), k.rotation_t);
+    StoreVector(box.centre, k.centre);
+    StoreVector(box.half, k.half);
+    k.bound_radius = static_cast<float>(box.half.norm()) * 1.0001f;
+    kernel_boxes_.push_back(k);
+  }
+  for (const auto& ball : obstacles_.balls) {
+    kernel::Ball k;
+    StoreVector(ball.centre, k.centre);
+    k.radius = static_cast<float>(ball.radius);
+    kernel_balls_.push_back(k);
+  }
+  for (const auto& cylinder : obstacles_.cylinders) {
+    kernel::Cylinder k;
+    StoreRotation(cylinder.rotation.transpose(), k.rotation_t);
+    StoreVector(cylinder.centre, k.centre);
+    k.radius = static_cast<float>(cylinder.radius);
+    k.half_length = static_cast<float>(cylinder.half_length);
+    k.bound_radius = static_cast<float>(std::hypot(cylinder.radius, cylinder.half_length)) * 1.0001f;
+    kernel_cylinders_.push_back(k);
+  }
+  for (const auto& [a, b] : spheres_.self_pairs) {
+    kernel_self_pairs_.push_back(static_cast<int32_t>(a));
+    kernel_self_pairs_.push_back(static_cast<int32_t>(b));
+  }
+  kernel_.links = kernel_links_.data();
+  kernel_.link_count = static_cast<int32_t>(kernel_links_.size());
+  StoreRotation(arm_.base().rotation, kernel_.base_rotation);
+  StoreVector(arm_.base().translation, kernel_.base_translation);
+  kernel_.sphere_x = sphere_x_.data();
+  kernel_.sphere_y = sphere_y_.data();
+  kernel_.sphere_z = sphere_z_.data();
+  kernel_.sphere_radius = sphere_radius_.data();
+  kernel_.sphere_count = static_cast<int32_t>(sphere_x_.size());
+  kernel_.boxes = kernel_boxes_.data();
+  kernel_.box_count = static_cast<int32_t>(kernel_boxes_.size());
+  kernel_.balls = kernel_balls_.data();
+  kernel_.ball_count = static_cast<int32_t>(kernel_balls_.size());
+  kernel_.cylinders = kernel_cylinders_.data();
+  kernel_.cylinder_count = static_cast<int32_t>(kernel_cylinders_.size());
+  kernel_.self_pairs = kernel_self_pairs_.data();
+  kernel_.self_pair_count = static_cast<int32_t>(spheres_.self_pairs.size());
+  lanes_.assign(std::max<size_t>(arm_.dof(), 1) * kernel::kLanes, 0.0f);
+  scratch_.assign(kernel::ScratchSize(kernel_), 0.0f);
   centres_.resize(radii_.size());
   bound_centres_.resize(spheres_.links.size());
-  poses_.resize(arm_.links().size());
-  scratch_.resize(arm_.dof());
+  poses_.resize(links.size());
+}
+
+void CollisionChecker::SetLane(int lane, const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b, double t,
+                               double inflate) const {
+  for (size_t i = 0; i < arm_.dof(); ++i) lanes_[i * kernel::kLanes + lane] = static_cast<float>(a[i] + t * (b[i] - a[i]));
+  inflate_[lane] = static_cast<float>(inflate);
+}
+
+uint32_t CollisionChecker::TestLanes(int count, bool stop_at_first) const {
+  for (int lane = count; lane < kernel::kLanes; ++lane) {
+    for (size_t i = 0; i < arm_.dof(); ++i) lanes_[i * kernel::kLanes + lane] = lanes_[i * kernel::kLanes];
+    inflate_[lane] = inflate_[0];
+  }
+  checks_ += count;
+  uint32_t hits = kernel::CollidingLanes(kernel_, lanes_.data(), inflate_, scratch_.data(), stop_at_first);
+  const uint32_t used = (1u << count) - 1;
+  hits &= used;
+  if (obstacles_.grids.empty() || (hits != 0 && stop_at_first)) return hits;
+  // Meshes: the spheres the kernel placed, lane by lane, against each distance grid's lower bound. The kernel
+  // placed every sphere only when it ran to the end, i.e. when it found nothing or was asked for every lane.
+  const float* centres = kernel::SphereCentres(kernel_, scratch_.data());
+  for (int lane = 0; lane < count; ++lane) {
+    if (hits & (1u << lane)) continue;
+    for (size_t l = 0; l < kernel_links_.size() && !(hits & (1u << lane)); ++l) {
+      if (!kernel_links_[l].against_obstacles) continue;
+      for (int32_t s = kernel_links_[l].sphere_begin; s < kernel_links_[l].sphere_end; ++s) {
+        const Vec3 c(centres[(3 * s) * kernel::kLanes + lane], centres[(3 * s + 1) * kernel::kLanes + lane],
+                     centres[(3 * s + 2) * kernel::kLanes + lane]);
+        const double r = radii_[s] + inflate_[lane];
+        bool touches = false;
+        for (const auto& grid : obstacles_.grids) touches = touches || grid.grid->LowerBound(grid.world_to_mesh * c) < r;
+        if (touches) {
+          hits |= 1u << lane;
+          break;
+        }
+      }
+    }
+    if (hits && stop_at_first) return hits;
+  }
+  return hits;
+}
+
+bool CollisionChecker::WithinLimits(const Eigen::Ref<const VecX>& q) const {
+  for (size_t i = 0; i < arm_.dof(); ++i) {
+    if (!(q[i] >= arm_.lower()[i] && q[i] <= arm_.upper()[i])) return false;
+  }
+  return true;
+}
+
+bool CollisionChecker::IsValid(const Eigen::Ref<const VecX>& q) const {
+  if (!WithinLimits(q)) return false;
+  SetLane(0, q, q, 0, 0);
+  return TestLanes(1, true) == 0;
+}
+
+bool CollisionChecker::EndCovered(const Eigen::Ref<const VecX>& end, const Eigen::Ref<const VecX>& other,
+                                  double delta_t, double delta) const {
+  // Level j: the end and the point p_j at parameter delta_t / 2^j from it, both inflated by (delta / 2^j) / 2.
+  // The end passing at level J with p_1..p_J passing covers [end, first check] (see the header).
+  constexpr int kLevelsPerBatch = kernel::kLanes / 2;
+  for (int first = 1; first <= kEndRefinements; first += kLevelsPerBatch) {
+    for (int i = 0; i < kLevelsPerBatch; ++i) {
+      const double scale = std::ldexp(1.0, -(first + i));
+      SetLane(2 * i, end, other, 0, 0.5 * delta * scale);
+      SetLane(2 * i + 1, end, other, delta_t * scale, 0.5 * delta * scale);
+    }
+    const uint32_t hits = TestLanes(kernel::kLanes, false);
+    for (int i = 0; i < kLevelsPerBatch; ++i) {
+      if (hits & (2u << (2 * i))) return false;    // p_j touches: a conservative no
+      if (!(hits & (1u << (2 * i)))) return true;  // the end passes at this level
+    }
+  }
+  return false;
+}
+
+bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
+  if (!WithinLimits(a) || !WithinLimits(b)) return false;
+  double travel = 0;
+  for (size_t i = 0; i < arm_.dof(); ++i) travel += std::abs(b[i] - a[i]) * spheres_.lever[i];
+  // The finest grid: points k = 0..n at t = k / n, δ = travel / n <= resolution apart. An interval [k0, k1] is
+  // covered when both its ends pass inflated by (k1 - k0) δ / 2. Start with intervals of kCoarseSteps fine steps
+  // (far from obstacles one check per kCoarseSteps · δ of travel suffices), halve those with an end that fails,
+  // down to one step; there a failing interior point makes the motion invalid, a failing end goes to EndCovered.
+  const int64_t n = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(travel / resolution_)));
+  const double delta = travel / static_cast<double>(n);
+  passed_.assign(n + 1, -1.0f);  // per point: the largest inflation it passed (-1: none yet)
+  intervals_.clear();
+  for (int64_t k = 0; k < n; k += kCoarseSteps) intervals_.push_back({k, std::min(n, k + kCoarseSteps)});
+  while (!intervals_.empty()) {
+    // The tests this round needs: each end of each interval at the interval's inflation, once per point; and
+    // each point that failed before, exactly (no inflation): one that touches as it is ends the motion at once.
+    tests_.clear();
+    for (const auto& [k0, k1] : intervals_) {
+      const float inflate = static_cast<float>(0.5 * delta * static_cast<double>(k1 - k0));
+      for (const int64_t k : {k0, k1}) {
+        if (passed_[k] >= inflate) continue;
+        // Intervals come in order, so a shared end was queued last (or just before its exact re-test).
+        bool queued = false;
+        for (size_t i = tests_.size(); i > 0 && i + 2 > tests_.size(); --i) {
+          queued = queued || (tests_[i - 1].point == k && tests_[i - 1].inflate == inflate);
+        }
+        if (!queued) tests_.push_back({k, inflate});
+        if (passed_[k] == -2.0f && k != 0 && k != n) tests_.push_back({k, 0.0f});
+      }
+    }
+    for (size_t first = 0; first < tests_.size(); first += kernel::kLanes) {
+      const int count = static_cast<int>(std::min<size_t>(kernel::kLanes, tests_.size() - first));
+      for (int lane = 0; lane < count; ++lane) {
+        const auto& t = tests_[first + lane];
+        SetLane(lane, a, b, static_cast<double>(t.point) / static_cast<double>(n), t.inflate);
+      }
+      const uint32_t hits = TestLanes(count, false);
+      for (int lane = 0; lane < count; ++lane) {
+        const auto& t = tests_[first + lane];
+        if (!(hits & (1u << lane))) {
+          passed_[t.point] = std::max(passed_[t.point], t.inflate);
+        } else if (t.inflate == 0.0f) {
+          return false;  // an interior point touches
+        } else if (passed_[t.point] < 0) {
+          passed_[t.point] = -2.0f;  // failed inflated: test it exactly next round
+        }
+      }
+    }
+    // Split what is not covered.
+    next_.clear();
+    for (const auto& [k0, k1] : intervals_) {
+      const float inflate = static_cast<float>(0.5 * delta * static_cast<double>(k1 - k0));
+      const bool end0 = passed_[k0] >= inflate, end1 = passed_[k1] >= inflate;
+      if (end0 && end1) continue;
+      if (k1 - k0 > 1) {
+        const int64_t mid = (k0 + k1) / 2;
+        next_.push_back({k0, mid});
+        next_.push_back({mid, k1});
+        continue;
+      }
+      // One fine step: an interior end that fails is a conservative no; the motion's own ends are refined.
+      if ((!end0 && k0 != 0) || (!end1 && k1 != n)) return false;
+      if (!end0 && !EndCovered(a, b, 1.0 / static_cast<double>(n), delta)) return false;
+      if (!end1 && !EndCovered(b, a, 1.0 / static_cast<double>(n), delta)) return false;
+    }
+    intervals_.swap(next_);
+  }
+  return true;
 }
 
 void CollisionChecker::PlaceSpheres(const Eigen::Ref<const VecX>& q) const {
-  ++checks_;
   arm_.LinkTransforms(q, &poses_);
   for (size_t l = 0; l < spheres_.links.size(); ++l) {
     const LinkSpheres& link = spheres_.links[l];
@@ -91,58 +322,35 @@ void CollisionChecker::PlaceSpheres(const Eigen::Ref<const VecX>& q) const {
 }
 
 bool CollisionChecker::FindContact(uint32_t* link_out, int64_t* other_out) const {
-  const size_t boxes = obstacles_.boxes.size(), balls = obstacles_.balls.size(),
-               cylinders = obstacles_.cylinders.size();
   for (uint32_t l = 0; l < spheres_.links.size(); ++l) {
-    const LinkSpheres& link = spheres_.links[l];
-    // Links rigid on the base never move: where they meet the scene (the base standing on the table) no plan
-    // can change it, so the arm's mounting is not a collision.
-    if (link.bound_radius < 0 || spheres_.group[l] < 0) continue;
-    const double link_radius = link.bound_radius + inflate_;
-    for (size_t o = 0; o < bounds_.size(); ++o) {
-      const double reach = link_radius + bounds_[o].radius;
-      if ((bound_centres_[l] - bounds_[o].centre).squaredNorm() >= reach * reach) continue;
-      // The link's bounding ball against the primitive itself: a table's bounding ball holds the whole arm.
-      if (o < boxes && !BallTouchesBox(bound_centres_[l], link_radius, obstacles_.boxes[o])) continue;
-      if (o >= boxes + balls && o < boxes + balls + cylinders &&
-          !BallTouchesCylinder(bound_centres_[l], link_radius, obstacles_.cylinders[o - boxes - balls])) {
-        continue;
+    if (spheres_.links[l].bound_radius < 0 || spheres_.group[l] < 0) continue;  // no geometry / the mounting
+    for (uint32_t s = sphere_begin_[l]; s < sphere_begin_[l + 1]; ++s) {
+      const Vec3& c = centres_[s];
+      const double r = radii_[s];
+      int64_t body = -1;
+      for (const auto& box : obstacles_.boxes) {
+        if (body < 0 && BallTouchesBox(c, r, box)) body = box.body;
       }
-      for (uint32_t s = sphere_begin_[l]; s < sphere_begin_[l + 1]; ++s) {
-        const Vec3& c = centres_[s];
-        const double r = radii_[s];
-        bool touches;
-        uint32_t body;
-        if (o < boxes) {
-          touches = BallTouchesBox(c, r, obstacles_.boxes[o]);
-          body = obstacles_.boxes[o].body;
-        } else if (o < boxes + balls) {
-          const auto& ball = obstacles_.balls[o - boxes];
-          touches = (c - ball.centre).squaredNorm() < (r + ball.radius) * (r + ball.radius);
-          body = ball.body;
-        } else if (o < boxes + balls + cylinders) {
-          touches = BallTouchesCylinder(c, r, obstacles_.cylinders[o - boxes - balls]);
-          body = obstacles_.cylinders[o - boxes - balls].body;
-        } else {
-          const auto& grid = obstacles_.grids[o - boxes - balls - cylinders];
-          touches = grid.grid->LowerBound(grid.world_to_mesh * c) < r;
-          body = grid.body;
-        }
-        if (touches) {
-          *link_out = l;
-          *other_out = body;
-          return true;
-        }
+      for (const auto& ball : obstacles_.balls) {
+        if (body < 0 && (c - ball.centre).norm() < r + ball.radius) body = ball.body;
+      }
+      for (const auto& cylinder : obstacles_.cylinders) {
+        if (body < 0 && BallTouchesCylinder(c, r, cylinder)) body = cylinder.body;
+      }
+      for (const auto& grid : obstacles_.grids) {
+        if (body < 0 && grid.grid->LowerBound(grid.world_to_mesh * c) < r) body = grid.body;
+      }
+      if (body >= 0) {
+        *link_out = l;
+        *other_out = body;
+        return true;
       }
     }
   }
   for (const auto& [a, b] : spheres_.self_pairs) {
-    const double reach = spheres_.links[a].bound_radius + spheres_.links[b].bound_radius + 2 * inflate_;
-    if ((bound_centres_[a] - bound_centres_[b]).squaredNorm() >= reach * reach) continue;
     for (uint32_t i = sphere_begin_[a]; i < sphere_begin_[a + 1]; ++i) {
       for (uint32_t j = sphere_begin_[b]; j < sphere_begin_[b + 1]; ++j) {
-        const double r = radii_[i] + radii_[j];
-        if ((centres_[i] - centres_[j]).squaredNorm() < r * r) {
+        if ((centres_[i] - centres_[j]).norm() < radii_[i] + radii_[j]) {
           *link_out = a;
           *other_out = -static_cast<int64_t>(b) - 1;
           return true;
@@ -153,35 +361,6 @@ bool CollisionChecker::FindContact(uint32_t* link_out, int64_t* other_out) const
   return false;
 }
 
-bool CollisionChecker::IsValid(const Eigen::Ref<const VecX>& q) const {
-  for (size_t i = 0; i < arm_.dof(); ++i) {
-    if (!(q[i] >= arm_.lower()[i] && q[i] <= arm_.upper()[i])) return false;
-  }
-  PlaceSpheres(q);
-  uint32_t link;
-  int64_t other;
-  return !FindContact(&link, &other);
-}
-
-bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
-  double travel = 0;
-  for (size_t i = 0; i < arm_.dof(); ++i) travel += std::abs(b[i] - a[i]) * spheres_.lever[i];
-  const uint64_t n = std::max<uint64_t>(1, static_cast<uint64_t>(std::ceil(travel / resolution_)));
-  // The end first, then coarse to fine (bisection order): a colliding segment usually fails early.
-  if (!IsValid(b)) return false;
-  uint64_t top = 1;
-  while (top * 2 <= n) top *= 2;
-  for (uint64_t step = top; step >= 1; step /= 2) {
-    for (uint64_t k = step; k < n; k += step) {
-      if (step != top && k % (2 * step) == 0) continue;  // checked at a coarser level
-      const double t = static_cast<double>(k) / n;
-      scratch_ = a + t * (b - a);
-      if (!IsValid(scratch_)) return false;
-    }
-  }
-  return true;
-}
-
 std::string CollisionChecker::Explain(const Eigen::Ref<const VecX>& q) const {
   for (size_t i = 0; i < arm_.dof(); ++i) {
     if (!(q[i] >= arm_.lower()[i] && q[i] <= arm_.upper()[i])) {
@@ -189,10 +368,12 @@ std::string CollisionChecker::Explain(const Eigen::Ref<const VecX>& q) const {
              Short(arm_.upper()[i]) + "]";
     }
   }
+  if (IsValid(q)) return "";
+  // The same test in double precision, to name the pair.
   PlaceSpheres(q);
   uint32_t link;
   int64_t other;
-  if (!FindContact(&link, &other)) return "";
+  if (!FindContact(&link, &other)) return "a sphere of the arm is within the float margin (0.02 mm) of touching";
   const std::string& name = arm_.links()[link].id;
   if (other >= 0) return name + " touches " + obstacles_.body_ids[other];
   return name + " touches " + arm_.links()[-other - 1].id;

@@ -1,13 +1,20 @@
 // Collision checking for planning, built for speed: the arm's sphere model (sphere_model.h) against the scene's
 // obstacles as exact primitives (boxes, balls, cylinders: closed-form sphere tests) and distance grids (meshes:
-// collision/distance_grid.h), with a bounding sphere per link and per obstacle as the broad phase. No allocation
-// per check: link transforms and sphere centres live in buffers owned by the checker (so one checker per thread).
+// collision/distance_grid.h), with a bounding sphere per link as the broad phase. Configurations are tested
+// kernel::kLanes at a time by the SIMD kernel (sphere_kernel.h); meshes, rare in planning scenes, by a scalar
+// pass over the lanes the kernel leaves free. No allocation per check: buffers are owned by the checker (so one
+// checker per thread).
 //
-// Motions are checked conservatively, not just sampled: along a straight joint-space segment every point of the
-// arm moves at most Σ_i |Δq_i| · lever_i (sphere_model.h), so with checks spaced so that no point moves more
-// than `resolution` between two of them, and every arm sphere inflated by resolution / 2, the swept arm between
-// two checks stays inside the inflated spheres of one of them. A valid motion therefore collides nowhere on the
-// segment, not only at the checked configurations.
+// A configuration is valid when no sphere touches an obstacle or a sphere of a self pair (radii as modelled, plus
+// the kernel's float margin of 0.02 mm). A motion (straight joint-space segment) is checked conservatively, not
+// just sampled: every point of the arm moves at most travel = Σ_i |Δq_i| · lever_i along it (sphere_model.h), so
+// between two checks δ of travel apart whose spheres pass inflated by δ / 2, the swept arm stays inside the
+// inflated spheres of one of them. Checks start kCoarseSteps · resolution apart (large inflation: far from
+// obstacles few checks cover the motion) and the intervals whose ends fail are halved, down to `resolution`; an
+// interior point that fails there, or that touches uninflated, makes the motion invalid. The motion's two ends
+// may be closer than resolution / 2 to an obstacle (a start in a tight shelf): an end that fails inflated is
+// covered by halving the interval next to it (checks at δ/2, δ/4, ... from it, inflated by δ/4, δ/8, ...) until
+// the end itself passes, up to kEndRefinements halvings. A valid motion therefore touches nothing anywhere on it.
 #pragma once
 
 #include <cstdint>
@@ -17,6 +24,7 @@
 
 #include "collision/distance_grid.h"
 #include "motion/arm.h"
+#include "motion/sphere_kernel.h"
 #include "motion/sphere_model.h"
 
 namespace graspsim::motion {
@@ -27,7 +35,6 @@ struct Obstacles {
   struct Ball { Vec3 centre; double radius; uint32_t body; };
   struct Cylinder { Mat3 rotation; Vec3 centre; double radius, half_length; uint32_t body; };
   struct Grid { std::shared_ptr<const DistanceGrid> grid; Rigid world_to_mesh; uint32_t body; };
-  struct Bound { Vec3 centre; double radius; };  // per obstacle, same order: boxes, balls, cylinders, grids
   std::vector<Box> boxes;
   std::vector<Ball> balls;
   std::vector<Cylinder> cylinders;
@@ -45,9 +52,9 @@ class CollisionChecker {
   // `resolution`: the most any point of the arm moves between two checks of a motion, m.
   CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, Obstacles obstacles, double resolution = 0.01);
 
-  // Within the joint limits and no inflated sphere touches an obstacle or a sphere of a self pair.
+  // Within the joint limits and no sphere touches an obstacle or a sphere of a self pair.
   bool IsValid(const Eigen::Ref<const VecX>& q) const;
-  // Every configuration of the straight segment a -> b (a assumed valid), conservatively (see above).
+  // Every configuration of the straight segment a -> b, conservatively (see above); false when a or b is not valid.
   bool IsMotionValid(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const;
   // Why q is not valid ("arm/link_4 touches table", "arm/joint_a2 = 3 rad is outside [-1.7, 2.4]"); "" if valid.
   std::string Explain(const Eigen::Ref<const VecX>& q) const;
@@ -55,25 +62,52 @@ class CollisionChecker {
   const ArmModel& arm() const { return arm_; }
   const ArmSphereModel& spheres() const { return spheres_; }
   double resolution() const { return resolution_; }
-  uint64_t checks() const { return checks_; }  // configurations tested so far
+  uint64_t checks() const { return checks_; }  // configurations tested so far (each lane of a batch counts)
+
+  static constexpr int kEndRefinements = 16;
+  static constexpr int64_t kCoarseSteps = 8;  // fine steps per interval of a motion's first round (a power of 2)
 
  private:
-  // The first touching pair at the configuration whose transforms are in poses_: obstacle body index or
-  // -(link + 1) for a self pair; `link` gets the arm link. Returns false when nothing touches.
+  // The kernel on lanes_ / inflate_ (filled by the caller; `count` lanes used, the rest copies of lane 0) plus
+  // the scalar mesh pass; bit per lane that collides.
+  uint32_t TestLanes(int count, bool stop_at_first) const;
+  void SetLane(int lane, const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b, double t,
+               double inflate) const;
+  bool WithinLimits(const Eigen::Ref<const VecX>& q) const;
+  // An end of a motion that failed with inflation δ/2: true when the halvings towards the other end cover it.
+  bool EndCovered(const Eigen::Ref<const VecX>& end, const Eigen::Ref<const VecX>& other, double delta_t,
+                  double delta) const;
+  // The scalar test (Explain): the first touching pair at the configuration whose transforms are in poses_:
+  // obstacle body index or -(link + 1) for a self pair; `link` gets the arm link. False when nothing touches.
   bool FindContact(uint32_t* link, int64_t* other) const;
   void PlaceSpheres(const Eigen::Ref<const VecX>& q) const;
 
   const ArmModel& arm_;
   ArmSphereModel spheres_;
   Obstacles obstacles_;
-  std::vector<Obstacles::Bound> bounds_;
-  double resolution_, inflate_;
+  double resolution_;
+  // The kernel's model and the arrays it points into.
+  std::vector<kernel::Link> kernel_links_;
+  std::vector<float> sphere_x_, sphere_y_, sphere_z_, sphere_radius_;
+  std::vector<kernel::Box> kernel_boxes_;
+  std::vector<kernel::Ball> kernel_balls_;
+  std::vector<kernel::Cylinder> kernel_cylinders_;
+  std::vector<int32_t> kernel_self_pairs_;
+  kernel::Model kernel_;
+  mutable std::vector<float> lanes_;    // dof rows of kLanes
+  mutable float inflate_[kernel::kLanes];
+  mutable std::vector<float> scratch_;
+  // IsMotionValid's buffers.
+  struct PointTest { int64_t point; float inflate; };
+  mutable std::vector<float> passed_;
+  mutable std::vector<std::pair<int64_t, int64_t>> intervals_, next_;
+  mutable std::vector<PointTest> tests_;
+  // The scalar test's buffers.
   std::vector<uint32_t> sphere_begin_;           // per link: first sphere in the flat arrays (size links + 1)
-  std::vector<double> radii_;                    // inflated
+  std::vector<double> radii_;                    // as the kernel's (float margin included)
   mutable std::vector<Rigid> poses_;
   mutable std::vector<Vec3> centres_;            // world
   mutable std::vector<Vec3> bound_centres_;      // world, per link
-  mutable VecX scratch_;
   mutable uint64_t checks_ = 0;
 };
 

@@ -2,76 +2,19 @@
 
 #include <chrono>
 #include <cmath>
-#include <memory>
-#include <mutex>
 #include <random>
 
-#include <ompl/base/MotionValidator.h>
-#include <ompl/base/ProblemDefinition.h>
-#include <ompl/base/SpaceInformation.h>
-#include <ompl/base/goals/GoalStates.h>
-#include <ompl/base/spaces/RealVectorStateSpace.h>
-#include <ompl/geometric/PathGeometric.h>
-#include <ompl/geometric/planners/rrt/RRTConnect.h>
-#include <ompl/util/Console.h>
 
 #include "core/error.h"
+#include "motion/search.h"
 #include "motion/short_number.h"
 
 namespace graspsim::motion {
 namespace {
 
-namespace ob = ompl::base;
-namespace og = ompl::geometric;
 using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-Eigen::Map<const VecX> Values(const ob::State* state, size_t n) {
-  return {state->as<ob::RealVectorStateSpace::StateType>()->values, static_cast<long>(n)};
-}
-
-// OMPL's uniform sampler with its own seed, so a plan depends on PlanOptions::seed and nothing global.
-class SeededSampler : public ob::RealVectorStateSampler {
- public:
-  SeededSampler(const ob::StateSpace* space, uint64_t seed) : ob::RealVectorStateSampler(space) {
-    rng_.setLocalSeed(static_cast<std::uint_fast32_t>(seed ^ (seed >> 32)));
-  }
-};
-
-// The checker's conservative segment test as OMPL's motion validator.
-class SphereMotionValidator : public ob::MotionValidator {
- public:
-  SphereMotionValidator(const ob::SpaceInformationPtr& si, const CollisionChecker& checker)
-      : ob::MotionValidator(si), checker_(checker), n_(checker.arm().dof()) {}
-  bool checkMotion(const ob::State* a, const ob::State* b) const override {
-    const bool valid = checker_.IsMotionValid(Values(a, n_), Values(b, n_));
-    valid ? ++valid_ : ++invalid_;
-    return valid;
-  }
-  bool checkMotion(const ob::State* a, const ob::State* b, std::pair<ob::State*, double>& last) const override {
-    // Used by planners that extend up to the first collision; RRT-Connect does not. Bisect for the last free t.
-    if (checkMotion(a, b)) return true;
-    double lo = 0, hi = 1;
-    for (int i = 0; i < 20; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      si_->getStateSpace()->interpolate(a, b, mid, last.first);
-      (checker_.IsMotionValid(Values(a, n_), Values(last.first, n_)) ? lo : hi) = mid;
-    }
-    si_->getStateSpace()->interpolate(a, b, lo, last.first);
-    last.second = lo;
-    return false;
-  }
-
- private:
-  const CollisionChecker& checker_;
-  size_t n_;
-};
-
-void QuietOmpl() {
-  static std::once_flag once;
-  std::call_once(once, [] { ompl::msg::setLogLevel(ompl::msg::LOG_NONE); });
-}
 
 void CheckConfiguration(const std::string& field, const CollisionChecker& checker, const VecX& q) {
   if (q.size() != static_cast<long>(checker.arm().dof())) {
@@ -127,17 +70,16 @@ PlanResult PlanPath(const CollisionChecker& checker, const VecX& start, const st
   CheckConfiguration("start", checker, start);
   if (goals.empty()) ThrowInvalidArgument("goal: no goal configuration");
   for (size_t g = 0; g < goals.size(); ++g) CheckConfiguration("goal", checker, goals[g]);
-  if (const std::string why = checker.Explain(start); !why.empty()) {
-    throw Error(ErrorCode::kFailedPrecondition, "start configuration is not free: " + why);
+  if (!checker.IsValid(start)) {
+    throw Error(ErrorCode::kFailedPrecondition, "start configuration is not free: " + checker.Explain(start));
   }
   std::vector<size_t> free_goals;
   std::string first_block;
   for (size_t g = 0; g < goals.size(); ++g) {
-    const std::string why = checker.Explain(goals[g]);
-    if (why.empty()) {
+    if (checker.IsValid(goals[g])) {
       free_goals.push_back(g);
     } else if (first_block.empty()) {
-      first_block = why;
+      first_block = checker.Explain(goals[g]);
     }
   }
   if (free_goals.empty()) {
@@ -160,54 +102,23 @@ PlanResult PlanPath(const CollisionChecker& checker, const VecX& start, const st
     }
   }
   if (raw.empty()) {
-    QuietOmpl();
-    auto space = std::make_shared<ob::RealVectorStateSpace>(n);
-    ob::RealVectorBounds bounds(n);
-    for (size_t i = 0; i < n; ++i) {
-      bounds.setLow(i, arm.lower()[i]);
-      bounds.setHigh(i, arm.upper()[i]);
-    }
-    space->setBounds(bounds);
-    const uint64_t seed = options.seed;
-    space->setStateSamplerAllocator(
-        [seed](const ob::StateSpace* s) { return std::make_shared<SeededSampler>(s, seed); });
-    auto si = std::make_shared<ob::SpaceInformation>(space);
-    si->setStateValidityChecker([&checker, n](const ob::State* s) { return checker.IsValid(Values(s, n)); });
-    si->setMotionValidator(std::make_shared<SphereMotionValidator>(si, checker));
-    si->setup();
-    auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-    ob::ScopedState<> from(space);
-    for (size_t i = 0; i < n; ++i) from[i] = start[i];
-    pdef->addStartState(from);
-    auto goal_states = std::make_shared<ob::GoalStates>(si);
-    for (size_t g : free_goals) {
-      ob::ScopedState<> to(space);
-      for (size_t i = 0; i < n; ++i) to[i] = goals[g][i];
-      goal_states->addState(to);
-    }
-    pdef->setGoal(goal_states);
-    og::RRTConnect rrt(si);
-    rrt.setRange(options.range > 0 ? options.range : 0.25 * space->getMaximumExtent());
-    rrt.setProblemDefinition(pdef);
-    rrt.setup();
-    const ob::PlannerTerminationCondition stop([&] {
-      return Seconds(began) > options.timeout || (options.cancelled && options.cancelled());
-    });
-    const ob::PlannerStatus status = rrt.solve(stop);
-    if (status != ob::PlannerStatus::EXACT_SOLUTION) {
-      if (options.cancelled && options.cancelled()) {
+    std::vector<VecX> free(free_goals.size());
+    for (size_t i = 0; i < free_goals.size(); ++i) free[i] = goals[free_goals[i]];
+    SearchResult search = options.planner == Planner::kOmplRrtConnect
+                              ? SearchOmplRrtConnect(checker, start, free, options, began)
+                              : SearchRrtConnect(checker, start, free, options, began);
+    if (search.path.empty()) {
+      result.checks = checker.checks() - checks_before;
+      result.seconds = Seconds(began);
+      if (search.cancelled) {
         result.cancelled = true;
-        result.checks = checker.checks() - checks_before;
-        result.seconds = Seconds(began);
         return result;
       }
       throw Error(ErrorCode::kFailedPrecondition,
                   "no collision-free path found in " + Short(options.timeout) + " s of RRT-Connect (" +
-                      std::to_string(checker.checks() - checks_before) +
-                      " configurations checked): the goal is probably enclosed by obstacles");
+                      std::to_string(result.checks) + " configurations checked): the goal is probably enclosed by obstacles");
     }
-    const auto& states = pdef->getSolutionPath()->as<og::PathGeometric>()->getStates();
-    for (const ob::State* s : states) raw.push_back(Values(s, n));
+    raw = std::move(search.path);
     double best = INFINITY;
     for (size_t g : free_goals) {
       const double d = (goals[g] - raw.back()).norm();

@@ -1,6 +1,6 @@
-// Collision-free arm paths (PAPERS.md part C: "IK, RRT-based arm path"): RRT-Connect (Kuffner & LaValle 2000,
-// OMPL's implementation) in joint space with the sphere-model checker (collision_checker.h), then shortcutting
-// and time parameterisation (trajectory.h).
+// Collision-free arm paths (PAPERS.md part C: "IK, RRT-based arm path"): RRT-Connect (Kuffner & LaValle 2000) in
+// joint space with the sphere-model checker (collision_checker.h) — graspsim's own search or OMPL's, on the same
+// checker (search.h) — then shortcutting and time parameterisation (trajectory.h).
 //
 // Stages: validate (start within limits and free, at least one goal free: else FAILED_PRECONDITION naming what
 // blocks it) → try the straight segment → RRT-Connect until a path, the timeout or cancellation → shortcut
@@ -19,10 +19,16 @@
 
 namespace graspsim::motion {
 
+enum class Planner {
+  kRrtConnect,      // graspsim's: flat trees, the batched motion check (rrt_connect.cpp)
+  kOmplRrtConnect,  // OMPL's RRTConnect with its defaults on the same checker (the benchmark's reference)
+};
+
 struct PlanOptions {
+  Planner planner = Planner::kRrtConnect;
   double timeout = 2.0;            // s of search before reporting that no path was found
   uint64_t seed = 1;               // same seed, same problem: same path (the search is not timed)
-  double range = 0;                // RRT-Connect's longest step, rad or m (0: a quarter of the largest joint range)
+  double range = 0;                // RRT-Connect's longest step, rad or m (0: 1 rad for ours, OMPL's default for OMPL's)
   unsigned shortcut_rounds = 24;   // random shortcut attempts after the greedy pass
   bool try_direct = true;          // check the straight segment to each goal before searching
   VecX acceleration;               // per joint, rad/s²; empty: twice the velocity limit per second (no datasheet value)

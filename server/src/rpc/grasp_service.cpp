@@ -230,6 +230,13 @@ grpc::ServerUnaryReactor* GraspServiceImpl::PlanArmPath(Context* context, const 
   });
 }
 
+grpc::ServerUnaryReactor* GraspServiceImpl::PlanArmPaths(Context* context, const v1::PlanArmPathsRequest* request,
+                                                         v1::PlanArmPathsResponse* response) {
+  return RunUnary(context, "GraspService/PlanArmPaths", pool_, [=, this] {
+    rpc::PlanArmPaths(*request, *registry_, [context] { return context->IsCancelled(); }, response);
+  });
+}
+
 grpc::ServerWriteReactor<v1::PickAndPlaceProgress>* GraspServiceImpl::PickAndPlace(Context* context,
                                                                                    const v1::PickAndPlaceRequest* request) {
   if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::PickAndPlaceProgress>(*refused);

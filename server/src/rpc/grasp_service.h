@@ -39,6 +39,7 @@ class GraspServiceImpl final : public v1::GraspService::CallbackService {
   Unary* GetGraspSet(Context*, const v1::GetGraspSetRequest*, v1::GraspSet*) override;
   Unary* EvaluateGrasp(Context*, const v1::EvaluateGraspRequest*, v1::Grasp*) override;
   Unary* PlanArmPath(Context*, const v1::PlanArmPathRequest*, v1::PlanArmPathResponse*) override;
+  Unary* PlanArmPaths(Context*, const v1::PlanArmPathsRequest*, v1::PlanArmPathsResponse*) override;
   grpc::ServerWriteReactor<v1::PickAndPlaceProgress>* PickAndPlace(Context*, const v1::PickAndPlaceRequest*) override;
 
  private:

@@ -1,11 +1,13 @@
 #include "rpc/plan_arm_path.h"
 
+#include <chrono>
 #include <cmath>
 #include <string>
 
 #include "core/error.h"
 #include "core/format.h"
 #include "motion/planner.h"
+#include "rpc/call.h"
 #include "rpc/convert.h"
 
 namespace graspsim::rpc {
@@ -72,9 +74,18 @@ void PlanArmPath(const v1::PlanArmPathRequest& request, const SceneRegistry& reg
   const motion::VecX start = request.start_positions_size() > 0
                                  ? Positions("start_positions", request.start_positions(), arm)
                                  : arm.Positions(view.state);
+  motion::PlanOptions options;
+  if (request.planner() == "ompl_rrt_connect") {
+    options.planner = motion::Planner::kOmplRrtConnect;
+  } else if (!request.planner().empty() && request.planner() != "rrt_connect") {
+    ThrowInvalidArgument("planner: '" + request.planner() + "' is not a planner; give \"rrt_connect\" (or empty) or "
+                         "\"ompl_rrt_connect\"");
+  }
+  const auto setup_began = std::chrono::steady_clock::now();
   const motion::CollisionChecker checker(arm, motion::BuildSphereModel(*view.model, arm),
                                          motion::CollectObstacles(*view.model, view.state, request.arm_id()));
-  motion::PlanOptions options;
+  const double setup_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_began).count();
   if (request.timeout() > 0) options.timeout = request.timeout();
   options.seed = request.has_seed() ? request.seed() : 1;
   options.cancelled = cancelled;
@@ -93,11 +104,37 @@ void PlanArmPath(const v1::PlanArmPathRequest& request, const SceneRegistry& reg
   response->set_checks(plan.checks);
   response->set_seconds(plan.seconds);
   response->set_duration(plan.trajectory.duration());
+  response->set_setup_seconds(setup_seconds);
+  response->set_planner(options.planner == motion::Planner::kOmplRrtConnect ? "ompl_rrt_connect" : "rrt_connect");
   if (overlays) {
     SceneOverlays::ArmPath path = TipPath(arm, plan.trajectory.waypoints());
     path.duration = plan.trajectory.duration();
     path.direct = plan.direct;
     overlays->SetArmPath(request.scene_id(), std::move(path));
+  }
+}
+
+}  // namespace graspsim::rpc
+
+namespace graspsim::rpc {
+
+void PlanArmPaths(const v1::PlanArmPathsRequest& request, const SceneRegistry& registry,
+                  const std::function<bool()>& cancelled, v1::PlanArmPathsResponse* response) {
+  constexpr int kMaxProblems = 10000;
+  if (request.problems_size() > kMaxProblems) {
+    ThrowInvalidArgument("problems: " + std::to_string(request.problems_size()) + " problems; at most " +
+                         std::to_string(kMaxProblems) + " per call");
+  }
+  for (const v1::PlanArmPathRequest& problem : request.problems()) {
+    if (cancelled()) throw Error(ErrorCode::kFailedPrecondition, "cancelled");  // the call is gone anyway
+    v1::PlanArmPathResult* result = response->add_results();
+    try {
+      PlanArmPath(problem, registry, cancelled, result->mutable_path());
+    } catch (const Error& error) {
+      result->clear_path();
+      result->set_status_code(static_cast<int32_t>(ToStatus(error).error_code()));
+      result->set_error(error.what());
+    }
   }
 }
 

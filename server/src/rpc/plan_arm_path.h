@@ -1,4 +1,4 @@
-// GraspService.PlanArmPath: request -> motion::PlanPath / PlanPathToPose -> response (translation only).
+// GraspService.PlanArmPath(s): request -> motion::PlanPath / PlanPathToPose -> response (translation only).
 #pragma once
 
 #include <functional>
@@ -14,5 +14,9 @@ namespace graspsim::rpc {
 void PlanArmPath(const v1::PlanArmPathRequest& request, const SceneRegistry& registry,
                  const std::function<bool()>& cancelled, v1::PlanArmPathResponse* response,
                  SceneOverlays* overlays = nullptr);
+
+// Each problem as PlanArmPath, in order; a problem's error becomes its result's status, not the call's.
+void PlanArmPaths(const v1::PlanArmPathsRequest& request, const SceneRegistry& registry,
+                  const std::function<bool()>& cancelled, v1::PlanArmPathsResponse* response);
 
 }  // namespace graspsim::rpc

@@ -31,6 +31,12 @@ def from_rpc_error(err: grpc.RpcError) -> GraspsimError:
     return GraspsimError(code, details or "")
 
 
+def error_for_code(code: int, message: str) -> GraspsimError:
+    """A GraspsimError from a numeric status code carried in a message (PlanArmPaths' per-problem results)."""
+    by_value = {c.value[0]: c for c in grpc.StatusCode}
+    return GraspsimError(by_value.get(code, grpc.StatusCode.UNKNOWN), message)
+
+
 @contextlib.contextmanager
 def translated_errors() -> Iterator[None]:
     """Re-raises any grpc.RpcError raised in the block as a GraspsimError."""

@@ -2,11 +2,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Sequence
+from typing import Callable, List, Optional, Sequence, Union
 
 import numpy as np
 
-from graspsim._errors import translated_errors
+from graspsim._errors import GraspsimError, error_for_code, translated_errors
 from graspsim._pose import Pose, PoseLike, as_pose
 from graspsim._stream import CancellableStream
 from graspsim.v1 import grasp_pb2, grasp_pb2_grpc
@@ -22,8 +22,34 @@ class ArmPath:
     tip_body: str
     direct: bool
     checks: int
-    seconds: float
+    seconds: float             # s, server-side planning time (checks of start and goal, search, shortcuts, timing)
     duration: float
+    setup_seconds: float = 0.0  # s, building the call's collision model before planning
+    planner: str = ""           # the search that ran: "rrt_connect" or "ompl_rrt_connect"
+
+
+def _arm_path(response) -> ArmPath:
+    dof = len(response.joint_ids)
+    return ArmPath(joint_ids=list(response.joint_ids),
+                   waypoints=np.frombuffer(response.waypoints, dtype="<f8").reshape(-1, max(dof, 1)).copy(),
+                   times=np.frombuffer(response.times, dtype="<f8").copy(), tip_body=response.tip_body,
+                   direct=response.direct, checks=response.checks, seconds=response.seconds,
+                   duration=response.duration, setup_seconds=response.setup_seconds, planner=response.planner)
+
+
+def _arm_path_request(scene_id: str, arm_id: str, goal: Optional[PoseLike], goal_positions, start_positions,
+                      tip_body: str, timeout: float, seed: Optional[int], planner: str):
+    request = grasp_pb2.PlanArmPathRequest(scene_id=scene_id, arm_id=arm_id, tip_body=tip_body, timeout=timeout,
+                                           planner=planner)
+    if goal is not None:
+        request.goal.CopyFrom(as_pose(goal).to_proto())
+    if goal_positions is not None:
+        request.goal_positions.extend(float(v) for v in goal_positions)
+    if start_positions is not None:
+        request.start_positions.extend(float(v) for v in start_positions)
+    if seed is not None:
+        request.seed = seed
+    return request
 
 
 @dataclass
@@ -70,30 +96,39 @@ class MotionMethods:
     def plan_arm_path(self, scene_id: str, arm_id: str, *, goal: Optional[PoseLike] = None,
                       goal_positions: Optional[Sequence[float]] = None,
                       start_positions: Optional[Sequence[float]] = None, tip_body: str = "",
-                      timeout: float = 0.0, seed: Optional[int] = None,
+                      timeout: float = 0.0, seed: Optional[int] = None, planner: str = "",
                       call_timeout: Optional[float] = None) -> ArmPath:
         """A collision-free path of robot `arm_id` from its configuration in the scene (or start_positions) to a
         tip pose `goal` (world; tip = tip_body, default "<arm_id>/flange") or to goal_positions. timeout: s of
-        search (0 = 2 s). A blocked or unreachable goal raises FailedPrecondition naming what blocks it."""
-        request = grasp_pb2.PlanArmPathRequest(scene_id=scene_id, arm_id=arm_id, tip_body=tip_body,
-                                               timeout=timeout)
-        if goal is not None:
-            request.goal.CopyFrom(as_pose(goal).to_proto())
-        if goal_positions is not None:
-            request.goal_positions.extend(float(v) for v in goal_positions)
-        if start_positions is not None:
-            request.start_positions.extend(float(v) for v in start_positions)
-        if seed is not None:
-            request.seed = seed
+        search (0 = 2 s). planner: "" / "rrt_connect" (graspsim's) or "ompl_rrt_connect" (OMPL's, same checker).
+        A blocked or unreachable goal raises FailedPrecondition naming what blocks it."""
+        request = _arm_path_request(scene_id, arm_id, goal, goal_positions, start_positions, tip_body, timeout,
+                                    seed, planner)
         stub = grasp_pb2_grpc.GraspServiceStub(self.channel)
         with translated_errors():
             response = stub.PlanArmPath(request, timeout=call_timeout or self.call_timeout)
-        dof = len(response.joint_ids)
-        return ArmPath(joint_ids=list(response.joint_ids),
-                       waypoints=np.frombuffer(response.waypoints, dtype="<f8").reshape(-1, dof).copy(),
-                       times=np.frombuffer(response.times, dtype="<f8").copy(), tip_body=response.tip_body,
-                       direct=response.direct, checks=response.checks, seconds=response.seconds,
-                       duration=response.duration)
+        return _arm_path(response)
+
+    def plan_arm_paths(self, problems: Sequence[dict], *,
+                       call_timeout: Optional[float] = None) -> List[Union[ArmPath, GraspsimError]]:
+        """Many plan_arm_path problems in one call: each a dict of plan_arm_path's keyword arguments plus
+        scene_id and arm_id. Returns, in order, an ArmPath per solved problem and the error (not raised) of each
+        other one."""
+        requests = []
+        for i, p in enumerate(problems):
+            unknown = set(p) - {"scene_id", "arm_id", "goal", "goal_positions", "start_positions", "tip_body",
+                                "timeout", "seed", "planner"}
+            if unknown:
+                raise TypeError(f"problems[{i}]: unknown keys {sorted(unknown)}")
+            requests.append(_arm_path_request(p["scene_id"], p["arm_id"], p.get("goal"), p.get("goal_positions"),
+                                              p.get("start_positions"), p.get("tip_body", ""),
+                                              p.get("timeout", 0.0), p.get("seed"), p.get("planner", "")))
+        stub = grasp_pb2_grpc.GraspServiceStub(self.channel)
+        with translated_errors():
+            response = stub.PlanArmPaths(grasp_pb2.PlanArmPathsRequest(problems=requests),
+                                         timeout=call_timeout or self.call_timeout)
+        return [_arm_path(r.path) if r.status_code == 0 else error_for_code(r.status_code, r.error)
+                for r in response.results]
 
     def pick_and_place_stream(self, scene_id: str, arm_id: str, body_id: str, goal: PoseLike, *,
                               hand_id: str = "", grasp_set_id: str = "", max_attempts: int = 0,

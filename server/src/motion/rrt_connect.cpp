@@ -1,0 +1,107 @@
+// RRT-Connect (Kuffner & LaValle 2000) as VAMP runs it: two trees in flat arrays, nearest neighbour by a linear
+// scan (trees stay small on the problems it is for; a scan of a few hundred 7-vectors beats a tree structure's
+// bookkeeping), every new edge through the checker's batched, conservative motion test.
+#include <cmath>
+#include <random>
+
+#include "motion/search.h"
+
+namespace graspsim::motion {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class Tree {
+ public:
+  explicit Tree(size_t dof) : dof_(dof) {}
+  int Add(const VecX& q, int parent) {
+    values_.insert(values_.end(), q.data(), q.data() + dof_);
+    parents_.push_back(parent);
+    return static_cast<int>(parents_.size()) - 1;
+  }
+  Eigen::Map<const VecX> At(int i) const { return {values_.data() + static_cast<size_t>(i) * dof_, static_cast<long>(dof_)}; }
+  int Parent(int i) const { return parents_[i]; }
+  int Nearest(const VecX& q) const {
+    int best = 0;
+    double best_d = INFINITY;
+    const double* v = values_.data();
+    for (size_t i = 0; i < parents_.size(); ++i, v += dof_) {
+      double d = 0;
+      for (size_t k = 0; k < dof_; ++k) d += (v[k] - q[k]) * (v[k] - q[k]);
+      if (d < best_d) best_d = d, best = static_cast<int>(i);
+    }
+    return best;
+  }
+  // Node i and its ancestors, root last.
+  std::vector<VecX> PathToRoot(int i) const {
+    std::vector<VecX> out;
+    for (; i >= 0; i = parents_[i]) out.emplace_back(At(i));
+    return out;
+  }
+
+ private:
+  size_t dof_;
+  std::vector<double> values_;
+  std::vector<int> parents_;
+};
+
+// At most `range` from `from` towards `to`; *reached when that is `to` itself.
+VecX Step(const Eigen::Ref<const VecX>& from, const VecX& to, double range, bool* reached) {
+  const VecX d = to - from;
+  const double distance = d.norm();
+  *reached = distance <= range;
+  return *reached ? to : VecX(from + d * (range / distance));
+}
+
+}  // namespace
+
+SearchResult SearchRrtConnect(const CollisionChecker& checker, const VecX& start, const std::vector<VecX>& goals,
+                              const PlanOptions& options, Clock::time_point began) {
+  const ArmModel& arm = checker.arm();
+  const size_t n = arm.dof();
+  const double range = options.range > 0 ? options.range : kDefaultRange;
+  Tree start_tree(n), goal_tree(n);
+  start_tree.Add(start, -1);
+  for (const VecX& g : goals) goal_tree.Add(g, -1);
+  Tree* a = &start_tree;
+  Tree* b = &goal_tree;
+  std::mt19937_64 rng(options.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  VecX sample(n);
+  SearchResult result;
+  for (uint64_t iteration = 0;; ++iteration) {
+    if ((iteration & 15) == 0) {
+      if (options.cancelled && options.cancelled()) {
+        result.cancelled = true;
+        return result;
+      }
+      if (std::chrono::duration<double>(Clock::now() - began).count() > options.timeout) return result;
+    }
+    for (size_t i = 0; i < n; ++i) sample[i] = arm.lower()[i] + unit(rng) * (arm.upper()[i] - arm.lower()[i]);
+    // Extend a towards the sample by one step.
+    const int near = a->Nearest(sample);
+    bool reached;
+    const VecX added = Step(a->At(near), sample, range, &reached);
+    if (checker.IsValid(added) && checker.IsMotionValid(a->At(near), added)) {
+      const int a_node = a->Add(added, near);
+      // Connect b to the new node, step by step, while the steps are free.
+      int b_node = b->Nearest(added);
+      while (true) {
+        const VecX next = Step(b->At(b_node), added, range, &reached);
+        if (!checker.IsValid(next) || !checker.IsMotionValid(b->At(b_node), next)) break;
+        if (reached) {
+          std::vector<VecX> from_a = a->PathToRoot(a_node), from_b = b->PathToRoot(b_node);
+          std::vector<VecX>& to_start = a == &start_tree ? from_a : from_b;
+          std::vector<VecX>& to_goal = a == &start_tree ? from_b : from_a;
+          result.path.assign(to_start.rbegin(), to_start.rend());
+          result.path.insert(result.path.end(), to_goal.begin(), to_goal.end());
+          return result;
+        }
+        b_node = b->Add(next, b_node);
+      }
+    }
+    std::swap(a, b);
+  }
+}
+
+}  // namespace graspsim::motion

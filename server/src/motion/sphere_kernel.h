@@ -1,0 +1,78 @@
+// The batched sphere test at the heart of planning (VAMP's idea, Thomason et al. 2024): forward kinematics and
+// sphere-vs-obstacle tests for kLanes arm configurations at once, one configuration per SIMD lane, so that one
+// instruction moves all of them. Plain data in, no Eigen, no std: the kernel is compiled twice (AVX2 + FMA and a
+// portable SSE2 build, sphere_kernel_avx2.cpp / sphere_kernel_generic.cpp from sphere_kernel_impl.inc) and chosen
+// once at run time by the CPU's features, so no inline function is shared between the two builds.
+//
+// Floats: centres are placed to ~1e-6 m at 1 m of reach; callers add kFloatMargin to every radius so the float
+// test errs on the side of "touches".
+#pragma once
+
+#include <cstdint>
+
+namespace graspsim::motion::kernel {
+
+constexpr int kLanes = 8;
+constexpr float kFloatMargin = 2e-5f;  // m, added to radii: covers the float rounding of FK and of the tests
+
+enum JointKind : int32_t { kRigid = 0, kRevolute = 1, kPrismatic = 2 };
+
+struct Link {
+  int32_t parent = -1;          // index of an earlier link; -1: the robot's base (placed at `base`)
+  int32_t dof = -1;             // row of q moving it; -1: rigid on its parent
+  int32_t kind = kRigid;
+  float rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // parent frame -> joint frame, row-major
+  float translation[3] = {0, 0, 0};
+  float axis[3] = {0, 0, 1};    // unit, joint frame; a revolute joint turns about z (frames chosen so: the checker
+                                // rotates each revolute link's frame to put its axis on z)
+  int32_t sphere_begin = 0, sphere_end = 0;  // its spheres, [begin, end) of Model's sphere arrays
+  float bound_centre[3] = {0, 0, 0};         // one sphere holding all of them (link frame); radius < 0: none
+  float bound_radius = -1;
+  int32_t against_obstacles = 0;  // 0: rigid on the base (its contacts with the scene are the mounting)
+};
+
+// Obstacles, world frame; bound_radius: the obstacle's bounding sphere about its centre (the cheap first test).
+struct Box { float rotation_t[9]; float centre[3]; float half[3]; float bound_radius; };  // local = R^T (p - c)
+struct Ball { float centre[3]; float radius; };
+struct Cylinder { float rotation_t[9]; float centre[3]; float radius, half_length, bound_radius; };  // axis: local z
+
+struct Model {
+  const Link* links = nullptr;
+  int32_t link_count = 0;
+  float base_rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  float base_translation[3] = {0, 0, 0};
+  const float* sphere_x = nullptr;  // link frame centres and radii (kFloatMargin included), per sphere
+  const float* sphere_y = nullptr;
+  const float* sphere_z = nullptr;
+  const float* sphere_radius = nullptr;
+  int32_t sphere_count = 0;
+  const Box* boxes = nullptr;
+  int32_t box_count = 0;
+  const Ball* balls = nullptr;
+  int32_t ball_count = 0;
+  const Cylinder* cylinders = nullptr;
+  int32_t cylinder_count = 0;
+  const int32_t* self_pairs = nullptr;  // link index pairs, flattened (a0, b0, a1, b1, ...)
+  int32_t self_pair_count = 0;
+};
+
+// Floats of scratch CollidingLanes needs: every link's world transform and bounding-sphere centre, and every
+// sphere's world centre, per lane.
+inline int64_t ScratchSize(const Model& model) {
+  return (static_cast<int64_t>(model.link_count) * 15 + static_cast<int64_t>(model.sphere_count) * 3) * kLanes;
+}
+
+// q: one row of kLanes floats per dof (q[d * kLanes + lane]); inflate: per lane, m added to every sphere's radius.
+// Returns the lanes (bit per lane) where some sphere touches an obstacle or a sphere of a self pair. With
+// `stop_at_first` it returns as soon as one lane is found (the mask then names at least one). When it returns 0,
+// the sphere centres are in scratch: x, y, z of sphere s at SphereCentres(model, scratch) + (3 s + axis) * kLanes.
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first);
+
+inline const float* SphereCentres(const Model& model, const float* scratch) {
+  return scratch + static_cast<int64_t>(model.link_count) * 15 * kLanes;
+}
+
+// "avx2" or "sse2": the build CollidingLanes dispatches to on this CPU.
+const char* KernelIsa();
+
+}  // namespace graspsim::motion::kernel

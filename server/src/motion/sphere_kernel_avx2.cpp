@@ -1,0 +1,15 @@
+// CollidingLanes for CPUs with AVX2 and FMA (8 float lanes per instruction); compiled with -mavx2 -mfma
+// (motion/CMakeLists.txt) and only called when the CPU has both (sphere_kernel.cpp).
+#include "motion/sphere_kernel.h"
+
+#include <immintrin.h>
+
+namespace graspsim::motion::kernel::avx2 {
+
+#include "motion/sphere_kernel_impl.inc"
+
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first) {
+  return CollidingLanesImpl(model, q, inflate, scratch, stop_at_first);
+}
+
+}  // namespace graspsim::motion::kernel::avx2
