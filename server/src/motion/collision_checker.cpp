@@ -252,10 +252,13 @@ bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eige
   passed_.assign(n + 1, -1.0f);  // per point: the largest inflation it passed (-1: none yet)
   intervals_.clear();
   for (int64_t k = 0; k < n; k += kCoarseSteps) intervals_.push_back({k, std::min(n, k + kCoarseSteps)});
+  // Round one also tests both ends exactly: a motion to a configuration that collides fails in one batch.
+  tests_.clear();
+  tests_.push_back({0, 0.0f});
+  tests_.push_back({n, 0.0f});
   while (!intervals_.empty()) {
     // The tests this round needs: each end of each interval at the interval's inflation, once per point; and
     // each point that failed before, exactly (no inflation): one that touches as it is ends the motion at once.
-    tests_.clear();
     for (const auto& [k0, k1] : intervals_) {
       const float inflate = static_cast<float>(0.5 * delta * static_cast<double>(k1 - k0));
       for (const int64_t k : {k0, k1}) {
@@ -281,12 +284,13 @@ bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eige
         if (!(hits & (1u << lane))) {
           passed_[t.point] = std::max(passed_[t.point], t.inflate);
         } else if (t.inflate == 0.0f) {
-          return false;  // an interior point touches
+          return false;  // a point touches as it is
         } else if (passed_[t.point] < 0) {
           passed_[t.point] = -2.0f;  // failed inflated: test it exactly next round
         }
       }
     }
+    tests_.clear();
     // Split what is not covered.
     next_.clear();
     for (const auto& [k0, k1] : intervals_) {

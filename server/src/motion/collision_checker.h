@@ -65,7 +65,7 @@ class CollisionChecker {
   uint64_t checks() const { return checks_; }  // configurations tested so far (each lane of a batch counts)
 
   static constexpr int kEndRefinements = 16;
-  static constexpr int64_t kCoarseSteps = 8;  // fine steps per interval of a motion's first round (a power of 2)
+  static constexpr int64_t kCoarseSteps = 16;  // fine steps per interval of a motion's first round (a power of 2)
 
  private:
   // The kernel on lanes_ / inflate_ (filled by the caller; `count` lanes used, the rest copies of lane 0) plus

@@ -126,6 +126,7 @@ PlanResult PlanPath(const CollisionChecker& checker, const VecX& start, const st
     }
   }
   result.raw_waypoints = raw.size();
+  result.search_seconds = Seconds(began);
   std::vector<VecX> path = raw.size() > 2 ? ShortcutGreedy(checker, raw) : raw;
   ShortcutRandom(checker, options.shortcut_rounds, options.seed, &path);
   VecX acceleration = options.acceleration.size() == static_cast<long>(n) ? options.acceleration

@@ -44,6 +44,7 @@ struct PlanResult {
   size_t raw_waypoints = 0;        // before shortcutting
   uint64_t checks = 0;             // configurations tested
   double seconds = 0;              // wall time of the whole plan
+  double search_seconds = 0;       // of which: checking start and goals, the straight segment and RRT-Connect
 };
 
 // Throws Error(kInvalidArgument) for a start or goal of the wrong size or non-finite, Error(kFailedPrecondition)

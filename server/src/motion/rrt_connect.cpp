@@ -82,13 +82,13 @@ SearchResult SearchRrtConnect(const CollisionChecker& checker, const VecX& start
     const int near = a->Nearest(sample);
     bool reached;
     const VecX added = Step(a->At(near), sample, range, &reached);
-    if (checker.IsValid(added) && checker.IsMotionValid(a->At(near), added)) {
+    if (checker.IsMotionValid(a->At(near), added)) {  // tests `added` itself first
       const int a_node = a->Add(added, near);
       // Connect b to the new node, step by step, while the steps are free.
       int b_node = b->Nearest(added);
       while (true) {
         const VecX next = Step(b->At(b_node), added, range, &reached);
-        if (!checker.IsValid(next) || !checker.IsMotionValid(b->At(b_node), next)) break;
+        if (!checker.IsMotionValid(b->At(b_node), next)) break;
         if (reached) {
           std::vector<VecX> from_a = a->PathToRoot(a_node), from_b = b->PathToRoot(b_node);
           std::vector<VecX>& to_start = a == &start_tree ? from_a : from_b;

@@ -105,6 +105,7 @@ void PlanArmPath(const v1::PlanArmPathRequest& request, const SceneRegistry& reg
   response->set_seconds(plan.seconds);
   response->set_duration(plan.trajectory.duration());
   response->set_setup_seconds(setup_seconds);
+  response->set_search_seconds(plan.search_seconds);
   response->set_planner(options.planner == motion::Planner::kOmplRrtConnect ? "ompl_rrt_connect" : "rrt_connect");
   if (overlays) {
     SceneOverlays::ArmPath path = TipPath(arm, plan.trajectory.waypoints());

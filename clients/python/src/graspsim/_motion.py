@@ -26,6 +26,7 @@ class ArmPath:
     duration: float
     setup_seconds: float = 0.0  # s, building the call's collision model before planning
     planner: str = ""           # the search that ran: "rrt_connect" or "ompl_rrt_connect"
+    search_seconds: float = 0.0  # s, of `seconds`: start/goal checks, straight segment, search (not shortcutting)
 
 
 def _arm_path(response) -> ArmPath:
@@ -34,7 +35,8 @@ def _arm_path(response) -> ArmPath:
                    waypoints=np.frombuffer(response.waypoints, dtype="<f8").reshape(-1, max(dof, 1)).copy(),
                    times=np.frombuffer(response.times, dtype="<f8").copy(), tip_body=response.tip_body,
                    direct=response.direct, checks=response.checks, seconds=response.seconds,
-                   duration=response.duration, setup_seconds=response.setup_seconds, planner=response.planner)
+                   duration=response.duration, setup_seconds=response.setup_seconds, planner=response.planner,
+                   search_seconds=response.search_seconds)
 
 
 def _arm_path_request(scene_id: str, arm_id: str, goal: Optional[PoseLike], goal_positions, start_positions,
