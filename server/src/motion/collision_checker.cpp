@@ -219,94 +219,67 @@ bool CollisionChecker::IsValid(const Eigen::Ref<const VecX>& q) const {
   return TestLanes(1, true) == 0;
 }
 
-bool CollisionChecker::EndCovered(const Eigen::Ref<const VecX>& end, const Eigen::Ref<const VecX>& other,
-                                  double delta_t, double delta) const {
-  // Level j: the end and the point p_j at parameter delta_t / 2^j from it, both inflated by (delta / 2^j) / 2.
-  // The end passing at level J with p_1..p_J passing covers [end, first check] (see the header).
-  constexpr int kLevelsPerBatch = kernel::kLanes / 2;
-  for (int first = 1; first <= kEndRefinements; first += kLevelsPerBatch) {
-    for (int i = 0; i < kLevelsPerBatch; ++i) {
-      const double scale = std::ldexp(1.0, -(first + i));
-      SetLane(2 * i, end, other, 0, 0.5 * delta * scale);
-      SetLane(2 * i + 1, end, other, delta_t * scale, 0.5 * delta * scale);
-    }
-    const uint32_t hits = TestLanes(kernel::kLanes, false);
-    for (int i = 0; i < kLevelsPerBatch; ++i) {
-      if (hits & (2u << (2 * i))) return false;    // p_j touches: a conservative no
-      if (!(hits & (1u << (2 * i)))) return true;  // the end passes at this level
-    }
-  }
-  return false;
-}
-
 bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
   if (!WithinLimits(a) || !WithinLimits(b)) return false;
   double travel = 0;
   for (size_t i = 0; i < arm_.dof(); ++i) travel += std::abs(b[i] - a[i]) * spheres_.lever[i];
-  // The finest grid: points k = 0..n at t = k / n, δ = travel / n <= resolution apart. An interval [k0, k1] is
-  // covered when both its ends pass inflated by (k1 - k0) δ / 2. Start with intervals of kCoarseSteps fine steps
-  // (far from obstacles one check per kCoarseSteps · δ of travel suffices), halve those with an end that fails,
-  // down to one step; there a failing interior point makes the motion invalid, a failing end goes to EndCovered.
-  const int64_t n = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(travel / resolution_)));
-  const double delta = travel / static_cast<double>(n);
-  passed_.assign(n + 1, -1.0f);  // per point: the largest inflation it passed (-1: none yet)
+  // Intervals [t0, t1] of the segment, each covered when both its ends pass inflated by (t1 - t0) travel / 2.
+  // Round one: intervals of kCoarseSteps · resolution of travel, and both ends of the motion tested exactly.
+  // Each round tests what the intervals need, then halves the intervals not covered; a point that fails
+  // inflated is also tested exactly in the next round, and one that touches exactly ends the motion.
+  const int64_t coarse = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(travel / (kCoarseSteps * resolution_))));
+  const double smallest = resolution_ * std::ldexp(1.0, -kMaxHalvings);  // of travel
   intervals_.clear();
-  for (int64_t k = 0; k < n; k += kCoarseSteps) intervals_.push_back({k, std::min(n, k + kCoarseSteps)});
-  // Round one also tests both ends exactly: a motion to a configuration that collides fails in one batch.
-  tests_.clear();
-  tests_.push_back({0, 0.0f});
-  tests_.push_back({n, 0.0f});
+  for (int64_t i = 0; i < coarse; ++i) {
+    intervals_.push_back({static_cast<double>(i) / coarse, static_cast<double>(i + 1) / coarse, kUnknown, kUnknown});
+  }
+  intervals_.front().pass0 = kFailedInflated;  // asks for the exact test of the motion's ends in round one
+  intervals_.back().pass1 = kFailedInflated;
   while (!intervals_.empty()) {
-    // The tests this round needs: each end of each interval at the interval's inflation, once per point; and
-    // each point that failed before, exactly (no inflation): one that touches as it is ends the motion at once.
-    for (const auto& [k0, k1] : intervals_) {
-      const float inflate = static_cast<float>(0.5 * delta * static_cast<double>(k1 - k0));
-      for (const int64_t k : {k0, k1}) {
-        if (passed_[k] >= inflate) continue;
-        // Intervals come in order, so a shared end was queued last (or just before its exact re-test).
-        bool queued = false;
-        for (size_t i = tests_.size(); i > 0 && i + 2 > tests_.size(); --i) {
-          queued = queued || (tests_[i - 1].point == k && tests_[i - 1].inflate == inflate);
-        }
-        if (!queued) tests_.push_back({k, inflate});
-        if (passed_[k] == -2.0f && k != 0 && k != n) tests_.push_back({k, 0.0f});
+    tests_.clear();
+    const auto need = [&](double t, float inflate) {
+      // A point shared with the previous interval was queued last (or just before its exact test).
+      for (size_t i = tests_.size(); i > 0 && i + 2 > tests_.size(); --i) {
+        if (tests_[i - 1].t == t && tests_[i - 1].inflate == inflate) return static_cast<int32_t>(i - 1);
       }
+      tests_.push_back({t, inflate, false});
+      return static_cast<int32_t>(tests_.size() - 1);
+    };
+    for (Interval& interval : intervals_) {
+      const float inflate = static_cast<float>(0.5 * travel * (interval.t1 - interval.t0));
+      interval.exact0 = interval.pass0 == kFailedInflated ? need(interval.t0, 0.0f) : -1;
+      interval.test0 = interval.pass0 < inflate ? need(interval.t0, inflate) : -1;
+      interval.exact1 = interval.pass1 == kFailedInflated ? need(interval.t1, 0.0f) : -1;
+      interval.test1 = interval.pass1 < inflate ? need(interval.t1, inflate) : -1;
     }
     for (size_t first = 0; first < tests_.size(); first += kernel::kLanes) {
       const int count = static_cast<int>(std::min<size_t>(kernel::kLanes, tests_.size() - first));
-      for (int lane = 0; lane < count; ++lane) {
-        const auto& t = tests_[first + lane];
-        SetLane(lane, a, b, static_cast<double>(t.point) / static_cast<double>(n), t.inflate);
-      }
+      for (int lane = 0; lane < count; ++lane) SetLane(lane, a, b, tests_[first + lane].t, tests_[first + lane].inflate);
       const uint32_t hits = TestLanes(count, false);
       for (int lane = 0; lane < count; ++lane) {
-        const auto& t = tests_[first + lane];
-        if (!(hits & (1u << lane))) {
-          passed_[t.point] = std::max(passed_[t.point], t.inflate);
-        } else if (t.inflate == 0.0f) {
-          return false;  // a point touches as it is
-        } else if (passed_[t.point] < 0) {
-          passed_[t.point] = -2.0f;  // failed inflated: test it exactly next round
-        }
+        tests_[first + lane].touches = (hits >> lane) & 1u;
+        if (tests_[first + lane].touches && tests_[first + lane].inflate == 0.0f) return false;  // touches as it is
       }
     }
-    tests_.clear();
-    // Split what is not covered.
     next_.clear();
-    for (const auto& [k0, k1] : intervals_) {
-      const float inflate = static_cast<float>(0.5 * delta * static_cast<double>(k1 - k0));
-      const bool end0 = passed_[k0] >= inflate, end1 = passed_[k1] >= inflate;
-      if (end0 && end1) continue;
-      if (k1 - k0 > 1) {
-        const int64_t mid = (k0 + k1) / 2;
-        next_.push_back({k0, mid});
-        next_.push_back({mid, k1});
-        continue;
-      }
-      // One fine step: an interior end that fails is a conservative no; the motion's own ends are refined.
-      if ((!end0 && k0 != 0) || (!end1 && k1 != n)) return false;
-      if (!end0 && !EndCovered(a, b, 1.0 / static_cast<double>(n), delta)) return false;
-      if (!end1 && !EndCovered(b, a, 1.0 / static_cast<double>(n), delta)) return false;
+    for (Interval& interval : intervals_) {
+      const float inflate = static_cast<float>(0.5 * travel * (interval.t1 - interval.t0));
+      const auto update = [&](int32_t test, int32_t exact, float* pass) {
+        if (exact >= 0) *pass = 0.0f;  // passed exactly (a touch has returned above)
+        if (test < 0) return;
+        if (!tests_[test].touches) {
+          *pass = std::max(*pass, inflate);
+        } else if (*pass < 0) {
+          *pass = kFailedInflated;
+        }
+      };
+      update(interval.test0, interval.exact0, &interval.pass0);
+      update(interval.test1, interval.exact1, &interval.pass1);
+      if (interval.pass0 >= inflate && interval.pass1 >= inflate) continue;  // covered
+      if (travel * (interval.t1 - interval.t0) < smallest) return false;    // too close to call: a conservative no
+      const double mid = 0.5 * (interval.t0 + interval.t1);
+      next_.push_back({interval.t0, mid, interval.pass0, kUnknown});
+      next_.push_back({mid, interval.t1, kUnknown, interval.pass1});
     }
     intervals_.swap(next_);
   }

@@ -8,13 +8,13 @@
 // A configuration is valid when no sphere touches an obstacle or a sphere of a self pair (radii as modelled, plus
 // the kernel's float margin of 0.02 mm). A motion (straight joint-space segment) is checked conservatively, not
 // just sampled: every point of the arm moves at most travel = Σ_i |Δq_i| · lever_i along it (sphere_model.h), so
-// between two checks δ of travel apart whose spheres pass inflated by δ / 2, the swept arm stays inside the
-// inflated spheres of one of them. Checks start kCoarseSteps · resolution apart (large inflation: far from
-// obstacles few checks cover the motion) and the intervals whose ends fail are halved, down to `resolution`; an
-// interior point that fails there, or that touches uninflated, makes the motion invalid. The motion's two ends
-// may be closer than resolution / 2 to an obstacle (a start in a tight shelf): an end that fails inflated is
-// covered by halving the interval next to it (checks at δ/2, δ/4, ... from it, inflated by δ/4, δ/8, ...) until
-// the end itself passes, up to kEndRefinements halvings. A valid motion therefore touches nothing anywhere on it.
+// when the two ends of an interval δ of travel long both pass with every sphere inflated by δ / 2, the swept arm
+// over the interval stays inside the inflated spheres of one of them. Checks start kCoarseSteps · resolution
+// apart (far from obstacles, few checks cover the motion); an interval whose ends fail is halved, its points
+// tested again with half the inflation (and exactly: a point that touches as it is ends the motion), down to
+// resolution / 2^kMaxHalvings. So a motion through a passage a few millimetres wide, or ending at a goal 1 mm from
+// a shelf, is accepted when it is free, at the price of more checks there only; a valid motion touches nothing
+// anywhere on it.
 #pragma once
 
 #include <cstdint>
@@ -49,7 +49,8 @@ Obstacles CollectObstacles(const SceneModel& model, const SceneState& state, con
 
 class CollisionChecker {
  public:
-  // `resolution`: the most any point of the arm moves between two checks of a motion, m.
+  // `resolution`, m of travel: a motion's first checks are kCoarseSteps · resolution apart, refined near
+  // obstacles down to resolution / 2^kMaxHalvings.
   CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, Obstacles obstacles, double resolution = 0.01);
 
   // Within the joint limits and no sphere touches an obstacle or a sphere of a self pair.
@@ -64,8 +65,8 @@ class CollisionChecker {
   double resolution() const { return resolution_; }
   uint64_t checks() const { return checks_; }  // configurations tested so far (each lane of a batch counts)
 
-  static constexpr int kEndRefinements = 16;
-  static constexpr int64_t kCoarseSteps = 16;  // fine steps per interval of a motion's first round (a power of 2)
+  static constexpr int64_t kCoarseSteps = 16;  // resolutions of travel per interval of a motion's first round
+  static constexpr int kMaxHalvings = 16;      // below the resolution, before "too close to call"
 
  private:
   // The kernel on lanes_ / inflate_ (filled by the caller; `count` lanes used, the rest copies of lane 0) plus
@@ -74,9 +75,6 @@ class CollisionChecker {
   void SetLane(int lane, const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b, double t,
                double inflate) const;
   bool WithinLimits(const Eigen::Ref<const VecX>& q) const;
-  // An end of a motion that failed with inflation δ/2: true when the halvings towards the other end cover it.
-  bool EndCovered(const Eigen::Ref<const VecX>& end, const Eigen::Ref<const VecX>& other, double delta_t,
-                  double delta) const;
   // The scalar test (Explain): the first touching pair at the configuration whose transforms are in poses_:
   // obstacle body index or -(link + 1) for a self pair; `link` gets the arm link. False when nothing touches.
   bool FindContact(uint32_t* link, int64_t* other) const;
@@ -97,10 +95,16 @@ class CollisionChecker {
   mutable std::vector<float> lanes_;    // dof rows of kLanes
   mutable float inflate_[kernel::kLanes];
   mutable std::vector<float> scratch_;
-  // IsMotionValid's buffers.
-  struct PointTest { int64_t point; float inflate; };
-  mutable std::vector<float> passed_;
-  mutable std::vector<std::pair<int64_t, int64_t>> intervals_, next_;
+  // IsMotionValid's buffers. Per interval end: the largest inflation it passed (>= 0: it passed exactly too),
+  // kUnknown, or kFailedInflated (failed inflated, not yet tested exactly).
+  static constexpr float kUnknown = -1.0f, kFailedInflated = -2.0f;
+  struct Interval {
+    double t0, t1;
+    float pass0, pass1;
+    int32_t test0 = -1, test1 = -1, exact0 = -1, exact1 = -1;  // this round's tests of its ends
+  };
+  struct PointTest { double t; float inflate; bool touches; };
+  mutable std::vector<Interval> intervals_, next_;
   mutable std::vector<PointTest> tests_;
   // The scalar test's buffers.
   std::vector<uint32_t> sphere_begin_;           // per link: first sphere in the flat arrays (size links + 1)
