@@ -2,15 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
+#include <random>
+#include <unordered_map>
 
 namespace graspsim::motion {
 namespace {
 
 constexpr int kMaxSpheresPerBox = 128;
-// Links fewer dofs apart than this are never a self pair. Two apart (upper arm and forearm across the elbow's
-// two-axis housing, forearm and hand across the wrist) meet only at the ends of the joint ranges, which the
-// manufacturers set so that they do not; our link shapes are rough outlines that would meet there first.
-constexpr int kSelfPairDofs = 3;
+constexpr int kSelfPairSamples = 10000;  // MoveIt Setup Assistant's default for "never in collision"
 
 // Cells of a box of full edge lengths `size` centred at `centre` (geometry frame) → circumscribed spheres.
 void CoverBox(const Vec3& size, const Pose& origin, std::vector<Vec3>* centres, std::vector<double>* radii) {
@@ -35,6 +35,107 @@ void CoverBox(const Vec3& size, const Pose& origin, std::vector<Vec3>* centres, 
       }
     }
   }
+}
+
+// Whether any sphere of link a comes within `margin` of any sphere of link b, links placed by `poses`.
+bool LinksTouch(const ArmSphereModel& spheres, const std::vector<Rigid>& poses, uint32_t a, uint32_t b, double margin) {
+  const LinkSpheres& la = spheres.links[a];
+  const LinkSpheres& lb = spheres.links[b];
+  const double reach = la.bound_radius + lb.bound_radius + margin;
+  if ((poses[a] * la.bound_centre - poses[b] * lb.bound_centre).squaredNorm() >= reach * reach) return false;
+  for (size_t i = 0; i < la.centres.size(); ++i) {
+    const Vec3 ca = poses[a] * la.centres[i];
+    for (size_t j = 0; j < lb.centres.size(); ++j) {
+      const double r = la.radii[i] + lb.radii[j] + margin;
+      if ((ca - poses[b] * lb.centres[j]).squaredNorm() < r * r) return true;
+    }
+  }
+  return false;
+}
+
+// What the self pairs depend on: the links' tree, joints, offsets, limits and spheres.
+uint64_t GeometryKey(const ArmModel& arm, const ArmSphereModel& spheres, double margin) {
+  uint64_t hash = 1469598103934665603ull;  // FNV-1a over the bytes of every number
+  const auto mix = [&](const void* data, size_t size) {
+    const unsigned char* bytes = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < size; ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
+  };
+  const auto mix_vec = [&](const Vec3& v) { mix(v.data(), 3 * sizeof(double)); };
+  mix(&margin, sizeof(margin));
+  for (size_t l = 0; l < arm.links().size(); ++l) {
+    const ArmLink& link = arm.links()[l];
+    mix(&link.parent, sizeof(link.parent));
+    mix(&link.dof, sizeof(link.dof));
+    mix(&link.type, sizeof(link.type));
+    mix_vec(link.axis);
+    mix(link.offset.rotation.data(), 9 * sizeof(double));
+    mix_vec(link.offset.translation);
+    for (size_t s = 0; s < spheres.links[l].centres.size(); ++s) {
+      mix_vec(spheres.links[l].centres[s]);
+      mix(&spheres.links[l].radii[s], sizeof(double));
+    }
+  }
+  mix(arm.lower().data(), arm.dof() * sizeof(double));
+  mix(arm.upper().data(), arm.dof() * sizeof(double));
+  return hash;
+}
+
+std::vector<std::pair<uint32_t, uint32_t>> ComputeSelfPairs(const ArmModel& arm, const ArmSphereModel& spheres,
+                                                            double margin) {
+  const std::vector<ArmLink>& links = arm.links();
+  const size_t n = links.size();
+  const auto has_geometry = [&](size_t l) { return spheres.links[l].bound_radius >= 0; };
+  // Candidates: links with geometry that move relative to each other (different groups), not adjacent (a link
+  // and its nearest ancestor with geometry).
+  std::vector<std::vector<bool>> candidate(n, std::vector<bool>(n, false));
+  for (size_t a = 0; a < n; ++a) {
+    for (size_t b = a + 1; b < n; ++b) candidate[a][b] = has_geometry(a) && has_geometry(b) && spheres.group[a] != spheres.group[b];
+  }
+  for (size_t l = 0; l < n; ++l) {
+    int ancestor = links[l].parent;
+    while (ancestor >= 0 && !has_geometry(ancestor)) ancestor = links[ancestor].parent;
+    if (ancestor >= 0 && has_geometry(l)) candidate[std::min<size_t>(ancestor, l)][std::max<size_t>(ancestor, l)] = false;
+  }
+  // Never: apart in every sampled configuration; always: touching in every one (a fixed seed: the same arm always
+  // gets the same pairs).
+  std::vector<Rigid> poses;
+  std::vector<std::vector<int>> touched(n, std::vector<int>(n, 0));
+  std::mt19937_64 rng(20111);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  VecX q(arm.dof());
+  for (int sample = 0; sample < kSelfPairSamples; ++sample) {
+    for (size_t i = 0; i < arm.dof(); ++i) q[i] = arm.lower()[i] + unit(rng) * (arm.upper()[i] - arm.lower()[i]);
+    arm.LinkTransforms(q, &poses);
+    for (uint32_t a = 0; a < n; ++a) {
+      for (uint32_t b = a + 1; b < n; ++b) {
+        if (candidate[a][b] && LinksTouch(spheres, poses, a, b, margin)) ++touched[a][b];
+      }
+    }
+  }
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (uint32_t a = 0; a < n; ++a) {
+    for (uint32_t b = a + 1; b < n; ++b) {
+      if (candidate[a][b] && touched[a][b] > 0 && touched[a][b] < kSelfPairSamples) pairs.emplace_back(a, b);
+    }
+  }
+  return pairs;
+}
+
+// The sampling costs milliseconds and every plan builds a sphere model: pairs are kept per arm geometry.
+std::vector<std::pair<uint32_t, uint32_t>> SelfPairs(const ArmModel& arm, const ArmSphereModel& spheres, double margin) {
+  static std::mutex mutex;
+  static std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, uint32_t>>> cache;
+  constexpr size_t kCacheEntries = 256;
+  const uint64_t key = GeometryKey(arm, spheres, margin);
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (const auto found = cache.find(key); found != cache.end()) return found->second;
+  }
+  std::vector<std::pair<uint32_t, uint32_t>> pairs = ComputeSelfPairs(arm, spheres, margin);
+  std::lock_guard<std::mutex> lock(mutex);
+  if (cache.size() >= kCacheEntries) cache.clear();
+  cache.emplace(key, pairs);
+  return pairs;
 }
 
 }  // namespace
@@ -98,24 +199,7 @@ ArmSphereModel BuildSphereModel(const SceneModel& model, const ArmModel& arm, do
     out.group[l] = links[l].dof >= 0 ? links[l].dof : (links[l].parent >= 0 ? out.group[links[l].parent] : -1);
   }
 
-  // Self pairs: groups at least kSelfPairDofs dofs apart whose spheres are clear of each other at q = 0 by `margin`.
-  std::vector<Rigid> poses;
-  arm.LinkTransforms(VecX::Zero(arm.dof()), &poses);
-  for (uint32_t a = 0; a < links.size(); ++a) {
-    for (uint32_t b = a + 1; b < links.size(); ++b) {
-      if (out.links[a].bound_radius < 0 || out.links[b].bound_radius < 0) continue;
-      if (std::abs(out.group[a] - out.group[b]) < kSelfPairDofs) continue;
-      bool touching = false;
-      for (size_t i = 0; i < out.links[a].centres.size() && !touching; ++i) {
-        const Vec3 ca = poses[a] * out.links[a].centres[i];
-        for (size_t j = 0; j < out.links[b].centres.size() && !touching; ++j) {
-          const Vec3 cb = poses[b] * out.links[b].centres[j];
-          touching = (ca - cb).norm() < out.links[a].radii[i] + out.links[b].radii[j] + margin;
-        }
-      }
-      if (!touching) out.self_pairs.emplace_back(a, b);
-    }
-  }
+  out.self_pairs = SelfPairs(arm, out, margin);
 
   // Levers: from each dof's axis to the farthest sphere surface it carries, through the chain of offsets
   // (triangle inequality, so it holds in every configuration).
