@@ -159,6 +159,25 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
   kernel_.cylinder_count = static_cast<int32_t>(kernel_cylinders_.size());
   kernel_.self_pairs = kernel_self_pairs_.data();
   kernel_.self_pair_count = static_cast<int32_t>(spheres_.self_pairs.size());
+  link_inflation_.assign(links.size(), 1.0f);
+  pair_inflation_.assign(spheres_.self_pairs.size(), 2.0f);
+  kernel_.link_inflation = link_inflation_.data();
+  kernel_.pair_inflation = pair_inflation_.data();
+  // Per self pair: when one link carries the other, only the dofs between them move one relative to the other.
+  for (const auto& [pa, pb] : spheres_.self_pairs) {
+    PairMotion motion;
+    for (const uint32_t deep : {pa, pb}) {
+      const uint32_t other = deep == pa ? pb : pa;
+      for (int l = links[deep].parent; l >= 0; l = links[l].parent) {
+        if (l == static_cast<int>(other)) {
+          motion.descendant = static_cast<int>(deep);
+          motion.first_dof = spheres_.group[other] + 1;
+          motion.last_dof = spheres_.group[deep];
+        }
+      }
+    }
+    pair_motion_.push_back(motion);
+  }
   lanes_.assign(std::max<size_t>(arm_.dof(), 1) * kernel::kLanes, 0.0f);
   scratch_.assign(kernel::ScratchSize(kernel_), 0.0f);
   centres_.resize(radii_.size());
@@ -192,7 +211,7 @@ uint32_t CollisionChecker::TestLanes(int count, bool stop_at_first) const {
       for (int32_t s = kernel_links_[l].sphere_begin; s < kernel_links_[l].sphere_end; ++s) {
         const Vec3 c(centres[(3 * s) * kernel::kLanes + lane], centres[(3 * s + 1) * kernel::kLanes + lane],
                      centres[(3 * s + 2) * kernel::kLanes + lane]);
-        const double r = radii_[s] + inflate_[lane];
+        const double r = radii_[s] + inflate_[lane] * link_inflation_[l];
         bool touches = false;
         for (const auto& grid : obstacles_.grids) touches = touches || grid.grid->LowerBound(grid.world_to_mesh * c) < r;
         if (touches) {
@@ -204,6 +223,32 @@ uint32_t CollisionChecker::TestLanes(int count, bool stop_at_first) const {
     if (hits && stop_at_first) return hits;
   }
   return hits;
+}
+
+double CollisionChecker::ScaleInflation(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
+  const size_t links = spheres_.links.size();
+  std::vector<double>& travel = link_travel_;
+  travel.assign(links, 0.0);
+  double largest = 0;
+  for (size_t l = 0; l < links; ++l) {
+    for (size_t d = 0; d < arm_.dof(); ++d) travel[l] += std::abs(b[d] - a[d]) * spheres_.link_lever[d][l];
+    largest = std::max(largest, travel[l]);
+  }
+  if (largest <= 0) return 0;
+  for (size_t l = 0; l < links; ++l) link_inflation_[l] = static_cast<float>(travel[l] / largest);
+  for (size_t p = 0; p < pair_motion_.size(); ++p) {
+    const PairMotion& m = pair_motion_[p];
+    double relative = 0;
+    if (m.descendant < 0) {
+      relative = travel[spheres_.self_pairs[p].first] + travel[spheres_.self_pairs[p].second];
+    } else {
+      for (int d = m.first_dof; d <= m.last_dof; ++d) relative += std::abs(b[d] - a[d]) * spheres_.link_lever[d][m.descendant];
+    }
+    // The float rounding of the ratio must not shrink the inflation below what the bound asks.
+    pair_inflation_[p] = static_cast<float>(relative / largest) * 1.0001f;
+  }
+  for (float& scale : link_inflation_) scale *= 1.0001f;
+  return largest;
 }
 
 bool CollisionChecker::WithinLimits(const Eigen::Ref<const VecX>& q) const {
@@ -221,8 +266,7 @@ bool CollisionChecker::IsValid(const Eigen::Ref<const VecX>& q) const {
 
 bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
   if (!WithinLimits(a) || !WithinLimits(b)) return false;
-  double travel = 0;
-  for (size_t i = 0; i < arm_.dof(); ++i) travel += std::abs(b[i] - a[i]) * spheres_.lever[i];
+  const double travel = ScaleInflation(a, b);  // the most any point moves; inflation scaled per link and pair
   // Intervals [t0, t1] of the segment, each covered when both its ends pass inflated by (t1 - t0) travel / 2.
   // Round one: intervals of kCoarseSteps · resolution of travel, and both ends of the motion tested exactly.
   // Each round tests what the intervals need, then halves the intervals not covered; a point that fails

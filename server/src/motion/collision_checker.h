@@ -7,9 +7,11 @@
 //
 // A configuration is valid when no sphere touches an obstacle or a sphere of a self pair (radii as modelled, plus
 // the kernel's float margin of 0.02 mm). A motion (straight joint-space segment) is checked conservatively, not
-// just sampled: every point of the arm moves at most travel = Σ_i |Δq_i| · lever_i along it (sphere_model.h), so
-// when the two ends of an interval δ of travel long both pass with every sphere inflated by δ / 2, the swept arm
-// over the interval stays inside the inflated spheres of one of them. Checks start kCoarseSteps · resolution
+// just sampled: every point of link l moves at most T_l = Σ_i |Δq_i| · lever_il along it (sphere_model.h), so
+// when the two ends of an interval dt long both pass with link l's spheres inflated by T_l dt / 2, the swept link
+// over the interval stays inside the inflated spheres of one of them; a self pair likewise with the motion of one
+// link relative to the other (only the joints between them), so a wrist near its own forearm is not inflated by
+// what the shoulder does. Checks start kCoarseSteps · resolution
 // apart (far from obstacles, few checks cover the motion); an interval whose ends fail is halved, its points
 // tested again with half the inflation (and exactly: a point that touches as it is ends the motion), down to
 // resolution / 2^kMaxHalvings. So a motion through a passage a few millimetres wide, or ending at a goal 1 mm from
@@ -75,6 +77,8 @@ class CollisionChecker {
   void SetLane(int lane, const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b, double t,
                double inflate) const;
   bool WithinLimits(const Eigen::Ref<const VecX>& q) const;
+  // Sets the inflation scales for the motion a -> b; returns T (m).
+  double ScaleInflation(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const;
   // The scalar test (Explain): the first touching pair at the configuration whose transforms are in poses_:
   // obstacle body index or -(link + 1) for a self pair; `link` gets the arm link. False when nothing touches.
   bool FindContact(uint32_t* link, int64_t* other) const;
@@ -95,6 +99,12 @@ class CollisionChecker {
   mutable std::vector<float> lanes_;    // dof rows of kLanes
   mutable float inflate_[kernel::kLanes];
   mutable std::vector<float> scratch_;
+  // Inflation scales (kernel::Model): per link T_l / T and per self pair T_ab / T for the motion being checked,
+  // T_l the bound on how far link l moves, T_ab on how far b moves relative to a, T the largest T_l.
+  mutable std::vector<float> link_inflation_, pair_inflation_;
+  mutable std::vector<double> link_travel_;
+  struct PairMotion { int descendant = -1; int first_dof = 0, last_dof = -1; };  // dofs moving b relative to a
+  std::vector<PairMotion> pair_motion_;
   // IsMotionValid's buffers. Per interval end: the largest inflation it passed (>= 0: it passed exactly too),
   // kUnknown, or kFailedInflated (failed inflated, not yet tested exactly).
   static constexpr float kUnknown = -1.0f, kFailedInflated = -2.0f;

@@ -54,6 +54,11 @@ struct Model {
   int32_t cylinder_count = 0;
   const int32_t* self_pairs = nullptr;  // link index pairs, flattened (a0, b0, a1, b1, ...)
   int32_t self_pair_count = 0;
+  // A lane's inflation applies to link l's spheres times link_inflation[l], and to the two spheres of self pair p
+  // together times pair_inflation[p] (a motion check inflates by how far each link, and each pair relative to
+  // each other, can move). Null: 1 per link, 2 per pair (each sphere inflated alike).
+  const float* link_inflation = nullptr;
+  const float* pair_inflation = nullptr;
 };
 
 // Floats of scratch CollidingLanes needs: every link's world transform and bounding-sphere centre, and every
@@ -62,7 +67,8 @@ inline int64_t ScratchSize(const Model& model) {
   return (static_cast<int64_t>(model.link_count) * 15 + static_cast<int64_t>(model.sphere_count) * 3) * kLanes;
 }
 
-// q: one row of kLanes floats per dof (q[d * kLanes + lane]); inflate: per lane, m added to every sphere's radius.
+// q: one row of kLanes floats per dof (q[d * kLanes + lane]); inflate: per lane, m added to the spheres' radii
+// (scaled per link and per self pair, see Model).
 // Returns the lanes (bit per lane) where some sphere touches an obstacle or a sphere of a self pair. With
 // `stop_at_first` it returns as soon as one lane is found (the mask then names at least one). When it returns 0,
 // the sphere centres are in scratch: x, y, z of sphere s at SphereCentres(model, scratch) + (3 s + axis) * kLanes.

@@ -202,17 +202,14 @@ ArmSphereModel BuildSphereModel(const SceneModel& model, const ArmModel& arm, do
   out.self_pairs = SelfPairs(arm, out, margin);
 
   // Levers: from each dof's axis to the farthest sphere surface it carries, through the chain of offsets
-  // (triangle inequality, so it holds in every configuration).
+  // (triangle inequality, so it holds in every configuration); per carried link and over all of them.
   out.lever.assign(arm.dof(), 0.0);
+  out.link_lever.assign(arm.dof(), std::vector<double>(links.size(), 0.0));
   for (size_t l = 0; l < links.size(); ++l) {
     if (links[l].dof < 0) continue;
-    if (links[l].type == JointType::kPrismatic) {
-      out.lever[links[l].dof] = 1;
-      continue;
-    }
+    const int dof = links[l].dof;
     std::vector<double> reach(links.size(), -1);  // bound from the joint's origin to each carried link's origin
     reach[l] = 0;
-    double lever = 0;
     for (size_t m = l; m < links.size(); ++m) {
       if (m != l) {
         const int p = links[m].parent;
@@ -223,11 +220,13 @@ ArmSphereModel BuildSphereModel(const SceneModel& model, const ArmModel& arm, do
         }
         reach[m] = reach[p] + links[m].offset.translation.norm() + travel;
       }
-      for (size_t s = 0; s < out.links[m].centres.size(); ++s) {
+      double lever = links[l].type == JointType::kPrismatic ? 1.0 : 0.0;  // a slide moves what it carries 1:1
+      for (size_t s = 0; s < out.links[m].centres.size() && links[l].type != JointType::kPrismatic; ++s) {
         lever = std::max(lever, reach[m] + out.links[m].centres[s].norm() + out.links[m].radii[s]);
       }
+      out.link_lever[dof][m] = lever;
+      out.lever[dof] = std::max(out.lever[dof], lever);
     }
-    out.lever[links[l].dof] = lever;
   }
   return out;
 }

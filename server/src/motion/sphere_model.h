@@ -40,6 +40,8 @@ struct ArmSphereModel {
   // Per dof: a bound on how far any point of the arm moves per radian (or metre) of that joint, m; used to
   // space the checks along a motion (collision_checker.h).
   std::vector<double> lever;
+  // The same per carried link: link_lever[dof][link] (0 where the dof does not move the link).
+  std::vector<std::vector<double>> link_lever;
 };
 
 // `margin`: a pair that comes closer than this in some sampled configuration is checked (so pairs that nearly meet
