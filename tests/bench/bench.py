@@ -9,7 +9,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _harness import commit, log, machine  # noqa: E402
 
-BENCHMARKS = ["scene_ops", "upload", "watch", "physics", "tactile", "grasp", "shape", "viewers", "gateway", "motion", "crash", "rpc", "import"]
+BENCHMARKS = ["scene_ops", "upload", "watch", "physics", "tactile", "grasp", "shape", "viewers", "gateway", "motion", "crash", "rpc", "import", "mbm"]
 
 
 def run_one(name: str) -> bool:

@@ -1,0 +1,310 @@
+"""mbm: the MotionBenchMaker Panda problems (issue 20) through GraspService.PlanArmPath, with OMPL as the peer and
+an independent re-check of the planned paths in PyBullet.
+
+Problems: tests/data/mbm.py (vamp-planner 0.6.4's sdist from PyPI, fetched into build/bench-data on first use):
+7 scenes (bookshelf_small, bookshelf_tall, bookshelf_thin, box, cage, table_pick, table_under_pick) x 100, each a
+start and a goal configuration of the Panda's 7 arm joints among boxes and cylinders. One server; per problem a
+scene of its own: the robot from VAMP's panda_spherized.urdf (add_robot(path=...), base at the world origin; that
+file's finger joints are fixed, open at 6.5 cm as in the problems' start states) and every obstacle as a static
+body; deleted after the problem.
+
+- plan_us_*, solved_rate: graspsim's planner (planner="", vectorised RRT-Connect), REPS runs per problem (seeds
+  1..REPS, timeout TIMEOUT_S each); a problem's time is the median over its runs of ArmPath.seconds (server-side
+  planning time); an unsolved or refused run counts as TIMEOUT_S (its first message per problem in "failures").
+  Once more than half of a problem's runs are unsolved its median is TIMEOUT_S whatever the others do, so they
+  are skipped (runs_skipped): unsolvable problems cost 3 timeouts, not 5. p5/p50/p95/max over problems;
+  plan_us_p50_rep_range: [min, max] over the seeds of the p50 over problems of that seed's run (the spread of
+  the headline). solved_rate: fraction of problems whose median run found a path (at least half of its runs;
+  "unsolved" names the others); runs_solved_rate: over the runs made. setup_us_p50: ArmPath.setup_seconds
+  (building the call's collision model). grpc_ms_p50 / _p95: client wall time of a PlanArmPath call.
+- search_us_p50 / _p95: the same runs' ArmPath.search_seconds (start and goal checks, the straight segment and
+  RRT-Connect, without shortcutting and timing: what VAMP's evaluate_mbm.py calls planning time, apart from its
+  simplification time); ompl_search_us_* likewise for the peer.
+- ompl_*: the peer, planner="ompl_rrt_connect": OMPL's RRT-Connect with its default settings on the same
+  collision checker, OMPL_REPS runs per problem, the same timeout and counting. speedup_vs_ompl_p50 =
+  ompl_us_p50 / plan_us_p50; speedup_per_problem_p50: the median of the per-problem ratios.
+- verified_fraction: of our planner's paths re-checked (VERIFY_REPS per problem: seeds 1..VERIFY_REPS), those
+  PyBullet finds collision free (tests/bench/_mbm_check.py: conservative advancement, at most 1 mm of motion
+  between checks near anything, self collision of the pairs panda.srdf does not disable), inside the URDF's joint
+  limits, starting at the start and ending at the goal (1e-9 rad); the first failures in "unverified".
+  ompl_verified_fraction likewise for the peer's paths. The re-check runs after the server has stopped.
+- vamp_*: published figures quoted in issue 20 (not measured here).
+
+Environment: GRASPSIM_MBM_REPS (5), GRASPSIM_MBM_OMPL_REPS (1), GRASPSIM_MBM_PROBLEMS_PER_SCENE (100),
+GRASPSIM_MBM_TIMEOUT_S (10), GRASPSIM_MBM_VERIFY_REPS (1; 0 = no PyBullet check). The full run takes about 8.5 min
+on 2 cores, most of it the timeouts of the few problems nobody solves (and 1 min of PyBullet);
+GRASPSIM_MBM_PROBLEMS_PER_SCENE=10 gives a look in about 20 s.
+"""
+import importlib.util
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from _harness import REPO, Server, log
+
+
+def _load_data_module():
+    """tests/data/mbm.py, the problems' fetcher and parser (imported by path: this module is "mbm" too)."""
+    spec = importlib.util.spec_from_file_location("mbm_data", REPO / "tests" / "data" / "mbm.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["mbm_data"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+mbm = _load_data_module()
+
+ROBOT = "panda"
+TIP = f"{ROBOT}/panda_hand"
+FINGER_OPEN = 0.04   # m, set only when the model's finger joints are prismatic (VAMP's are fixed at 0.065)
+REPS = int(os.environ.get("GRASPSIM_MBM_REPS", "5"))
+OMPL_REPS = int(os.environ.get("GRASPSIM_MBM_OMPL_REPS", "1"))
+PER_SCENE = int(os.environ.get("GRASPSIM_MBM_PROBLEMS_PER_SCENE", "100"))
+TIMEOUT_S = float(os.environ.get("GRASPSIM_MBM_TIMEOUT_S", "10"))
+VERIFY_REPS = min(REPS, int(os.environ.get("GRASPSIM_MBM_VERIFY_REPS", "1")))
+PEER = "ompl_rrt_connect"
+MAX_MESSAGES = 12
+
+
+def _pose(o):
+    """graspsim pose [x y z qw qx qy qz] of an obstacle (problems.txt has x y z w order)."""
+    qx, qy, qz, qw = o.orientation
+    return [*o.position, qw, qx, qy, qz]
+
+
+def _setup_scene(client, problem, urdf: Path, fingers: dict) -> str:
+    scene = client.create_scene(f"mbm {problem.name}").id
+    client.add_robot(scene, ROBOT, path=str(urdf))
+    if fingers:
+        client.set_joint_positions(scene, fingers)
+    for o in problem.obstacles:
+        shape = {"box": dict(box=list(o.size)), "cylinder": dict(cylinder=list(o.size)),
+                 "sphere": dict(sphere=o.size[0])}[o.kind]
+        client.add_object(scene, o.id, pose=_pose(o), is_static=True, **shape)
+    return scene
+
+
+def _movable_fingers(client, urdf: Path) -> dict:
+    """{finger joint id: FINGER_OPEN} for the model's prismatic finger joints (none in VAMP's Panda files).
+    Checks that the robot's base stands at the world origin, where the problems (and PyBullet) have it."""
+    import graspsim
+    scene = client.create_scene("mbm fingers").id
+    try:
+        client.add_robot(scene, ROBOT, path=str(urdf))
+        joints = {j.id: j.type for j in client.get_scene(scene).joints}
+        base = client.get_body_poses(scene, [f"{ROBOT}/panda_link0"])[f"{ROBOT}/panda_link0"]
+    finally:
+        client.delete_scene(scene)
+    if np.abs(base.position).max() > 0 or np.abs(base.orientation - [1, 0, 0, 0]).max() > 1e-12:
+        raise RuntimeError(f"the robot's base is at {base}, not at the world origin")
+    ids = [f"{ROBOT}/panda_finger_joint{k}" for k in (1, 2)]
+    movable = {j: FINGER_OPEN for j in ids if joints.get(j) == graspsim.common_pb2.JOINT_TYPE_PRISMATIC}
+    log(f"mbm: finger joints {[graspsim.common_pb2.JointType.Name(joints[j]) for j in ids if j in joints]}"
+        + (f", set to {FINGER_OPEN} m" if movable else ", left as the URDF has them"))
+    return movable
+
+
+def _plan(client, scene, problem, seed, planner, record, failures, searches):
+    """One PlanArmPath; appends (seconds or None, setup s, client wall s) to record and its search seconds (or
+    TIMEOUT_S) to searches; returns the ArmPath or None. The first failure message of each problem and planner
+    goes to failures."""
+    import graspsim
+    started = time.perf_counter()
+    try:
+        path = client.plan_arm_path(scene, ROBOT, start_positions=problem.start, goal_positions=problem.goal,
+                                    tip_body=TIP, timeout=TIMEOUT_S, seed=seed, planner=planner,
+                                    call_timeout=TIMEOUT_S + 30)
+    except graspsim.GraspsimError as err:
+        record.append((None, None, time.perf_counter() - started))
+        searches.append(TIMEOUT_S)
+        failures.setdefault((problem.name, planner or "ours"), f"seed {seed}: {err.code.name}: {err.message[:300]}")
+        return None
+    record.append((path.seconds, path.setup_seconds, time.perf_counter() - started))
+    searches.append(path.search_seconds)
+    return path
+
+
+def _runs(client, scene, problem, planner, reps, record, failures, keep, searches):
+    """reps runs (seeds 1..reps); once more than half are unsolved the median is the timeout whatever the rest
+    do: those are skipped (recorded as (None, None, None)). keep(seed, path) gets every path."""
+    for seed in range(1, reps + 1):
+        if 2 * sum(s is None for s, _, _ in record) > reps:
+            record.append((None, None, None))
+            searches.append(TIMEOUT_S)
+            continue
+        path = _plan(client, scene, problem, seed, planner, record, failures, searches)
+        if path is not None:
+            keep(seed, path)
+
+
+def _per_problem(runs):
+    """Median planning time (s) of each problem's runs, an unsolved (or skipped) run counting as TIMEOUT_S."""
+    return np.array([np.median([TIMEOUT_S if s is None else s for s, _, _ in r]) for r in runs])
+
+
+def _solved(runs) -> float:
+    """Fraction of problems solved: at least half of a problem's runs found a path (its median time is a path's)."""
+    return round(sum(2 * sum(s is not None for s, _, _ in r) >= len(r) for r in runs) / max(1, len(runs)), 4)
+
+
+def _run_stats(prefix, runs) -> dict:
+    made = [s for r in runs for s, _, w in r if w is not None]
+    return {f"{prefix}runs": len(made), f"{prefix}runs_solved_rate": round(sum(s is not None for s in made) /
+                                                                            max(1, len(made)), 4),
+            f"{prefix}runs_skipped": sum(w is None for r in runs for _, _, w in r)}
+
+
+def _us(prefix, seconds, quantiles=(5, 50, 95)):
+    out = {f"{prefix}_us_p{q}": round(float(np.percentile(seconds, q)) * 1e6, 1) for q in quantiles}
+    out[f"{prefix}_us_max"] = round(float(np.max(seconds)) * 1e6, 1)
+    return out
+
+
+def _ordered(path, arm_ids):
+    """The path's waypoints as columns panda_joint1..7."""
+    columns = [path.joint_ids.index(j) for j in arm_ids]
+    return path.waypoints[:, columns]
+
+
+def _plan_all(problems, urdf: Path):
+    """Every problem through one server: per problem the runs of ours and of the peer ((seconds | None, setup s,
+    wall s) each), the paths to re-check ((problem, seed, waypoints) per planner), failure messages."""
+    import graspsim
+    arm_ids = [f"{ROBOT}/{j}" for j in mbm.ARM_JOINTS]
+    ours, peer, failures, planners = [], [], {}, set()
+    searches = {"ours": [], "ompl": []}  # per problem: each run's search seconds
+    paths = {"ours": [], "ompl": []}
+    started = time.perf_counter()
+
+    def keep(name):
+        def add(seed, path):
+            if name == "ompl" and path.planner != PEER:
+                raise RuntimeError(f"asked for planner {PEER}, the server ran {path.planner!r}")
+            planners.add(path.planner)
+            if seed <= VERIFY_REPS:
+                paths[name].append((problem, seed, _ordered(path, arm_ids)))
+        return add
+
+    with Server() as server, graspsim.connect(server.address) as client:
+        fingers = _movable_fingers(client, urdf)
+        for n, problem in enumerate(problems):
+            scene = _setup_scene(client, problem, urdf, fingers)
+            ours.append([])
+            peer.append([])
+            searches["ours"].append([])
+            searches["ompl"].append([])
+            _runs(client, scene, problem, "", REPS, ours[-1], failures, keep("ours"), searches["ours"][-1])
+            _runs(client, scene, problem, PEER, OMPL_REPS, peer[-1], failures, keep("ompl"), searches["ompl"][-1])
+            client.delete_scene(scene)
+            if n + 1 == len(problems) or problems[n + 1].scene != problem.scene:
+                mine = [r for r, p in zip(ours, problems) if p.scene == problem.scene]
+                theirs = [r for r, p in zip(peer, problems) if p.scene == problem.scene]
+                line = f"mbm: {problem.scene}: solved {_solved(mine):.3f}, median " \
+                       f"{np.median(_per_problem(mine)) * 1e6:.0f} µs"
+                if OMPL_REPS:
+                    line += f"; {PEER} solved {_solved(theirs):.3f}, median " \
+                            f"{np.median(_per_problem(theirs)) * 1e6:.0f} µs"
+                log(f"{line} ({time.perf_counter() - started:.0f} s so far)")
+        exit_code = server.stop()
+    return ours, peer, paths, failures, sorted(planners), exit_code, searches
+
+
+def _unsolved(problems, runs):
+    return [p.name for p, r in zip(problems, runs) if 2 * sum(s is not None for s, _, _ in r) < len(r)]
+
+
+def run():
+    load_before = round(os.getloadavg()[0], 2)
+    panda = mbm.fetch()
+    problems = [p for scene in mbm.problems_by_scene(mbm.read_problems_txt(panda / "problems.txt")).values()
+                for p in scene[:PER_SCENE]]
+    log(f"mbm: {len(problems)} problems, {REPS} runs each (graspsim), {OMPL_REPS} ({PEER}), timeout {TIMEOUT_S} s; "
+        f"PyBullet re-check of {VERIFY_REPS} path(s) per problem and planner")
+    started = time.perf_counter()
+    ours, peer, paths, failures, planners, exit_code, searches = _plan_all(problems, panda / "panda_spherized.urdf")
+    plan_s = time.perf_counter() - started
+
+    per_problem = _per_problem(ours)
+    figures = {"problems": len(problems), "reps": REPS, "ompl_reps": OMPL_REPS, "timeout_s": TIMEOUT_S,
+               "planners": planners, "solved_rate": _solved(ours), **_run_stats("", ours), **_us("plan", per_problem)}
+    by_seed = [np.median([r[k][0] if r[k][0] is not None else TIMEOUT_S for r in ours]) for k in range(REPS)]
+    figures["plan_us_p50_rep_range"] = [round(float(min(by_seed)) * 1e6, 1), round(float(max(by_seed)) * 1e6, 1)]
+    setups = [u for r in ours for _, u, _ in r if u is not None]
+    walls = [w for r in ours for _, _, w in r if w is not None]
+    figures["setup_us_p50"] = round(float(np.median(setups)) * 1e6, 1) if setups else None
+    figures["grpc_ms_p50"] = round(float(np.median(walls)) * 1e3, 3)
+    figures["grpc_ms_p95"] = round(float(np.percentile(walls, 95)) * 1e3, 3)
+    search = np.array([np.median(r) for r in searches["ours"]])
+    figures.update(_us("search", search, (50, 95)))
+    if OMPL_REPS > 0:
+        search_peer = np.array([np.median(r) for r in searches["ompl"]])
+        figures.update(_us("ompl_search", search_peer, (50, 95)))
+        figures["speedup_search_vs_ompl_p50"] = round(figures["ompl_search_us_p50"] / figures["search_us_p50"], 2)
+    if OMPL_REPS > 0:
+        per_problem_peer = _per_problem(peer)
+        figures.update(_us("ompl", per_problem_peer, (50, 95)))
+        figures["ompl_solved_rate"] = _solved(peer)
+        figures.update(_run_stats("ompl_", peer))
+        figures["speedup_vs_ompl_p50"] = round(figures["ompl_us_p50"] / figures["plan_us_p50"], 2)
+        figures["speedup_per_problem_p50"] = round(float(np.median(per_problem_peer / per_problem)), 2)
+    per_scene = {}
+    for scene in mbm.SCENES:
+        idx = [k for k, p in enumerate(problems) if p.scene == scene]
+        if not idx:
+            continue
+        per_scene[scene] = {"solved_rate": _solved([ours[k] for k in idx]),
+                            "plan_us_p50": round(float(np.median(per_problem[idx])) * 1e6, 1),
+                            "plan_us_p95": round(float(np.percentile(per_problem[idx], 95)) * 1e6, 1)}
+        if OMPL_REPS > 0:
+            per_scene[scene]["ompl_solved_rate"] = _solved([peer[k] for k in idx])
+            per_scene[scene]["ompl_us_p50"] = round(float(np.median(per_problem_peer[idx])) * 1e6, 1)
+    figures["per_scene"] = per_scene
+    figures["unsolved"] = _unsolved(problems, ours)
+    figures["ompl_unsolved"] = _unsolved(problems, peer) if OMPL_REPS > 0 else []
+    figures["failures"] = [f"{name} {planner} {message}"
+                           for (name, planner), message in list(failures.items())[:MAX_MESSAGES]]
+    figures["plan_phase_s"] = round(plan_s, 1)
+    if VERIFY_REPS > 0:
+        figures.update(_verify(panda, paths))
+    figures["load_avg_1m"] = [load_before, round(os.getloadavg()[0], 2)]
+    figures["vamp_published_us_p50"] = 35
+    figures["vamp_published_like_ours_us_p50"] = 85
+    figures["vamp_published_like_ours_us_p95"] = 1060
+    figures["vamp_published_note"] = (
+        "quoted from issue 20, not measured here: VAMP's published median on the MBM Panda problems is 35 µs; "
+        "its 85 µs median and 1.06 ms p95 were measured on a machine like ours. VAMP's evaluate_mbm.py reports "
+        "planning time apart from simplification time; our like-for-like key is search_us_*, plan_us_* adds "
+        "shortcutting and time parameterisation")
+    return figures, exit_code
+
+
+def _verify(panda: Path, paths) -> dict:
+    """PyBullet's verdict on the collected paths of each planner (after the server has stopped)."""
+    from _mbm_check import PandaChecker
+    started = time.perf_counter()
+    checker = PandaChecker(panda / "panda_spherized.urdf", panda / "panda.srdf", mbm.ARM_JOINTS)
+    out, current = {}, None
+    for planner, runs in paths.items():
+        prefix = "" if planner == "ours" else f"{planner}_"
+        good, samples, unverified = 0, 0, []
+        for n, (problem, seed, waypoints) in enumerate(runs):
+            if problem is not current:
+                checker.set_obstacles(problem.obstacles)
+                current = problem
+            result = checker.check_path(waypoints, np.array(problem.start), np.array(problem.goal))
+            samples += result.samples
+            good += result.ok
+            if not result.ok and len(unverified) < MAX_MESSAGES:
+                unverified.append(f"{problem.name} seed {seed}: " + "; ".join(result.problems[:3]))
+            if (n + 1) % 100 == 0:
+                log(f"mbm: PyBullet re-check ({planner}) {n + 1}/{len(runs)}: {good} collision free "
+                    f"({time.perf_counter() - started:.0f} s)")
+        out.update({f"{prefix}verified_paths": len(runs),
+                    f"{prefix}verified_fraction": round(good / len(runs), 4) if runs else None,
+                    f"{prefix}verify_samples_per_path": round(samples / max(1, len(runs)), 1),
+                    f"{prefix}unverified": unverified})
+    out["verify_s"] = round(time.perf_counter() - started, 1)
+    return out
