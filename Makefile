@@ -11,7 +11,7 @@ SERVER := $(BUILD)/bin/graspsim-server
 PROTOS := $(wildcard proto/graspsim/v1/*.proto)
 CLIENT_FILES := clients/python/pyproject.toml clients/python/setup.py
 
-.PHONY: all deps build python demo test test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke
+.PHONY: all deps build python demo test test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke mbm-data
 all: build python
 
 deps:
@@ -37,7 +37,12 @@ demo: build python
 
 # The summary line ("100% tests passed, 0 tests failed out of N") and the tests that did not run; on a failure,
 # the failing tests' output.
-test-cpp: build
+# The MotionBenchMaker problems the motion tests run on (tests/cpp/motion/mbm_scenes_test.cpp): vamp-planner's
+# sdist from PyPI, fetched once into build/bench-data (tests/data/mbm.py).
+mbm-data: python
+	@$(PYTHON) tests/data/mbm.py fetch > /dev/null
+
+test-cpp: build mbm-data
 	@ctest --test-dir $(BUILD) --output-on-failure --progress -j2 > $(BUILD)/test-cpp.log 2>&1 \
 	  || { grep -E -A40 '\[  FAILED  \]|\*\*\*Failed|\*\*\*Exception' $(BUILD)/test-cpp.log | head -n 150; tail -n 20 $(BUILD)/test-cpp.log; exit 1; }
 	@sed -n '/tests passed/,$$p' $(BUILD)/test-cpp.log
@@ -84,7 +89,7 @@ build-fuzz: deps $(FUZZ_BUILD)/build.ninja
 # the suite's 36 minutes of test time there; they run in test-cpp as usual). `make test-sanitize SANITIZE_SLOW=`
 # runs them too.
 SANITIZE_SLOW := ^(MotionPlannerTest\.PathsBetweenRandomConfigurationsNeverCollide|PickPlace\.MovesTheCubeToTheGoalOnCollisionFreePaths|GraspSimulateTest\.PlannedGraspsDoNotPenetrateTheObject|MotionCollisionCheckerTest\.NeverFreeWhereTheExactGeometryCollides|TactileContactTest\.DraggedObjectTracesTheStribeckCurveOfThePadLaw|PickPlace\.CancelStopsTheRun|MotionPlannerTest\.ReachesAGoalPoseAcrossThePost|WorkCycleTest\.MoreCoverageRisesFasterToTheSetPoint|MotionCollisionCheckerTest\.ExplainsWhatTouchesWhat)$$
-test-sanitize: build-fuzz
+test-sanitize: build-fuzz mbm-data
 	@if [[ -n '$(SANITIZE_SLOW)' ]]; then echo "test-sanitize: left out for time (run with SANITIZE_SLOW= to include): $(SANITIZE_SLOW)"; fi
 	@$(SANITIZER_ENV) ctest --test-dir $(FUZZ_BUILD) --output-on-failure --progress -j2 \
 	  $(if $(SANITIZE_SLOW),-E '$(SANITIZE_SLOW)') > $(FUZZ_BUILD)/test-sanitize.log 2>&1 \

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.h"
 #include "motion/short_number.h"
 
 namespace graspsim::motion {
@@ -252,6 +253,10 @@ double CollisionChecker::ScaleInflation(const Eigen::Ref<const VecX>& a, const E
 }
 
 bool CollisionChecker::WithinLimits(const Eigen::Ref<const VecX>& q) const {
+  if (q.size() != static_cast<long>(arm_.dof())) {
+    ThrowInvalidArgument("configuration: " + std::to_string(q.size()) + " joint positions for an arm of " +
+                         std::to_string(arm_.dof()));
+  }
   for (size_t i = 0; i < arm_.dof(); ++i) {
     if (!(q[i] >= arm_.lower()[i] && q[i] <= arm_.upper()[i])) return false;
   }
@@ -383,6 +388,7 @@ bool CollisionChecker::FindContact(uint32_t* link_out, int64_t* other_out) const
 }
 
 std::string CollisionChecker::Explain(const Eigen::Ref<const VecX>& q) const {
+  WithinLimits(q);  // throws on a wrong size
   for (size_t i = 0; i < arm_.dof(); ++i) {
     if (!(q[i] >= arm_.lower()[i] && q[i] <= arm_.upper()[i])) {
       return arm_.joint_ids()[i] + " = " + Short(q[i]) + " is outside its limits [" + Short(arm_.lower()[i]) + ", " +

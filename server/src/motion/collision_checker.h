@@ -55,7 +55,8 @@ class CollisionChecker {
   // obstacles down to resolution / 2^kMaxHalvings.
   CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, Obstacles obstacles, double resolution = 0.01);
 
-  // Within the joint limits and no sphere touches an obstacle or a sphere of a self pair.
+  // Within the joint limits and no sphere touches an obstacle or a sphere of a self pair. A configuration of the
+  // wrong size throws Error(kInvalidArgument) (here and in IsMotionValid, Explain).
   bool IsValid(const Eigen::Ref<const VecX>& q) const;
   // Every configuration of the straight segment a -> b, conservatively (see above); false when a or b is not valid.
   bool IsMotionValid(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const;

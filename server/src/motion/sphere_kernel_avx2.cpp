@@ -6,6 +6,7 @@
 
 namespace graspsim::motion::kernel::avx2 {
 
+constexpr int kWidth = 8;
 #include "motion/sphere_kernel_impl.inc"
 
 uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first) {

@@ -1,5 +1,5 @@
-// CollidingLanes for any CPU: the same code compiled for the target's baseline (SSE2 on x86-64: two 4-lane
-// instructions per operation).
+// CollidingLanes for any CPU: the same code compiled for the target's baseline (SSE2 on x86-64), 4 lanes per
+// instruction, run on lanes 0-3 and then 4-7.
 #include "motion/sphere_kernel.h"
 
 #if defined(__SSE2__)
@@ -8,10 +8,13 @@
 
 namespace graspsim::motion::kernel::generic {
 
+constexpr int kWidth = 4;
 #include "motion/sphere_kernel_impl.inc"
 
 uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first) {
-  return CollidingLanesImpl(model, q, inflate, scratch, stop_at_first);
+  const uint32_t low = CollidingLanesImpl(model, q, inflate, scratch, stop_at_first);
+  if (low && stop_at_first) return low;
+  return low | (CollidingLanesImpl(model, q + kWidth, inflate + kWidth, scratch + kWidth, stop_at_first) << kWidth);
 }
 
 }  // namespace graspsim::motion::kernel::generic
