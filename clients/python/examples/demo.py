@@ -15,8 +15,9 @@ with emulated grippers (examples/hardware_gateway.py): commands through the serv
 beside its simulated twin with the surprise. Last, a KUKA KR 5 with the PG70 picks the completed cube up and
 puts it 25 cm away, planned and executed in the dynamic simulation (examples/pick_and_place.py). And when the
 `pybullet` package is installed, a robot nobody here wrote: pybullet_data's Franka Panda loaded from its URDF by
-path (its meshes uploaded by the client), with the repairs the server made (docs/import.md). Exits non-zero on
-any error.
+path (its meshes uploaded by the client), with the repairs the server made (docs/import.md), and arm paths
+planned for it around a post in one PlanArmPaths call, graspsim's planner beside OMPL's (docs/motion.md). Exits
+non-zero on any error.
 
     python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080 [--out DIR]
 """
@@ -206,7 +207,8 @@ def pick_and_place_completed(client: graspsim.Client, scene_id: str) -> None:
 
 
 def load_public_robot(client) -> None:
-    """pybullet_data's Franka Panda by path, beside the built-ins, when the pybullet wheel is installed."""
+    """pybullet_data's Franka Panda by path, beside the built-ins, when the pybullet wheel is installed; arm paths
+    planned for it around a post."""
     try:
         import pybullet_data
     except ImportError:
@@ -222,6 +224,18 @@ def load_public_robot(client) -> None:
         print(f"  {warning.element} = {warning.value}: {warning.action}")
     hand = client.get_body_poses(scene_id, ["panda/panda_hand"])["panda/panda_hand"]
     print(f"  panda_hand at {format_pose(hand)} with every joint at 0")
+    # Arm paths for it around a post, in one batch call: graspsim's RRT-Connect and OMPL's on the same checker.
+    client.add_object(scene_id, "post", box=[0.08, 0.08, 1.0], pose=[0.3, -0.3, 0.5, 1, 0, 0, 0], is_static=True)
+    ready = [0, -0.785, 0, -2.356, 0, 1.571, 0.785]
+    turned = [-1.57, -0.785, 0, -2.356, 0, 1.571, 0.785]
+    problems = [dict(scene_id=scene_id, arm_id="panda", tip_body="panda/panda_hand", start_positions=ready,
+                     goal_positions=turned, planner=planner, seed=1) for planner in ("rrt_connect", "ompl_rrt_connect")]
+    for result in client.plan_arm_paths(problems):
+        if isinstance(result, graspsim.GraspsimError):
+            raise result
+        print(f"  arm path around a post ({result.planner}): {len(result.waypoints)} waypoints, "
+              f"{result.duration:.2f} s of motion, planned in {result.seconds * 1e3:.2f} ms "
+              f"({result.checks} configurations checked)")
     client.delete_scene(scene_id)
 
 
