@@ -4,7 +4,6 @@
 #include <cmath>
 #include <random>
 
-
 #include "core/error.h"
 #include "motion/search.h"
 #include "motion/short_number.h"
