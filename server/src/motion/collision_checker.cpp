@@ -182,7 +182,6 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
   lanes_.assign(std::max<size_t>(arm_.dof(), 1) * kernel::kLanes, 0.0f);
   scratch_.assign(kernel::ScratchSize(kernel_), 0.0f);
   centres_.resize(radii_.size());
-  bound_centres_.resize(spheres_.links.size());
   poses_.resize(links.size());
 }
 
@@ -340,7 +339,6 @@ void CollisionChecker::PlaceSpheres(const Eigen::Ref<const VecX>& q) const {
   for (size_t l = 0; l < spheres_.links.size(); ++l) {
     const LinkSpheres& link = spheres_.links[l];
     if (link.bound_radius < 0) continue;
-    bound_centres_[l] = poses_[l] * link.bound_centre;
     for (uint32_t s = sphere_begin_[l]; s < sphere_begin_[l + 1]; ++s) {
       centres_[s] = poses_[l] * link.centres[s - sphere_begin_[l]];
     }

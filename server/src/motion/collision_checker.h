@@ -122,7 +122,6 @@ class CollisionChecker {
   std::vector<double> radii_;                    // as the kernel's (float margin included)
   mutable std::vector<Rigid> poses_;
   mutable std::vector<Vec3> centres_;            // world
-  mutable std::vector<Vec3> bound_centres_;      // world, per link
   mutable uint64_t checks_ = 0;
 };
 

@@ -4,13 +4,7 @@
 #include <cstring>
 
 namespace graspsim::motion::kernel {
-namespace generic {
-uint32_t CollidingLanes(const Model&, const float*, const float*, float*, bool);
-}
 #if defined(__x86_64__)
-namespace avx2 {
-uint32_t CollidingLanes(const Model&, const float*, const float*, float*, bool);
-}
 namespace {
 // Decided once: the AVX2 build runs only where the CPU has AVX2 and FMA (GRASPSIM_KERNEL=generic forces the other,
 // for tests that compare the two).

@@ -81,4 +81,15 @@ inline const float* SphereCentres(const Model& model, const float* scratch) {
 // "avx2" or "sse2": the build CollidingLanes dispatches to on this CPU.
 const char* KernelIsa();
 
+// The two builds CollidingLanes dispatches to (sphere_kernel_{generic,avx2}.cpp); called directly only by tests
+// that compare them. The AVX2 one needs a CPU with AVX2 and FMA.
+namespace generic {
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first);
+}
+#if defined(__x86_64__)
+namespace avx2 {
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first);
+}
+#endif
+
 }  // namespace graspsim::motion::kernel

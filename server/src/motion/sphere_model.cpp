@@ -202,8 +202,7 @@ ArmSphereModel BuildSphereModel(const SceneModel& model, const ArmModel& arm, do
   out.self_pairs = SelfPairs(arm, out, margin);
 
   // Levers: from each dof's axis to the farthest sphere surface it carries, through the chain of offsets
-  // (triangle inequality, so it holds in every configuration); per carried link and over all of them.
-  out.lever.assign(arm.dof(), 0.0);
+  // (triangle inequality, so it holds in every configuration), per carried link.
   out.link_lever.assign(arm.dof(), std::vector<double>(links.size(), 0.0));
   for (size_t l = 0; l < links.size(); ++l) {
     if (links[l].dof < 0) continue;
@@ -225,7 +224,6 @@ ArmSphereModel BuildSphereModel(const SceneModel& model, const ArmModel& arm, do
         lever = std::max(lever, reach[m] + out.links[m].centres[s].norm() + out.links[m].radii[s]);
       }
       out.link_lever[dof][m] = lever;
-      out.lever[dof] = std::max(out.lever[dof], lever);
     }
   }
   return out;

@@ -37,10 +37,9 @@ struct ArmSphereModel {
   std::vector<LinkSpheres> links;                    // indexed like ArmModel::links()
   std::vector<int> group;                            // per link: the arm dof it rides on (-1: the base)
   std::vector<std::pair<uint32_t, uint32_t>> self_pairs;  // link pairs that must not touch, i < j
-  // Per dof: a bound on how far any point of the arm moves per radian (or metre) of that joint, m; used to
-  // space the checks along a motion (collision_checker.h).
-  std::vector<double> lever;
-  // The same per carried link: link_lever[dof][link] (0 where the dof does not move the link).
+  // link_lever[dof][link]: a bound on how far any point of the link moves per radian (or metre) of that joint,
+  // m (0 where the dof does not move the link); it spaces and inflates the checks of a motion
+  // (collision_checker.h).
   std::vector<std::vector<double>> link_lever;
 };
 

@@ -14,19 +14,6 @@
 #include "motion/sphere_kernel.h"
 #include "sphere_reference.h"
 
-// Both builds of the kernel (sphere_kernel_{avx2,generic}.cpp): sphere_kernel.cpp dispatches to one of them once
-// per process, so the test calls each directly to compare them.
-namespace graspsim::motion::kernel {
-namespace generic {
-uint32_t CollidingLanes(const Model&, const float*, const float*, float*, bool);
-}
-#if defined(__x86_64__)
-namespace avx2 {
-uint32_t CollidingLanes(const Model&, const float*, const float*, float*, bool);
-}
-#endif
-}  // namespace graspsim::motion::kernel
-
 namespace graspsim::motion {
 namespace {
 
