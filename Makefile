@@ -11,7 +11,7 @@ SERVER := $(BUILD)/bin/graspsim-server
 PROTOS := $(wildcard proto/graspsim/v1/*.proto)
 CLIENT_FILES := clients/python/pyproject.toml clients/python/setup.py
 
-.PHONY: all deps build python demo test test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke mbm-data
+.PHONY: all deps build python node-tests demo test test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke mbm-data
 all: build python
 
 deps:
@@ -32,6 +32,29 @@ $(VENV)/.installed: $(PROTOS) $(CLIENT_FILES) | deps
 
 python: $(VENV)/.installed
 
+# Node tools the Python tests run to check recordings and the live endpoint with Foxglove's own libraries
+# (issue 25): tests/node/read_mcap.mjs FILE.mcap (@mcap/core's indexed reader, protobufjs decoding of every
+# message) and tests/node/foxglove_live.mjs WS_URL TOPIC COUNT [TIMEOUT_S] (@foxglove/ws-protocol's client).
+# Their packages are installed with `npm ci` at the versions tests/node/package-lock.json pins, into
+# $(NODE_TESTS) (never the source tree), beside copies of the scripts so that their imports resolve there:
+# the tests run `node $(NODE_TESTS)/read_mcap.mjs ...`. npm runs again only when package.json or the lock file
+# changes (the stamp in node_modules), a script is copied again when it changes. No package needs an install
+# script (--ignore-scripts).
+NODE_TESTS := $(BUILD)/node-tests
+NODE_TEST_SCRIPTS := $(patsubst tests/node/%,$(NODE_TESTS)/%,$(wildcard tests/node/*.mjs))
+
+$(NODE_TESTS)/node_modules/.graspsim-installed: tests/node/package.json tests/node/package-lock.json | deps
+	@mkdir -p $(NODE_TESTS)
+	@cp tests/node/package.json tests/node/package-lock.json $(NODE_TESTS)/
+	@npm ci --prefix $(NODE_TESTS) --ignore-scripts --no-audit --no-fund --loglevel=error > /dev/null
+	@touch $@
+
+$(NODE_TESTS)/%.mjs: tests/node/%.mjs
+	@mkdir -p $(NODE_TESTS)
+	@cp $< $@
+
+node-tests: $(NODE_TESTS)/node_modules/.graspsim-installed $(NODE_TEST_SCRIPTS)
+
 demo: build python
 	@deploy/run-demo.sh $(SERVER) $(PYTHON)
 
@@ -47,7 +70,7 @@ test-cpp: build mbm-data
 	  || { grep -E -A40 '\[  FAILED  \]|\*\*\*Failed|\*\*\*Exception' $(BUILD)/test-cpp.log | head -n 150; tail -n 20 $(BUILD)/test-cpp.log; exit 1; }
 	@sed -n '/tests passed/,$$p' $(BUILD)/test-cpp.log
 
-test-python: build python
+test-python: build python node-tests
 	@GRASPSIM_SERVER=$(abspath $(SERVER)) $(PYTHON) -m pytest -q tests/python
 
 test-matlab: build

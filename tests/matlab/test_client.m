@@ -27,7 +27,8 @@ tests = {@test_list_methods, @test_scene_lifecycle, @test_builtin_models, @test_
          @test_actuator_moves_fingers, @test_error_actuator, ...
          @test_tactile_sample_untouched, @test_tactile_image_png, @test_gripper_reading, ...
          @test_tactile_grasp_reading, @test_stream_sensors, @test_work_cycle_lifts_cube, @test_error_tactile, ...
-         @test_plan_grasps, @test_error_other_services_unimplemented, @test_error_client_side_arguments, @test_error_unreachable_server, ...
+         @test_plan_grasps, @test_recording_falling_box, @test_error_recording, ...
+         @test_error_other_services_unimplemented, @test_error_client_side_arguments, @test_error_unreachable_server, ...
          @test_demo_runs};
 c = graspsim.Client(url, 'Timeout', 30);
 passed = 0;
@@ -814,6 +815,91 @@ expectError(@() c.runWorkCycle(sid, gripper, 'no_cube'), 'graspsim:NOT_FOUND', {
 expectError(@() c.runWorkCycle(sid, gripper, cube, 'Speed', 2), 'graspsim:badArgument', {'speed'});
 [~, pose] = c.getBodyPoses(sid, cube);
 near(pose, [0 0 0.775 1 0 0 0], 1e-9, 'a refused work cycle moved the cube');
+end
+
+function test_recording_falling_box(c, sid)
+% RecordingService (issue 25, docs/recording.md): a box falling for 0.2 s in four steps, recorded into an MCAP
+% file, downloaded, replayed into a new scene and seeked to its last frame.
+name = sprintf('octave-%s.mcap', regexprep(sid, '[^A-Za-z0-9_-]', '_'));
+listing = c.listMethods();
+services = listing.services;
+check(any(strcmp({services.name}, 'graspsim.v1.RecordingService')), 'the gateway does not serve RecordingService: %s', ...
+      strjoin({services.name}, ', '));
+c.addObject(sid, 'box', 'Box', [0.05 0.05 0.05], 'Mass', 0.1, 'Pose', [0 0 1 1 0 0 0]);
+started = c.startRecording(sid, name);
+check(strcmp(started.name, name) && strcmp(started.sceneId, sid) && started.active, ...
+      'started: name %s, scene %s, active %d', started.name, started.sceneId, started.active);
+try
+  for k = 1:4
+    c.stepSimulation(sid, 'Duration', 0.05);
+  end
+  listed = c.listRecordings();
+  row = listed(strcmp({listed.name}, name));
+  check(numel(row) == 1 && row.active, 'listRecordings while recording: %d rows named %s', numel(row), name);
+catch err
+  try
+    c.stopRecording(sid);
+  catch  %#ok<CTCH> the test's own error is the one to report
+  end
+  rethrow(err);
+end
+stopped = c.stopRecording(sid);
+check(strcmp(stopped.name, name) && strcmp(stopped.sceneId, sid) && ~stopped.active, ...
+      'stopped: name %s, scene %s, active %d', stopped.name, stopped.sceneId, stopped.active);
+check(stopped.frames > 0, 'no frames recorded');
+check(stopped.messages >= stopped.frames && stopped.bytes > 0, '%d frames in %d messages, %d bytes', ...
+      stopped.frames, stopped.messages, stopped.bytes);
+check(numel(stopped.path) >= numel(name) && strcmp(stopped.path(end - numel(name) + 1:end), name), ...
+      'path %s does not end in %s', stopped.path, name);
+check(stopped.startTime <= stopped.endTime, 'start time %g after end time %g', stopped.startTime, stopped.endTime);
+near(stopped.endTime, 0.2, 1e-9, 'simulation time of the last frame');
+listed = c.listRecordings();
+row = listed(strcmp({listed.name}, name));
+check(numel(row) == 1, 'listRecordings after stop: %d rows named %s', numel(row), name);
+check(~row.active && strcmp(row.sceneId, sid) && row.frames == stopped.frames && row.bytes == stopped.bytes, ...
+      'listRecordings after stop: active %d, scene ''%s'', %d frames, %d bytes; StopRecording said %s, %d, %d', ...
+      row.active, row.sceneId, row.frames, row.bytes, sid, stopped.frames, stopped.bytes);
+
+bytes = c.downloadRecording(name);
+magic = uint8([137 77 67 65 80 48 13 10]);  % "\x89MCAP0\r\n", at both ends of a finished MCAP file
+check(numel(bytes) == stopped.bytes, 'downloaded %d bytes of %d', numel(bytes), stopped.bytes);
+check(numel(bytes) > 16 && isequal(bytes(1:8), magic) && isequal(bytes(end - 7:end), magic), ...
+      'the download is not a finished MCAP file');
+
+replay = c.replayRecording(name, 'octave replay');
+cleanup = onCleanup(@() c.deleteScene(replay.sceneId));
+check(~strcmp(replay.sceneId, sid) && replay.frames == stopped.frames && numel(replay.frameTimes) == replay.frames, ...
+      'replay: %d frames, %d frame times, %d recorded', replay.frames, numel(replay.frameTimes), stopped.frames);
+check(all(diff(replay.frameTimes) >= 0), 'frame times not in order');
+near(replay.frameTimes(end), stopped.endTime, 0, 'last frame time');
+[~, original] = c.getBodyPoses(sid, 'box');
+[time, revision] = c.seekReplay(replay.sceneId, name, replay.frames - 1);
+near(time, replay.frameTimes(end), 0, 'time after seeking the last frame');
+check(revision > 0, 'revision %g after a seek', revision);
+[~, seeked] = c.getBodyPoses(replay.sceneId, 'box');
+near(seeked, original, 0, 'the box at the last frame');
+[time, ~] = c.seekReplay(replay.sceneId, name, 0);
+near(time, replay.frameTimes(1), 0, 'time after seeking the first frame');
+[~, first] = c.getBodyPoses(replay.sceneId, 'box');
+check(first(3) > original(3) + 0.1, 'the box at the first frame (z = %.4f m) is not above the last (%.4f m)', ...
+      first(3), original(3));
+end
+
+function test_error_recording(c, sid)
+expectError(@() c.stopRecording(sid), 'graspsim:NOT_FOUND', {sid, 'not being recorded'});
+expectError(@() c.startRecording(sid, '../escape.mcap'), 'graspsim:INVALID_ARGUMENT', {'name', '../escape.mcap'});
+expectError(@() c.startRecording(sid, 'x.mcap', 'Compression', 'brotli'), 'graspsim:INVALID_ARGUMENT', ...
+            {'compression', 'brotli'});
+expectError(@() c.startRecording('no-such-scene', 'x.mcap'), 'graspsim:NOT_FOUND', {'no-such-scene'});
+name = sprintf('octave-errors-%s.mcap', regexprep(sid, '[^A-Za-z0-9_-]', '_'));
+c.startRecording(sid, name, 'Groups', 'graspsim', 'Compression', 'lz4');
+expectError(@() c.startRecording(sid, 'second.mcap'), 'graspsim:ALREADY_EXISTS', {sid});
+stopped = c.stopRecording(sid);
+check(strcmp(stopped.name, name) && isempty(stopped.ros2Path), 'a graspsim-only recording: %s, ros2 %s', ...
+      stopped.name, stopped.ros2Path);
+expectError(@() c.replayRecording('no-such-recording.mcap'), 'graspsim:NOT_FOUND', {'no-such-recording.mcap'});
+expectError(@() c.seekReplay(sid, 'no-such-recording.mcap', 0), 'graspsim:NOT_FOUND', {'no-such-recording.mcap'});
+expectError(@() c.seekReplay(sid, name, 0.5), 'graspsim:badArgument', {'frame'});
 end
 
 function test_error_other_services_unimplemented(c, sid)

@@ -22,6 +22,8 @@ classdef Client < handle
   %   Simulation:  stepSimulation, setSimulationParams, getSimulationParams, setActuator
   %   Sensors:     sampleSensor, tactileImage, streamSensors, runWorkCycle
   %   Grasps:      planGrasps
+  %   Recordings:  startRecording, stopRecording, listRecordings, downloadRecording, replayRecording,
+  %                seekReplay
   %   Anything:    call(service, method, request), listMethods
   %
   %   See also graspsim.Client/addObject, graspsim.Client/stepSimulation, graspsim.Client/call.
@@ -736,7 +738,121 @@ classdef Client < handle
     end
   end
 
+  methods
+    % --- recordings (RecordingService, docs/recording.md) -------------------------------------------------
+    function recording = startRecording(obj, sceneId, name, varargin)
+      %STARTRECORDING rec = c.startRecording(sceneId, name, 'Groups', {...}, 'Compression', 'zstd',
+      %   'ForceTorqueJoints', {...}): starts recording the scene into an MCAP file (https://mcap.dev) in the
+      %   server's recording directory, one frame per scene state (stepSimulation, pose and joint changes)
+      %   until stopRecording. name is the file name, ending in '.mcap' (letters, digits, '-', '_', '.'; no
+      %   folders); '' or omitted = '<sceneId>-<UTC time>.mcap'. Options:
+      %     'Groups', {...}              channel groups among 'graspsim' (enough to replay the scene),
+      %                                  'foxglove' (opens in Foxglove), 'ros2' (a ROS 2 bag beside the file);
+      %                                  {} = all three
+      %     'Compression', c             chunk compression 'zstd' (default), 'lz4' or 'none'
+      %     'ForceTorqueJoints', {...}   joints whose force/torque reading is recorded too
+      %   Returns the recording (see listRecordings). A scene records into one file at a time: a second start
+      %   raises graspsim:ALREADY_EXISTS.
+      if nargin < 3 || isempty(name)
+        name = '';
+      end
+      o = graspsim.internal.parseOptions(struct('Groups', {{}}, 'Compression', '', 'ForceTorqueJoints', {{}}), ...
+                                         varargin, 'startRecording');
+      if ~ischar(name)
+        error('graspsim:badArgument', 'startRecording: name must be a char row such as ''run1.mcap''');
+      end
+      if ~ischar(o.Compression)
+        error('graspsim:badArgument', 'startRecording: Compression must be ''zstd'', ''lz4'' or ''none''');
+      end
+      request = struct('scene_id', sceneId, 'name', name, 'groups', {idList(o.Groups, 'Groups')}, ...
+                       'compression', o.Compression, ...
+                       'force_torque_joints', {idList(o.ForceTorqueJoints, 'ForceTorqueJoints')});
+      recording = graspsim.internal.decode('Recording', obj.recordingCall('StartRecording', request));
+    end
+
+    function recording = stopRecording(obj, sceneId)
+      %STOPRECORDING rec = c.stopRecording(sceneId): stops the scene's recording and finishes its file
+      %   (summary and index written, closed). Returns the recording as finished: rec.frames states recorded,
+      %   rec.bytes the file's size (see listRecordings).
+      recording = graspsim.internal.decode('Recording', ...
+                                           obj.recordingCall('StopRecording', struct('scene_id', sceneId)));
+    end
+
+    function recordings = listRecordings(obj)
+      %LISTRECORDINGS N-by-1 struct array of the recordings, active ones first, then the files in the
+      %   server's recording directory by name: name (the file name, the recording's id), sceneId, path (on
+      %   the server), ros2Path (the ROS 2 bag folder, '' without the 'ros2' group), active (logical), frames
+      %   (scene states recorded), messages (MCAP messages, every channel), droppedFrames (states the writer
+      %   could not keep up with), bytes (file size so far), startTime, endTime (simulation time of the first
+      %   and last frame, s).
+      response = obj.recordingCall('ListRecordings', struct());
+      recordings = graspsim.internal.decode('Recording', field(response, 'recordings', []));
+    end
+
+    function bytes = downloadRecording(obj, name, file)
+      %DOWNLOADRECORDING bytes = c.downloadRecording(name, file): the bytes of a recording file (finished or
+      %   still being written) as a 1-by-N uint8 row; with file, also written to that local file.
+      if nargin < 3
+        file = '';
+      end
+      envelope = graspsim.internal.post(obj, 'RecordingService', 'DownloadRecording', struct('name', name));
+      graspsim.internal.raiseIfError(envelope);
+      chunks = items(field(envelope, 'responses', []));
+      parts = cell(1, numel(chunks));
+      offset = 0;
+      for k = 1:numel(chunks)
+        at = number(field(chunks{k}, 'offset', 0));
+        if at ~= offset
+          error('graspsim:DATA_LOSS', 'downloadRecording %s: chunk %d starts at byte %d, expected %d', name, k, ...
+                at, offset);
+        end
+        parts{k} = graspsim.internal.decodeBytes(field(chunks{k}, 'data', ''));
+        offset = offset + numel(parts{k});
+      end
+      bytes = [zeros(1, 0, 'uint8'), parts{:}];
+      if ~isempty(file)
+        fid = fopen(file, 'w');
+        if fid < 0
+          error('graspsim:badArgument', 'downloadRecording: cannot write %s', file);
+        end
+        fwrite(fid, bytes, 'uint8');
+        fclose(fid);
+      end
+    end
+
+    function replay = replayRecording(obj, name, sceneName)
+      %REPLAYRECORDING replay = c.replayRecording(name, sceneName): a new scene built from a recording (the
+      %   recorded scene's edits, then its first recorded state). sceneName '' or omitted = 'replay of <name>'.
+      %   Returns replay.sceneId (the new scene), frames and frameTimes (frames-by-1, the simulation time of
+      %   each recorded frame, s); seekReplay puts the scene into one of them.
+      if nargin < 3 || isempty(sceneName)
+        sceneName = '';
+      end
+      response = obj.recordingCall('ReplayRecording', struct('name', name, 'scene_name', sceneName));
+      replay = struct('sceneId', field(response, 'scene_id', ''), 'frames', number(field(response, 'frames', 0)), ...
+                      'frameTimes', reshape(double(field(response, 'frame_times', [])), [], 1));
+    end
+
+    function [time, revision] = seekReplay(obj, sceneId, name, frame)
+      %SEEKREPLAY [time, revision] = c.seekReplay(sceneId, name, frame): puts a scene replayed from the
+      %   recording name into the state of one recorded frame (every body, joint, velocity and contact).
+      %   frame is the server's 0-BASED index: replay.frameTimes(frame + 1) is its time. Returns the scene's
+      %   simulation time (s) and revision after the seek.
+      if ~isnumeric(frame) || ~isscalar(frame) || ~(frame >= 0) || frame ~= round(frame)
+        error('graspsim:badArgument', 'seekReplay: frame must be a whole number >= 0 (0-based)');
+      end
+      response = obj.recordingCall('SeekReplay', struct('scene_id', sceneId, 'name', name, 'frame', double(frame)));
+      time = number(field(response, 'time', 0));
+      revision = number(field(response, 'revision', 0));
+    end
+  end
+
   methods (Access = private)
+    function response = recordingCall(obj, method, request)
+      % A unary RecordingService call: the response message as jsondecode gives it, or error graspsim:<STATUS>.
+      response = graspsim.internal.unary(obj, 'RecordingService', method, request);
+    end
+
     function response = sceneCall(obj, method, request)
       % A unary SceneService call: the response message as jsondecode gives it, or error graspsim:<STATUS>.
       response = graspsim.internal.unary(obj, 'SceneService', method, request);

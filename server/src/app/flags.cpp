@@ -134,6 +134,25 @@ const std::vector<FlagSpec>& Specs() {
          if (v.empty()) ThrowInvalidArgument("--grasp-data-dir: empty; give a directory or off");
          f->server.grasp_data_dir = v;
        }},
+      // Recordings (docs/recording.md).
+      {"record", "record every scene from its creation as MCAP into this directory (also where StartRecording "
+                 "writes), or off",
+       [](const ServerFlags& f) { return f.server.record_all ? f.server.recording_dir : std::string("off"); },
+       [](const std::string& v, ServerFlags* f) {
+         if (v.empty()) ThrowInvalidArgument("--record: empty; give a directory or off");
+         f->server.record_all = v != "off";
+         if (f->server.record_all) f->server.recording_dir = v;
+       }},
+      {"recording-dir", "where StartRecording writes and ReplayRecording reads (empty = <data-dir>/recordings)",
+       [](const ServerFlags& f) { return f.server.recording_dir; },
+       [](const std::string& v, ServerFlags* f) { f->server.recording_dir = v; }},
+      {"foxglove-listen", "address of the live Foxglove WebSocket endpoint (ws://host:port/<scene id>), host:port, "
+                          "or off",
+       [](const ServerFlags& f) { return f.server.foxglove_listen; },
+       [](const std::string& v, ServerFlags* f) {
+         if (v.empty()) ThrowInvalidArgument("--foxglove-listen: empty; give host:port or off");
+         f->server.foxglove_listen = v;
+       }},
       // Security (docs/security.md).
       {"tls-cert", "PEM certificate (chain) of the gRPC and HTTP ports; with --tls-key turns TLS on",
        [](const ServerFlags& f) { return f.server.tls.cert; },

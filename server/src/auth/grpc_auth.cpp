@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "graspsim/v1/scene.pb.h"
+#include "graspsim/v1/recording.pb.h"
 
 namespace graspsim::auth {
 namespace {
@@ -164,6 +165,8 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
     if (message == nullptr) return;
     if (method_ == "/graspsim.v1.SceneService/CreateScene") {
       authorizer_->SetOwner(static_cast<const v1::Scene*>(message)->summary().id(), who_.name);
+    } else if (method_ == "/graspsim.v1.RecordingService/ReplayRecording") {
+      authorizer_->SetOwner(static_cast<const v1::ReplayRecordingResponse*>(message)->scene_id(), who_.name);
     } else if (method_ == "/graspsim.v1.SceneService/ListScenes" && who_.role != Role::kAdmin) {
       for (const auto& scene : static_cast<const v1::ListScenesResponse*>(message)->scenes()) {
         if (authorizer_->CanRead(who_, scene.id())) *visible_.add_scenes() = scene;

@@ -56,6 +56,15 @@ const std::map<std::string, MethodRule, std::less<>>& RoleTable() {
       {"/graspsim.v1.AuthService/GrantDevice", {kAdmin, A::kNone}},
       {"/graspsim.v1.AuthService/ShareScene", {kScripter, A::kWrite}},
       // Health checks answer load balancers and probes without a token; reflection describes the API.
+      // RecordingService: starting and stopping a scene's recording writes to it; the files are the server's, read by
+      // any viewer; a replay makes a new scene (scripter's, owned by its caller).
+      {"/graspsim.v1.RecordingService/StartRecording", {kScripter, A::kWrite}},
+      {"/graspsim.v1.RecordingService/StopRecording", {kScripter, A::kWrite}},
+      {"/graspsim.v1.RecordingService/ListRecordings", {kViewer, A::kNone}},
+      {"/graspsim.v1.RecordingService/DownloadRecording", {kViewer, A::kNone}},
+      {"/graspsim.v1.RecordingService/ReplayRecording", {kScripter, A::kNone}},
+      {"/graspsim.v1.RecordingService/SeekReplay", {kScripter, A::kWrite}},
+
       {"/grpc.health.v1.Health/Check", {kPublic, A::kNone}},
       {"/grpc.health.v1.Health/Watch", {kPublic, A::kNone}},
       {"/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo", {kViewer, A::kNone}},

@@ -13,9 +13,11 @@ Request Parse(const SceneOp& op) {
   return request;
 }
 
-void Replay(Scene* scene, const SceneOp& op, const Limits& limits) {
+}  // namespace
+
+void ReplayEdit(Scene* scene, const SceneOp& op, const Limits& limits) {
   if (op.kind == "UploadFile") {
-    scene->PutFile(op.path, op.file, op.sha256);
+    scene->PutFile(op.path, op.file, op.sha256, &op);
   } else if (op.kind == "AddObject") {
     AddObjectFromRequest(scene, Parse<v1::AddObjectRequest>(op), limits, nullptr);
   } else if (op.kind == "AddRobot") {
@@ -29,15 +31,13 @@ void Replay(Scene* scene, const SceneOp& op, const Limits& limits) {
   }
 }
 
-}  // namespace
-
 size_t RestoreScenes(persistence::SceneStore* store, SceneRegistry* registry) {
   persistence::StoredScenes stored = store->Load();
   for (persistence::StoredScene& saved : stored.scenes) {
     auto scene = registry->Restore(saved.id, saved.name);
     for (size_t i = 0; i < saved.ops.size(); ++i) {
       try {
-        Replay(scene.get(), saved.ops[i], registry->limits());
+        ReplayEdit(scene.get(), saved.ops[i], registry->limits());
       } catch (const Error& error) {
         // A limit lowered since (--max-bodies-per-scene, --max-upload-bytes …) lands here too: the message says so.
         throw Error(ErrorCode::kFailedPrecondition, "scene store " + store->path() + ": scene '" + saved.id +

@@ -8,6 +8,10 @@
 
 namespace graspsim::rpc {
 
+// One stored edit run through the RPC's code (a restart, a recording's replay). Throws what that code throws;
+// Error(kInternal) for a request that does not parse or an unknown kind.
+void ReplayEdit(Scene* scene, const SceneOp& op, const Limits& limits);
+
 // Throws Error(kFailedPrecondition) naming the database, the scene and the stored edit that cannot be replayed.
 // Returns the number of scenes restored.
 size_t RestoreScenes(persistence::SceneStore* store, SceneRegistry* registry);

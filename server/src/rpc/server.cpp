@@ -13,6 +13,7 @@
 #include "rpc/gateway_service.h"
 #include "rpc/grasp_service.h"
 #include "rpc/perception_service.h"
+#include "rpc/foxglove_live.h"
 #include "rpc/scene_replay.h"
 #include "rpc/scene_service.h"
 #include "rpc/tactile_service.h"
@@ -88,6 +89,17 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
       std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
   services_.push_back(std::make_unique<GatewayServiceImpl>(&gateways_, &registry_, &pool_));
   services_.push_back(std::make_unique<AuthServiceImpl>(&authorizer_, !options.token_file.empty(), &pool_));
+  {
+    std::string recording_dir = options.recording_dir;
+    if (recording_dir.empty() && options.data_dir != "off") recording_dir = options.data_dir + "/recordings";
+    auto recordings = std::make_unique<RecordingServiceImpl>(&registry_, &pool_, recording_dir);
+    recordings_ = recordings.get();
+    services_.push_back(std::move(recordings));
+    if (options.record_all) {  // --record: restored scenes from now on, new ones from their creation
+      for (const auto& scene : registry_.List()) recordings_->RecordAutomatically(scene);
+      registry_.SetCreatedHook([this](const std::shared_ptr<Scene>& scene) { recordings_->RecordAutomatically(scene); });
+    }
+  }
 
   grpc::ServerBuilder builder;
   // Loopback by default; wider addresses need TLS (CheckListenSecurity). docs/security.md.
@@ -126,6 +138,11 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
     http.overlays = &overlays_;
     http_ = std::make_unique<HttpGateway>(server_->InProcessChannel(arguments), http);
   }
+  if (options.foxglove_listen != "off") {
+    foxglove_ = StartFoxgloveLive(options.foxglove_listen, &registry_);
+    Log(LogLevel::kInfo, "foxglove live endpoint", {{"address", options.foxglove_listen},
+                                                    {"port", std::to_string(foxglove_->port())}});
+  }
 }
 
 GraspsimServer::~GraspsimServer() { Shutdown(); }
@@ -135,7 +152,9 @@ void GraspsimServer::Shutdown() {
   Log(LogLevel::kInfo, "draining", {{"timeout_s", FormatNumber(options_.drain_timeout_s)}});
   server_->GetHealthCheckService()->Shutdown();
   // Watch streams never end by themselves: end them first so that draining waits only for real work.
+  foxglove_.reset();  // its live feeds are watchers too
   registry_.CloseAllWatchers("the server is shutting down");
+  recordings_->StopAll();  // their files get their summary and footer
   gateways_.EndAll("the server is shutting down");
   if (http_) http_->Stop();  // waits for HTTP requests in flight; they still reach the running gRPC server
   const auto deadline =

@@ -13,7 +13,9 @@
 #include "gateway/gateway_hub.h"
 #include "physics/simulation_cache.h"
 #include "persistence/scene_store.h"
+#include "live/foxglove_server.h"
 #include "rpc/http_gateway.h"
+#include "rpc/recording_service.h"
 #include "rpc/scene_overlays.h"
 #include "world/scene_registry.h"
 
@@ -45,6 +47,11 @@ struct ServerOptions {
   // Tokens added or revoked by AuthService, scene owners, shares and grants (auth.sqlite); empty = data_dir,
   // "off" = kept in memory only.
   std::string auth_data_dir;
+  // Recordings (docs/recording.md): where they are written (empty = <data_dir>/recordings, none when data_dir is
+  // off), whether every scene is recorded from its creation (--record), and the live Foxglove endpoint.
+  std::string recording_dir;
+  bool record_all = false;
+  std::string foxglove_listen = "off";
 };
 
 // Throws Error(kInvalidArgument) when the listen addresses and the TLS flags do not go together.
@@ -73,6 +80,8 @@ class GraspsimServer {
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<HttpGateway> http_;
+  RecordingServiceImpl* recordings_ = nullptr;  // one of services_
+  std::unique_ptr<live::FoxgloveServer> foxglove_;
   int port_ = 0;
 };
 

@@ -15,16 +15,7 @@ class WatchStream : public SnapshotStream<v1::SceneSnapshot> {
 
  private:
   void SendLocked(const SceneSnapshot& snapshot) override {
-    message_.Clear();
-    message_.set_sequence(snapshot.sequence);
-    message_.set_revision(snapshot.revision);
-    message_.set_time(snapshot.time);
-    for (const auto& id : *snapshot.body_ids) message_.add_body_ids(id);
-    message_.set_body_poses(snapshot.body_poses.data(), snapshot.body_poses.size() * sizeof(double));
-    for (const auto& id : *snapshot.joint_ids) message_.add_joint_ids(id);
-    message_.set_joint_positions(snapshot.joint_positions.data(), snapshot.joint_positions.size() * sizeof(double));
-    message_.set_contacts(snapshot.contacts.data(), snapshot.contacts.size() * sizeof(double));
-    message_.set_contact_bodies(snapshot.contact_bodies.data(), snapshot.contact_bodies.size() * sizeof(uint32_t));
+    ToProto(snapshot, &message_);
     WriteLocked(&message_);
   }
 
@@ -32,6 +23,19 @@ class WatchStream : public SnapshotStream<v1::SceneSnapshot> {
 };
 
 }  // namespace
+
+void ToProto(const SceneSnapshot& snapshot, v1::SceneSnapshot* out) {
+  out->Clear();
+  out->set_sequence(snapshot.sequence);
+  out->set_revision(snapshot.revision);
+  out->set_time(snapshot.time);
+  for (const auto& id : *snapshot.body_ids) out->add_body_ids(id);
+  out->set_body_poses(snapshot.body_poses.data(), snapshot.body_poses.size() * sizeof(double));
+  for (const auto& id : *snapshot.joint_ids) out->add_joint_ids(id);
+  out->set_joint_positions(snapshot.joint_positions.data(), snapshot.joint_positions.size() * sizeof(double));
+  out->set_contacts(snapshot.contacts.data(), snapshot.contacts.size() * sizeof(double));
+  out->set_contact_bodies(snapshot.contact_bodies.data(), snapshot.contact_bodies.size() * sizeof(uint32_t));
+}
 
 grpc::ServerWriteReactor<v1::SceneSnapshot>* StartWatch(std::shared_ptr<Scene> scene,
                                                         std::chrono::nanoseconds min_interval) {

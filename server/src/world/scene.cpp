@@ -79,11 +79,25 @@ void Scene::Checkpoint() {
 }
 
 void Scene::JournalLocked(const SceneOp* op, const SceneState& state, bool changes_model) {
-  if (!journal_) return;
-  // A model edit the journal cannot replay would leave a log and a state that disagree on the next start.
-  if (changes_model && !op) throw Error(ErrorCode::kInternal, "scene " + Quoted(id_) + ": a model edit without its op");
-  journal_->SceneChanged(id_, op, state, revision_ + 1);
-  journaled_revision_ = revision_ + 1;
+  if (journal_) {
+    // A model edit the journal cannot replay would leave a log and a state that disagree on the next start.
+    if (changes_model && !op) {
+      throw Error(ErrorCode::kInternal, "scene " + Quoted(id_) + ": a model edit without its op");
+    }
+    journal_->SceneChanged(id_, op, state, revision_ + 1);
+    journaled_revision_ = revision_ + 1;
+  }
+  if (op) edits_.push_back(*op);
+}
+
+std::vector<SceneOp> Scene::Edits() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return edits_;
+}
+
+std::shared_ptr<const SceneSnapshot> Scene::DetailedSnapshot() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return SnapshotLocked(true, false);
 }
 
 uint64_t Scene::revision() const {
@@ -390,9 +404,12 @@ void Scene::CommitLocked() {
   PublishLocked();
 }
 
-void Scene::PublishLocked() {
+void Scene::PublishLocked() { hub_.Publish(SnapshotLocked(hub_.detail_wanted(), true)); }
+
+std::shared_ptr<SceneSnapshot> Scene::SnapshotLocked(bool detail, bool publish) const {
   auto snapshot = std::make_shared<SceneSnapshot>();
-  snapshot->sequence = ++snapshot_sequence_;
+  // A detailed snapshot taken outside a publication shows the last published sequence: watchers count gaps.
+  snapshot->sequence = publish ? ++snapshot_sequence_ : snapshot_sequence_;
   snapshot->revision = revision_;
   snapshot->time = state_.time;
   // Id lists change only with the model; reuse them between snapshots while they are the same.
@@ -424,7 +441,11 @@ void Scene::PublishLocked() {
     }
     snapshot->contact_bodies.insert(snapshot->contact_bodies.end(), {contact.body_a, contact.body_b});
   }
-  hub_.Publish(std::move(snapshot));
+  if (detail) {
+    snapshot->model = model_;
+    snapshot->state = std::make_shared<const SceneState>(state_);
+  }
+  return snapshot;
 }
 
 }  // namespace graspsim

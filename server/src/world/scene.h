@@ -97,6 +97,11 @@ class Scene {
   // A new model with these simulation parameters (validated by the caller).
   uint64_t SetSimulationParams(const SimulationParams& params, const SceneOp* op = nullptr);
 
+  // The edits that built the model, in order (what the journal stores), for a recording to replay it.
+  std::vector<SceneOp> Edits() const;
+  // A snapshot of the scene as it is now, with its model and state (SceneSnapshot::model, ::state).
+  std::shared_ptr<const SceneSnapshot> DetailedSnapshot() const;
+
   // Ends every watcher's stream (scene deleted or server stopping).
   void CloseWatchers(const std::string& reason) { hub_.Close(reason); }
 
@@ -107,6 +112,7 @@ class Scene {
   // Caller holds mutex_. Bumps the revision and publishes a snapshot to the watchers.
   void CommitLocked();
   void PublishLocked();
+  std::shared_ptr<SceneSnapshot> SnapshotLocked(bool detail, bool publish) const;
   size_t BodyIndexLocked(const std::string& id) const;
   size_t JointIndexLocked(const std::string& id) const;
   void CheckIdFreeLocked(const std::string& field, const std::string& id) const;
@@ -121,8 +127,9 @@ class Scene {
   uint64_t revision_ = 0;
   SceneJournal* journal_ = nullptr;
   uint64_t journaled_revision_ = 0;  // the revision whose state the journal holds
-  uint64_t snapshot_sequence_ = 0;
-  std::shared_ptr<const std::vector<std::string>> snapshot_body_ids_, snapshot_joint_ids_;
+  std::vector<SceneOp> edits_;  // every model edit with its op, kept with or without a journal
+  mutable uint64_t snapshot_sequence_ = 0;
+  mutable std::shared_ptr<const std::vector<std::string>> snapshot_body_ids_, snapshot_joint_ids_;
   SnapshotHub hub_;
 };
 

@@ -10,18 +10,29 @@ std::shared_ptr<Scene> SceneRegistry::Create(const std::string& name) {
   if (name.size() > 128) {
     ThrowInvalidArgument("name: " + std::to_string(name.size()) + " characters, at most 128 allowed");
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (scenes_.size() >= limits_.max_scenes) {
-    ThrowResourceExhausted("the server already holds " + std::to_string(scenes_.size()) +
-                           " scenes, the limit (--max-scenes) is " + std::to_string(limits_.max_scenes));
+  std::shared_ptr<Scene> scene;
+  std::function<void(const std::shared_ptr<Scene>&)> hook;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (scenes_.size() >= limits_.max_scenes) {
+      ThrowResourceExhausted("the server already holds " + std::to_string(scenes_.size()) +
+                             " scenes, the limit (--max-scenes) is " + std::to_string(limits_.max_scenes));
   }
-  const std::string id = "scene-" + std::to_string(next_id_);
-  auto scene = std::make_shared<Scene>(id, name, limits_);
-  if (journal_) journal_->SceneCreated(id, name, next_id_ + 1);  // durable before anyone sees the id
-  scene->AttachJournal(journal_);
-  ++next_id_;
-  scenes_[id] = scene;
+    const std::string id = "scene-" + std::to_string(next_id_);
+    scene = std::make_shared<Scene>(id, name, limits_);
+    if (journal_) journal_->SceneCreated(id, name, next_id_ + 1);  // durable before anyone sees the id
+    scene->AttachJournal(journal_);
+    ++next_id_;
+    scenes_[id] = scene;
+    hook = created_hook_;
+  }
+  if (hook) hook(scene);
   return scene;
+}
+
+void SceneRegistry::SetCreatedHook(std::function<void(const std::shared_ptr<Scene>&)> hook) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  created_hook_ = std::move(hook);
 }
 
 std::shared_ptr<Scene> SceneRegistry::Get(const std::string& id) const {

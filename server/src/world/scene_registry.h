@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -35,6 +36,8 @@ class SceneRegistry {
   void SetNextId(uint64_t next_id);
   // From now on every scene's edits, creations and deletions go to `journal` (it outlives the registry).
   void AttachJournal(SceneJournal* journal);
+  // Called with every scene Create makes, after it is registered, outside the registry lock (--record).
+  void SetCreatedHook(std::function<void(const std::shared_ptr<Scene>&)> hook);
   // Ends every watcher stream of every scene (server shutdown).
   void CloseAllWatchers(const std::string& reason);
 
@@ -44,6 +47,7 @@ class SceneRegistry {
   std::map<std::string, std::shared_ptr<Scene>> scenes_;
   uint64_t next_id_ = 1;
   SceneJournal* journal_ = nullptr;
+  std::function<void(const std::shared_ptr<Scene>&)> created_hook_;
 };
 
 }  // namespace graspsim

@@ -3,6 +3,7 @@
 // instead of queueing them, and never slows the scene or the other watchers.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -21,6 +22,10 @@ struct SceneSnapshot {
   std::vector<double> joint_positions;
   std::vector<double> contacts;         // 6 per contact: point x y z (m), force on body_a x y z (N), world
   std::vector<uint32_t> contact_bodies;  // 2 per contact: body_a, body_b (indices into body_ids)
+  // The whole model and state, only while a watcher asked for them (SnapshotHub::WantDetail): a recording
+  // encodes sensors and the exact state from them; other watchers need only the flat arrays above.
+  std::shared_ptr<const struct SceneModel> model;
+  std::shared_ptr<const struct SceneState> state;
 };
 
 class SnapshotWatcher {
@@ -41,12 +46,16 @@ class SnapshotHub {
   void Unsubscribe(const SnapshotWatcher* watcher);
   void Close(const std::string& reason);
   size_t WatcherCount() const;
+  // Counted: snapshots carry the model and a copy of the state while at least one watcher wants them.
+  void WantDetail(bool want) { detail_wanted_ += want ? 1 : -1; }
+  bool detail_wanted() const { return detail_wanted_.load() > 0; }
 
  private:
   mutable std::mutex mutex_;
   std::shared_ptr<const SceneSnapshot> latest_;
   std::vector<std::weak_ptr<SnapshotWatcher>> watchers_;
   bool closed_ = false;
+  std::atomic<int> detail_wanted_{0};
 };
 
 }  // namespace graspsim

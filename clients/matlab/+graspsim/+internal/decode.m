@@ -3,8 +3,9 @@ function out = decode(type, value)
 %   numbers as double, poses 1-by-7, packed arrays as numeric arrays.
 %   type is the message name: 'SceneSummary', 'Body', 'Geometry', 'Joint', 'Robot', 'TactileArray',
 %   'FileInfo', 'BuiltinModel', 'BodyPose', 'JointPosition', 'SceneSnapshot', 'StepSimulationResponse',
-%   'SimulationParams', 'ContactDefaults', 'SensorReading', 'WorkCycleProgress' or 'GraspSet'. value is one decoded message
-%   (struct) or a decoded JSON array of them (struct array, cell array, or [] when empty: 0-by-1 result).
+%   'SimulationParams', 'ContactDefaults', 'SensorReading', 'WorkCycleProgress', 'GraspSet' or 'Recording'.
+%   value is one decoded message (struct) or a decoded JSON array of them (struct array, cell array, or []
+%   when empty: 0-by-1 result).
 %   Absent fields take their protobuf defaults, so struct() gives the default message.
 convert = converter(type);
 list = items(value);
@@ -33,6 +34,7 @@ switch type
   case 'SensorReading', convert = @sensorReading;
   case 'WorkCycleProgress', convert = @workCycleProgress;
   case 'GraspSet', convert = @graspSet;
+  case 'Recording', convert = @recording;
   otherwise, error('graspsim:badArgument', 'decode: unknown message type %s', type);
 end
 end
@@ -306,6 +308,16 @@ end
 end
 
 % --- pieces -----------------------------------------------------------------------------------------------
+
+function out = recording(msg)
+% name (the file name, the recording's id), sceneId, path (on the server), ros2Path ('' without the ros2 group),
+% active (logical), frames, messages, droppedFrames, bytes, startTime, endTime (s, simulation time).
+out = struct('name', field(msg, 'name', ''), 'sceneId', field(msg, 'scene_id', ''), 'path', field(msg, 'path', ''), ...
+             'ros2Path', field(msg, 'ros2_path', ''), 'active', logical(number(field(msg, 'active', false))), ...
+             'frames', number(field(msg, 'frames', 0)), 'messages', number(field(msg, 'messages', 0)), ...
+             'droppedFrames', number(field(msg, 'dropped_frames', 0)), 'bytes', number(field(msg, 'bytes', 0)), ...
+             'startTime', number(field(msg, 'start_time', 0)), 'endTime', number(field(msg, 'end_time', 0)));
+end
 
 function value = field(msg, name, default)
 % msg.(name), or default when absent (protobuf's JSON omits unset messages and oneof members).

@@ -6,7 +6,8 @@
         client.add_object(scene.id, "cube", box=(0.05, 0.05, 0.05), mass=0.1, pose=[0, 0, 0.5, 1, 0, 0, 0])
 
 Units are SI (m, kg, s, rad); quaternions are (w, x, y, z). The generated messages live in graspsim.v1.
-Matplotlib helpers (optional extra "plot") live in graspsim.plot, imported only when asked for.
+Matplotlib helpers (optional extra "plot") live in graspsim.plot, imported only when asked for; the reader of
+recordings (optional extra "record", the mcap package) in graspsim.mcap, likewise.
 """
 from graspsim import inertia, meshes, viewer
 from graspsim._client import Client, connect
@@ -16,6 +17,7 @@ from graspsim._grasp import GraspSetResult
 from graspsim._motion import ArmMotion, ArmPath, PickAndPlaceResult
 from graspsim._perception import CompletedShape, SceneSegments
 from graspsim._robot_files import MissingFilesError
+from graspsim._recording import RecordingInfo, Replay
 from graspsim._pose import Pose, as_pose, quaternion_about_axis, quaternion_to_matrix
 from graspsim._sensors import ForceTorqueState, GripperState, SensorStream, TactileFrame
 from graspsim._watch import SceneWatch, Snapshot
@@ -23,7 +25,7 @@ from graspsim.viewer import viewer_url
 from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult, WorkCycleSummary
 from graspsim.v1 import common_pb2, scene_pb2, tactile_pb2
 
-__all__ = ["ArmMotion", "ArmPath", "PickAndPlaceResult", "Client", "CompletedShape", "SceneSegments", "ForceTorqueState", "GraspSetResult", "GraspsimError", "GripperState", "MissingFilesError", "Pose", "PredictionResult", "SceneWatch", "SensorStream",
+__all__ = ["ArmMotion", "ArmPath", "PickAndPlaceResult", "Client", "CompletedShape", "SceneSegments", "ForceTorqueState", "GraspSetResult", "GraspsimError", "GripperState", "MissingFilesError", "Pose", "PredictionResult", "RecordingInfo", "Replay", "SceneWatch", "SensorStream",
            "Snapshot", "TactileFrame", "WorkCycleFrame", "WorkCycleResult", "WorkCycleSummary", "as_pose",
            "common_pb2", "connect", "inertia", "meshes", "quaternion_about_axis", "quaternion_to_matrix",
            "scene_pb2", "tactile_pb2", "viewer", "viewer_url"]

@@ -13,6 +13,7 @@ from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, tar
 from graspsim._motion import MotionMethods
 from graspsim._perception import PerceptionMethods
 from graspsim._pose import Pose, PoseLike, as_pose
+from graspsim._recording import RecordingMethods
 from graspsim._robot_files import FilePath, PackageRoots
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
 from graspsim._upload import FileData, upload_chunks
@@ -47,7 +48,7 @@ def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_time
     return Client(channel, call_timeout)
 
 
-class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods):
+class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, RecordingMethods):
     """A connection to one graspsim server (see connect()); a context manager that closes the channel.
 
     Units are SI: m, kg, s, rad; poses are Pose, [x y z qw qx qy qz] or (position, quaternion (w, x, y, z)).

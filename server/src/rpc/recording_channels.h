@@ -1,0 +1,39 @@
+// A scene's frames as protobuf channels (docs/recording.md): graspsim's own ("/graspsim/*": the API's messages,
+// enough to rebuild and replay the scene) and Foxglove's ("/tf", "/scene", "/tactile/<array>", "/log": a 3D
+// scene, transforms, tactile images and a log that Foxglove shows with no plug-in). Used by recordings (MCAP)
+// and by the live Foxglove endpoint, so both carry the same channels.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "recording/channel_writer.h"
+#include "world/scene.h"
+
+namespace graspsim::rpc {
+
+struct ChannelGroups {
+  bool graspsim = true, foxglove = true, ros2 = true;
+};
+// "graspsim", "foxglove", "ros2"; none: all. Throws Error(kInvalidArgument) naming `field` and the value.
+ChannelGroups ParseChannelGroups(const std::string& field, const std::vector<std::string>& names);
+
+class ProtobufChannels {
+ public:
+  ProtobufChannels(recording::ChannelWriter* writer, ChannelGroups groups, std::vector<std::string> force_torque_joints);
+  ~ProtobufChannels();
+  // The scene's edits (graspsim group), once, before the first frame.
+  void WriteEdits(const std::vector<SceneOp>& edits, double time);
+  // One frame (carrying its model and state).
+  void Write(const SceneSnapshot& frame);
+  // A line on "/log" (foxglove group).
+  void Log(double time, int level, const std::string& message);
+
+ private:
+  struct Channels;
+  std::unique_ptr<Channels> channels_;
+};
+
+}  // namespace graspsim::rpc

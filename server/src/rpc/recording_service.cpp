@@ -1,0 +1,339 @@
+#include "rpc/recording_service.h"
+
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "core/log.h"
+#include "persistence/state_codec.h"
+#include "recording/mcap_reader.h"
+#include "rpc/call.h"
+#include "rpc/recording_session.h"
+#include "rpc/scene_replay.h"
+
+namespace graspsim::rpc {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr size_t kReplaysKept = 4;
+constexpr size_t kDownloadChunk = 1 << 20;
+
+bool IsPlainName(const std::string& name) {
+  if (name.empty() || name.size() > 200 || name.front() == '.') return false;
+  for (char c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') return false;
+  }
+  return true;
+}
+
+std::string UtcStamp() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y%m%dT%H%M%SZ", &utc);
+  return text;
+}
+
+std::string Ros2PathOf(const std::string& path) { return path.substr(0, path.size() - 5) + ".ros2"; }
+
+class FileDownload : public grpc::ServerWriteReactor<v1::RecordingChunk> {
+ public:
+  FileDownload(const std::string& path) : in_(path, std::ios::binary) {
+    if (!in_) {
+      Finish(grpc::Status(grpc::StatusCode::NOT_FOUND, "name: no recording at '" + path + "'"));
+      return;
+    }
+    Next();
+  }
+  void OnWriteDone(bool ok) override {
+    if (!ok) return Finish(grpc::Status(grpc::StatusCode::CANCELLED, "download cancelled"));
+    Next();
+  }
+  void OnDone() override { delete this; }
+
+ private:
+  void Next() {
+    std::string data(kDownloadChunk, '\0');
+    in_.read(data.data(), static_cast<std::streamsize>(data.size()));
+    data.resize(static_cast<size_t>(in_.gcount()));
+    if (data.empty()) return Finish(grpc::Status::OK);
+    chunk_.set_offset(offset_);
+    offset_ += data.size();
+    chunk_.set_data(std::move(data));
+    StartWrite(&chunk_);
+  }
+  std::ifstream in_;
+  v1::RecordingChunk chunk_;
+  uint64_t offset_ = 0;
+};
+
+class FailedDownload : public grpc::ServerWriteReactor<v1::RecordingChunk> {
+ public:
+  explicit FailedDownload(const grpc::Status& status) { Finish(status); }
+  void OnDone() override { delete this; }
+};
+
+}  // namespace
+
+struct RecordingServiceImpl::Active {
+  std::string name, path, ros2_path, scene_id;
+  std::shared_ptr<recording::FrameTap> tap;
+  RecordingSession* session = nullptr;  // owned by the tap
+
+  void ToProto(bool active, v1::Recording* out) const {
+    out->set_name(name);
+    out->set_scene_id(scene_id);
+    out->set_path(path);
+    out->set_ros2_path(ros2_path);
+    out->set_active(active);
+    out->set_frames(tap->frames());
+    out->set_dropped_frames(tap->dropped());
+    out->set_messages(session->messages());
+    out->set_bytes(session->bytes());
+    out->set_start_time(session->start_time());
+    out->set_end_time(session->end_time());
+  }
+};
+
+struct RecordingServiceImpl::Replay {
+  std::vector<SceneOp> edits;
+  std::vector<std::string> states;  // persistence::EncodeState bytes, per frame
+  std::vector<double> times;
+};
+
+RecordingServiceImpl::RecordingServiceImpl(SceneRegistry* registry, WorkerPool* pool, std::string directory)
+    : registry_(registry), pool_(pool), directory_(std::move(directory)) {
+  if (!directory_.empty()) fs::create_directories(directory_);
+}
+
+RecordingServiceImpl::~RecordingServiceImpl() { StopAll(); }
+
+void RecordingServiceImpl::StopAll() {
+  std::map<std::string, std::shared_ptr<Active>> active;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    active.swap(active_);
+  }
+  for (auto& [id, recording] : active) recording->tap->Stop();
+}
+
+std::string RecordingServiceImpl::PathOf(const std::string& field, const std::string& name) const {
+  if (directory_.empty()) {
+    throw Error(ErrorCode::kFailedPrecondition,
+                "recordings are off: start the server with --record DIR, --recording-dir DIR or a --data-dir");
+  }
+  if (!IsPlainName(name) || name.size() < 6 || name.substr(name.size() - 5) != ".mcap") {
+    ThrowInvalidArgument(field + ": '" + name.substr(0, 80) +
+                         "' is not a recording name (letters, digits, '-', '_', '.', ending in .mcap, no directories)");
+  }
+  return directory_ + "/" + name;
+}
+
+void RecordingServiceImpl::Start(const std::shared_ptr<Scene>& scene, const v1::StartRecordingRequest& request,
+                                 v1::Recording* out) {
+  const std::string name = request.name().empty() ? scene->id() + "-" + UtcStamp() + ".mcap" : request.name();
+  RecordingOptions options;
+  options.path = PathOf("name", name);
+  options.groups = ParseChannelGroups("groups", {request.groups().begin(), request.groups().end()});
+  options.compression = recording::ParseCompression(request.compression(), "compression");
+  options.force_torque_joints.assign(request.force_torque_joints().begin(), request.force_torque_joints().end());
+  scene->Read([&](const SceneModel& model, const SceneState&, uint64_t) {
+    for (const std::string& joint : options.force_torque_joints) {
+      if (!model.joint_index.count(joint)) ThrowNotFound("force_torque_joints: no joint '" + joint + "' in the scene");
+    }
+  });
+  if (options.groups.ros2) options.ros2_path = Ros2PathOf(options.path);
+
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (auto it = active_.find(scene->id()); it != active_.end()) {
+    throw Error(ErrorCode::kAlreadyExists, "scene_id: scene '" + scene->id() + "' is already being recorded to '" +
+                                               it->second->name + "'; stop that recording first");
+  }
+  if (fs::exists(options.path) || (!options.ros2_path.empty() && fs::exists(options.ros2_path))) {
+    throw Error(ErrorCode::kAlreadyExists, "name: a recording '" + name + "' exists; choose another name");
+  }
+  auto session = std::make_unique<RecordingSession>(options, scene->Edits());
+  auto active = std::make_shared<Active>();
+  active->name = name;
+  active->path = options.path;
+  active->ros2_path = options.ros2_path;
+  active->scene_id = scene->id();
+  active->session = session.get();
+  active->tap = std::make_shared<recording::FrameTap>(scene, std::move(session));
+  active->tap->Start();
+  active_[scene->id()] = active;
+  active->ToProto(true, out);
+  Log(LogLevel::kInfo, "recording started", {{"scene", scene->id()}, {"path", options.path}});
+}
+
+void RecordingServiceImpl::RecordAutomatically(const std::shared_ptr<Scene>& scene) {
+  v1::StartRecordingRequest request;
+  v1::Recording ignored;
+  try {
+    Start(scene, request, &ignored);
+  } catch (const Error& error) {
+    Log(LogLevel::kError, "cannot record", {{"scene", scene->id()}, {"error", error.what()}});
+  }
+}
+
+grpc::ServerUnaryReactor* RecordingServiceImpl::StartRecording(Context* context, const v1::StartRecordingRequest* request,
+                                                               v1::Recording* response) {
+  return RunUnary(context, "RecordingService/StartRecording", pool_, [=, this] {
+    Start(registry_->Get(request->scene_id()), *request, response);
+  });
+}
+
+grpc::ServerUnaryReactor* RecordingServiceImpl::StopRecording(Context* context, const v1::StopRecordingRequest* request,
+                                                              v1::Recording* response) {
+  return RunUnary(context, "RecordingService/StopRecording", pool_, [=, this] {
+    std::shared_ptr<Active> active;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto it = active_.find(request->scene_id());
+      if (it == active_.end()) ThrowNotFound("scene_id: scene '" + request->scene_id() + "' is not being recorded");
+      active = it->second;
+      active_.erase(it);
+    }
+    const std::string error = active->tap->Stop();
+    active->ToProto(false, response);
+    if (!error.empty()) throw Error(ErrorCode::kInternal, "recording '" + active->name + "' failed: " + error);
+    Log(LogLevel::kInfo, "recording stopped", {{"scene", active->scene_id}, {"path", active->path},
+                                               {"frames", std::to_string(response->frames())}});
+  });
+}
+
+grpc::ServerUnaryReactor* RecordingServiceImpl::ListRecordings(Context* context, const v1::ListRecordingsRequest*,
+                                                               v1::ListRecordingsResponse* response) {
+  return RunUnary(context, "RecordingService/ListRecordings", pool_, [=, this] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::set<std::string> listed;
+    for (const auto& [id, active] : active_) {
+      active->ToProto(true, response->add_recordings());
+      listed.insert(active->name);
+    }
+    if (directory_.empty()) return;
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(directory_)) {
+      if (entry.path().extension() == ".mcap" && !listed.count(entry.path().filename().string())) files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const auto& file : files) {
+      v1::Recording* out = response->add_recordings();
+      out->set_name(file.filename().string());
+      out->set_path(file.string());
+      if (fs::exists(Ros2PathOf(file.string()))) out->set_ros2_path(Ros2PathOf(file.string()));
+      out->set_bytes(fs::file_size(file));
+    }
+  });
+}
+
+grpc::ServerWriteReactor<v1::RecordingChunk>* RecordingServiceImpl::DownloadRecording(
+    Context* context, const v1::DownloadRecordingRequest* request) {
+  std::string path;
+  const grpc::Status status = Handle("RecordingService/DownloadRecording", *context,
+                                     [&] { path = PathOf("name", request->name()); });
+  if (!status.ok()) return new FailedDownload(status);
+  return new FileDownload(path);
+}
+
+std::shared_ptr<const RecordingServiceImpl::Replay> RecordingServiceImpl::LoadReplay(const std::string& name) {
+  const std::string path = PathOf("name", name);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = replays_.find(name); it != replays_.end()) return it->second;
+  }
+  auto replay = std::make_shared<Replay>();
+  recording::ReadMcap(path, [&](const recording::McapMessage& message) {
+    if (message.topic == "/graspsim/edit") {
+      v1::RecordedEdit edit;
+      if (!edit.ParseFromArray(message.data.data(), static_cast<int>(message.data.size()))) {
+        throw Error(ErrorCode::kFailedPrecondition, "recording '" + name + "': an edit does not parse");
+      }
+      SceneOp op{edit.kind(), edit.request(), edit.path(), edit.sha256(), nullptr};
+      if (edit.kind() == "UploadFile") op.file = std::make_shared<const std::string>(edit.file());
+      replay->edits.push_back(std::move(op));
+    } else if (message.topic == "/graspsim/state") {
+      v1::RecordedState state;
+      if (!state.ParseFromArray(message.data.data(), static_cast<int>(message.data.size()))) {
+        throw Error(ErrorCode::kFailedPrecondition, "recording '" + name + "': a state does not parse");
+      }
+      replay->times.push_back(state.time());
+      replay->states.push_back(state.state());
+    }
+  });
+  if (replay->states.empty()) {
+    throw Error(ErrorCode::kFailedPrecondition,
+                "name: recording '" + name + "' has no /graspsim/state frames (recorded without the graspsim group?)");
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  replays_[name] = replay;
+  replay_order_.push_back(name);
+  if (replay_order_.size() > kReplaysKept) {
+    replays_.erase(replay_order_.front());
+    replay_order_.erase(replay_order_.begin());
+  }
+  return replay;
+}
+
+namespace {
+
+// Puts a recorded state into a replayed scene, after checking that it fits the scene's model.
+uint64_t ApplyState(Scene* scene, const std::string& bytes, const std::string& what) {
+  SceneState recorded = persistence::DecodeState(bytes, what);
+  return scene->Update([&](const std::shared_ptr<const SceneModel>& model, SceneState* state) {
+    if (recorded.body_poses.size() != model->bodies.size() || recorded.joint_positions.size() != model->joints.size()) {
+      throw Error(ErrorCode::kFailedPrecondition, what + " does not fit scene '" + scene->id() +
+                                                      "': was it replayed from this recording?");
+    }
+    *state = std::move(recorded);
+  });
+}
+
+}  // namespace
+
+grpc::ServerUnaryReactor* RecordingServiceImpl::ReplayRecording(Context* context,
+                                                                const v1::ReplayRecordingRequest* request,
+                                                                v1::ReplayRecordingResponse* response) {
+  return RunUnary(context, "RecordingService/ReplayRecording", pool_, [=, this] {
+    const auto replay = LoadReplay(request->name());
+    auto scene = registry_->Create(request->scene_name().empty() ? "replay of " + request->name() : request->scene_name());
+    try {
+      for (size_t i = 0; i < replay->edits.size(); ++i) {
+        try {
+          ReplayEdit(scene.get(), replay->edits[i], registry_->limits());
+        } catch (const Error& error) {
+          throw Error(ErrorCode::kFailedPrecondition, "recording '" + request->name() + "', edit " +
+                                                          std::to_string(i + 1) + " (" + replay->edits[i].kind +
+                                                          "): " + error.what());
+        }
+      }
+      ApplyState(scene.get(), replay->states.front(), "recording '" + request->name() + "', frame 0");
+    } catch (...) {
+      registry_->Delete(scene->id());  // a replay that fails leaves no half-built scene behind
+      throw;
+    }
+    response->set_scene_id(scene->id());
+    response->set_frames(replay->states.size());
+    for (double t : replay->times) response->add_frame_times(t);
+  });
+}
+
+grpc::ServerUnaryReactor* RecordingServiceImpl::SeekReplay(Context* context, const v1::SeekReplayRequest* request,
+                                                           v1::SeekReplayResponse* response) {
+  return RunUnary(context, "RecordingService/SeekReplay", pool_, [=, this] {
+    auto scene = registry_->Get(request->scene_id());
+    const auto replay = LoadReplay(request->name());
+    if (request->frame() >= replay->states.size()) {
+      ThrowInvalidArgument("frame: " + std::to_string(request->frame()) + " is past the last frame (" +
+                           std::to_string(replay->states.size() - 1) + ")");
+    }
+    const std::string what = "recording '" + request->name() + "', frame " + std::to_string(request->frame());
+    response->set_revision(ApplyState(scene.get(), replay->states[request->frame()], what));
+    response->set_time(replay->times[request->frame()]);
+  });
+}
+
+}  // namespace graspsim::rpc

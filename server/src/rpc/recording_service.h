@@ -1,0 +1,55 @@
+// graspsim.v1.RecordingService (docs/recording.md): recordings of scenes as MCAP files (recording_session.h),
+// their download, and their replay into new scenes. Recording files live in one directory; names are plain file
+// names, so a request can neither read nor write outside it.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/worker_pool.h"
+#include "graspsim/v1/recording.grpc.pb.h"
+#include "recording/frame_tap.h"
+#include "world/scene_registry.h"
+
+namespace graspsim::rpc {
+
+class RecordingServiceImpl final : public v1::RecordingService::CallbackService {
+ public:
+  // `directory`: where recordings are written and read ("" = recordings are off: FAILED_PRECONDITION).
+  RecordingServiceImpl(SceneRegistry* registry, WorkerPool* pool, std::string directory);
+  ~RecordingServiceImpl() override;
+
+  // --record: records `scene` from now on under "<scene id>-<UTC time>.mcap" (every group, zstd).
+  void RecordAutomatically(const std::shared_ptr<Scene>& scene);
+  // Finishes every recording (server shutdown): their files are complete.
+  void StopAll();
+
+  using Context = grpc::CallbackServerContext;
+  using Unary = grpc::ServerUnaryReactor;
+  Unary* StartRecording(Context*, const v1::StartRecordingRequest*, v1::Recording*) override;
+  Unary* StopRecording(Context*, const v1::StopRecordingRequest*, v1::Recording*) override;
+  Unary* ListRecordings(Context*, const v1::ListRecordingsRequest*, v1::ListRecordingsResponse*) override;
+  grpc::ServerWriteReactor<v1::RecordingChunk>* DownloadRecording(Context*, const v1::DownloadRecordingRequest*) override;
+  Unary* ReplayRecording(Context*, const v1::ReplayRecordingRequest*, v1::ReplayRecordingResponse*) override;
+  Unary* SeekReplay(Context*, const v1::SeekReplayRequest*, v1::SeekReplayResponse*) override;
+
+ private:
+  struct Active;
+  struct Replay;
+  void Start(const std::shared_ptr<Scene>& scene, const v1::StartRecordingRequest& request, v1::Recording* out);
+  std::string PathOf(const std::string& field, const std::string& name) const;
+  std::shared_ptr<const Replay> LoadReplay(const std::string& name);
+
+  SceneRegistry* registry_;
+  WorkerPool* pool_;
+  const std::string directory_;
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<Active>> active_;  // by scene id
+  std::map<std::string, std::shared_ptr<const Replay>> replays_;  // by recording name, the last few loaded
+  std::vector<std::string> replay_order_;
+};
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,59 @@
+#include "rpc/recording_session.h"
+
+namespace graspsim::rpc {
+namespace {
+
+constexpr auto kFlushInterval = std::chrono::seconds(1);
+
+std::unique_ptr<recording::McapWriter> OpenFile(const RecordingOptions& options) {
+  return std::make_unique<recording::McapWriter>(options.path, recording::McapOptions{"", options.compression});
+}
+
+}  // namespace
+
+RecordingSession::RecordingSession(const RecordingOptions& options, std::vector<SceneOp> edits)
+    : file_(OpenFile(options)),
+      file_channels_(file_.get()),
+      channels_(&file_channels_, options.groups, options.force_torque_joints),
+      edits_(std::move(edits)) {
+  if (options.groups.ros2) {
+    bag_ = std::make_unique<recording::Ros2Bag>(options.ros2_path, options.compression);
+    ros2_ = std::make_unique<recording::Ros2Channels>(bag_.get(), options.force_torque_joints);
+  }
+}
+
+void RecordingSession::Consume(const SceneSnapshot& frame) {
+  const double time = frame.state->time;
+  if (first_) {
+    first_ = false;
+    start_time_ = time;
+    channels_.WriteEdits(edits_, time);
+    edits_.clear();
+    channels_.Log(time, 2, "recording started at t = " + std::to_string(time) + " s");
+  }
+  last_time_ = time;
+  end_time_ = time;
+  channels_.Write(frame);
+  if (ros2_) ros2_->Write(frame);
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_flush_ >= kFlushInterval) {
+    file_->Flush();
+    if (bag_) bag_->Flush();
+    last_flush_ = now;
+  }
+  Publish();
+}
+
+void RecordingSession::Finish() {
+  if (!first_) channels_.Log(last_time_, 2, "recording stopped at t = " + std::to_string(last_time_) + " s");
+  if (bag_) bag_->Close();
+  file_->Close();
+  Publish();
+}
+
+void RecordingSession::Publish() {
+  messages_ = file_->message_count();
+  bytes_ = file_->bytes_written() + (bag_ ? bag_->bytes_written() : 0);
+}
+
+}  // namespace graspsim::rpc

@@ -1,0 +1,57 @@
+// One recording: a scene's frames into an MCAP file (graspsim and Foxglove channels) and, with the "ros2" group,
+// a ROS 2 bag directory beside it. Fed by a recording::FrameTap on its own thread; chunks are written out as they
+// fill and at least once a second, so a server killed mid-run leaves every earlier second readable.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "recording/frame_tap.h"
+#include "recording/mcap_writer.h"
+#include "recording/ros2_bag.h"
+#include "recording/ros2_channels.h"
+#include "rpc/recording_channels.h"
+
+namespace graspsim::rpc {
+
+struct RecordingOptions {
+  std::string path;       // the .mcap file
+  std::string ros2_path;  // the bag directory; empty without the ros2 group
+  ChannelGroups groups;
+  recording::Compression compression = recording::Compression::kZstd;
+  std::vector<std::string> force_torque_joints;
+};
+
+class RecordingSession : public recording::FrameConsumer {
+ public:
+  // Creates the files (Error(kFailedPrecondition) naming a path that cannot be created). `edits` are the
+  // scene's edits so far, written before the first frame.
+  RecordingSession(const RecordingOptions& options, std::vector<SceneOp> edits);
+  void Consume(const SceneSnapshot& frame) override;
+  void Finish() override;
+
+  uint64_t messages() const { return messages_.load(); }
+  uint64_t bytes() const { return bytes_.load(); }
+  double start_time() const { return start_time_.load(); }
+  double end_time() const { return end_time_.load(); }
+
+ private:
+  void Publish();
+
+  std::unique_ptr<recording::McapWriter> file_;
+  recording::McapChannelWriter file_channels_;
+  ProtobufChannels channels_;
+  std::unique_ptr<recording::Ros2Bag> bag_;
+  std::unique_ptr<recording::Ros2Channels> ros2_;
+  std::vector<SceneOp> edits_;
+  bool first_ = true;
+  double last_time_ = 0;
+  std::chrono::steady_clock::time_point last_flush_ = std::chrono::steady_clock::now();
+  std::atomic<uint64_t> messages_{0}, bytes_{0};
+  std::atomic<double> start_time_{0}, end_time_{0};
+};
+
+}  // namespace graspsim::rpc
