@@ -51,10 +51,19 @@ void FrameTap::Run() {
     std::shared_ptr<const SceneSnapshot> frame;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return !queue_.empty() || stopping_; });
-      if (queue_.empty()) break;
-      frame = std::move(queue_.front());
-      queue_.pop_front();
+      const auto ready = [&] { return !queue_.empty() || stopping_; };
+      const auto idle = consumer_->idle_interval();
+      if (idle.count() == 0) {
+        wake_.wait(lock, ready);
+      } else if (!wake_.wait_for(lock, idle, ready)) {
+        lock.unlock();
+        frame = scene_->DetailedSnapshot();  // idle: the current state again
+      }
+      if (!frame) {
+        if (queue_.empty()) break;
+        frame = std::move(queue_.front());
+        queue_.pop_front();
+      }
     }
     try {
       if (error_.empty()) consumer_->Consume(*frame);
@@ -72,6 +81,13 @@ void FrameTap::Run() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (error_.empty()) error_ = error.what();
   }
+  std::lock_guard<std::mutex> lock(mutex_);
+  finished_ = true;
+}
+
+bool FrameTap::finished() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return finished_;
 }
 
 std::string FrameTap::Stop() {

@@ -4,6 +4,7 @@
 // counted (Recording.dropped_frames).
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -24,6 +25,9 @@ class FrameConsumer {
   virtual void Consume(const SceneSnapshot& frame) = 0;
   // After the last frame (Stop, or the scene was deleted).
   virtual void Finish() {}
+  // Non-zero: when the scene publishes nothing for this long, the current state is consumed again (a live client
+  // that subscribed to an idle scene still gets it).
+  virtual std::chrono::milliseconds idle_interval() const { return std::chrono::milliseconds(0); }
 };
 
 class FrameTap : public SnapshotWatcher, public std::enable_shared_from_this<FrameTap> {
@@ -38,6 +42,8 @@ class FrameTap : public SnapshotWatcher, public std::enable_shared_from_this<Fra
 
   uint64_t frames() const;
   uint64_t dropped() const;
+  // The thread has ended by itself (the scene was deleted) or by Stop.
+  bool finished() const;
   FrameConsumer& consumer() { return *consumer_; }
 
   void OnSnapshotAvailable() override;
@@ -53,7 +59,7 @@ class FrameTap : public SnapshotWatcher, public std::enable_shared_from_this<Fra
   std::condition_variable wake_;
   std::deque<std::shared_ptr<const SceneSnapshot>> queue_;
   uint64_t last_sequence_ = 0, frames_ = 0, dropped_ = 0;
-  bool stopping_ = false, subscribed_ = false;
+  bool stopping_ = false, subscribed_ = false, finished_ = false;
   std::string error_;
   std::thread thread_;
 };

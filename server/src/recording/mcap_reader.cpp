@@ -13,8 +13,8 @@
 namespace graspsim::recording {
 namespace {
 
-[[noreturn]] void Corrupt(const std::string& path, const std::string& what) {
-  throw Error(ErrorCode::kFailedPrecondition, "recording '" + path + "': " + what);
+[[noreturn]] void Corrupt(const std::string& label, const std::string& what) {
+  throw Error(ErrorCode::kFailedPrecondition, "recording '" + label + "': " + what);
 }
 
 // A bounds-checked little-endian cursor over one record's body.
@@ -119,15 +119,16 @@ class Scanner {
 
 }  // namespace
 
-void ReadMcap(const std::string& path, const std::function<void(const McapMessage&)>& on_message) {
+void ReadMcap(const std::string& path, const std::string& label,
+              const std::function<void(const McapMessage&)>& on_message) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorCode::kNotFound, "recording '" + path + "' cannot be opened: " + std::strerror(errno));
+  if (!in) throw Error(ErrorCode::kNotFound, "recording '" + label + "' cannot be opened: " + std::strerror(errno));
   std::ostringstream contents;
   contents << in.rdbuf();
   const std::string bytes = contents.str();
   static constexpr char kMagic[] = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0) Corrupt(path, "not an MCAP file");
-  Scanner(path, on_message).Records(std::string_view(bytes).substr(8), true);
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0) Corrupt(label, "not an MCAP file");
+  Scanner(label, on_message).Records(std::string_view(bytes).substr(8), true);
 }
 
 }  // namespace graspsim::recording

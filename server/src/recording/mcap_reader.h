@@ -16,8 +16,10 @@ struct McapMessage {
   std::string_view data;
 };
 
-// Calls `on_message` for every message in file order. Throws Error(kFailedPrecondition) naming the path when it
-// is not an MCAP file or a record is corrupt; a file cut short ends the scan without an error.
-void ReadMcap(const std::string& path, const std::function<void(const McapMessage&)>& on_message);
+// Calls `on_message` for every message in file order. Throws Error(kFailedPrecondition) naming `label` (the
+// name a caller knows the file by) when it is not an MCAP file or a record is corrupt, Error(kNotFound) when it
+// cannot be opened; a file cut short ends the scan without an error.
+void ReadMcap(const std::string& path, const std::string& label,
+              const std::function<void(const McapMessage&)>& on_message);
 
 }  // namespace graspsim::recording

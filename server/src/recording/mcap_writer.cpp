@@ -101,6 +101,7 @@ McapWriter::McapWriter(const std::string& path, McapOptions options) : path_(pat
   Str(&header, "graspsim");
   Record(&head, kHeader, header);
   WriteOut(head);
+  std::fflush(file_);  // a reader of a recording in progress sees an MCAP file from the start
 }
 
 McapWriter::~McapWriter() {

@@ -29,11 +29,20 @@ class ConnectionWriter : public recording::ChannelWriter {
 
 class LiveFeed : public recording::FrameConsumer {
  public:
-  explicit LiveFeed(std::shared_ptr<live::Connection> connection)
-      : writer_(std::move(connection)), channels_(&writer_, {true, true, false}, {}) {}
-  void Consume(const SceneSnapshot& frame) override { channels_.Write(frame); }
+  LiveFeed(std::shared_ptr<live::Connection> connection, std::string scene_id)
+      : scene_id_(std::move(scene_id)), writer_(std::move(connection)), channels_(&writer_, {true, true, false}, {}) {}
+  void Consume(const SceneSnapshot& frame) override {
+    if (first_) {
+      first_ = false;
+      channels_.Log(frame.state->time, 2, "live feed of scene '" + scene_id_ + "'");
+    }
+    channels_.Write(frame);
+  }
+  std::chrono::milliseconds idle_interval() const override { return std::chrono::milliseconds(500); }
 
  private:
+  const std::string scene_id_;
+  bool first_ = true;
   ConnectionWriter writer_;
   ProtobufChannels channels_;
 };
@@ -70,7 +79,7 @@ std::unique_ptr<live::FoxgloveServer> StartFoxgloveLive(const std::string& liste
       return nullptr;
     }
     auto session = std::make_shared<LiveSession>();
-    session->tap = std::make_shared<recording::FrameTap>(scene, std::make_unique<LiveFeed>(connection));
+    session->tap = std::make_shared<recording::FrameTap>(scene, std::make_unique<LiveFeed>(connection, id));
     session->tap->Start();
     return session;
   });

@@ -13,6 +13,7 @@
 #include "graspsim/v1/gateway.pb.h"
 #include "graspsim/v1/grasp.pb.h"
 #include "graspsim/v1/perception.pb.h"
+#include "graspsim/v1/recording.pb.h"
 #include "graspsim/v1/scene.pb.h"
 #include "graspsim/v1/tactile.pb.h"
 
@@ -48,6 +49,7 @@ const std::vector<const pb::ServiceDescriptor*>& ApiServices() {
       v1::PlanGraspsRequest::descriptor()->file()->service(0),
       v1::SampleRequest::descriptor()->file()->service(0),
       v1::ListDevicesRequest::descriptor()->file()->service(0),
+      v1::StartRecordingRequest::descriptor()->file()->service(0),
   };
   return services;
 }

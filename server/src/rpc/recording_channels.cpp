@@ -173,6 +173,7 @@ struct ProtobufChannels::Channels {
   // The scene descriptions go out when the body list changes, and until a reader took them (a live client that
   // subscribes after the first frame still gets them).
   bool scene_pending = true, foxglove_scene_pending = true;
+  size_t edits_written = 0;
 };
 
 ProtobufChannels::ProtobufChannels(recording::ChannelWriter* writer, ChannelGroups groups,
@@ -180,19 +181,6 @@ ProtobufChannels::ProtobufChannels(recording::ChannelWriter* writer, ChannelGrou
     : channels_(new Channels{writer, groups, std::move(force_torque_joints), {}, nullptr}) {}
 
 ProtobufChannels::~ProtobufChannels() = default;
-
-void ProtobufChannels::WriteEdits(const std::vector<SceneOp>& edits, double time) {
-  if (!channels_->groups.graspsim) return;
-  for (const SceneOp& op : edits) {
-    channels_->Put<v1::RecordedEdit>("/graspsim/edit", time, [&](v1::RecordedEdit* edit) {
-      edit->set_kind(op.kind);
-      edit->set_request(op.payload);
-      edit->set_path(op.path);
-      edit->set_sha256(op.sha256);
-      if (op.file) edit->set_file(*op.file);
-    });
-  }
-}
 
 void ProtobufChannels::Log(double time, int level, const std::string& message) {
   if (!channels_->groups.foxglove) return;
@@ -213,6 +201,16 @@ void ProtobufChannels::Write(const SceneSnapshot& frame) {
   c.last_body_ids = frame.body_ids;
 
   if (c.groups.graspsim) {
+    for (; c.edits_written < frame.edits->size(); ++c.edits_written) {
+      const SceneOp& op = *(*frame.edits)[c.edits_written];
+      c.Put<v1::RecordedEdit>("/graspsim/edit", time, [&](v1::RecordedEdit* edit) {
+        edit->set_kind(op.kind);
+        edit->set_request(op.payload);
+        edit->set_path(op.path);
+        edit->set_sha256(op.sha256);
+        if (op.file) edit->set_file(*op.file);
+      });
+    }
     if (c.scene_pending) {
       c.scene_pending = !c.Put<v1::Scene>("/graspsim/scene", time, [&](v1::Scene* scene) {
         SceneView view;
@@ -227,6 +225,7 @@ void ProtobufChannels::Write(const SceneSnapshot& frame) {
       out->set_time(time);
       out->set_revision(frame.revision);
       out->set_state(persistence::EncodeState(state));
+      out->set_edits(frame.edits->size());
     });
     for (size_t pad = 0; pad < model.tactile_arrays.size(); ++pad) {
       c.Put<v1::SensorReading>("/graspsim/sensor", time, [&](v1::SensorReading* out) {

@@ -24,9 +24,7 @@ class ProtobufChannels {
  public:
   ProtobufChannels(recording::ChannelWriter* writer, ChannelGroups groups, std::vector<std::string> force_torque_joints);
   ~ProtobufChannels();
-  // The scene's edits (graspsim group), once, before the first frame.
-  void WriteEdits(const std::vector<SceneOp>& edits, double time);
-  // One frame (carrying its model and state).
+  // One frame (carrying its model, state and edits): edits not written yet go first.
   void Write(const SceneSnapshot& frame);
   // A line on "/log" (foxglove group).
   void Log(double time, int level, const std::string& message);

@@ -43,7 +43,7 @@ class FileDownload : public grpc::ServerWriteReactor<v1::RecordingChunk> {
  public:
   FileDownload(const std::string& path) : in_(path, std::ios::binary) {
     if (!in_) {
-      Finish(grpc::Status(grpc::StatusCode::NOT_FOUND, "name: no recording at '" + path + "'"));
+      Finish(grpc::Status(grpc::StatusCode::NOT_FOUND, "name: no recording '" + fs::path(path).filename().string() + "'"));
       return;
     }
     Next();
@@ -102,6 +102,7 @@ struct RecordingServiceImpl::Replay {
   std::vector<SceneOp> edits;
   std::vector<std::string> states;  // persistence::EncodeState bytes, per frame
   std::vector<double> times;
+  std::vector<uint64_t> edit_counts;  // per frame: the edits its model needs
 };
 
 RecordingServiceImpl::RecordingServiceImpl(SceneRegistry* registry, WorkerPool* pool, std::string directory)
@@ -118,6 +119,18 @@ void RecordingServiceImpl::StopAll() {
     active.swap(active_);
   }
   for (auto& [id, recording] : active) recording->tap->Stop();
+}
+
+void RecordingServiceImpl::ReapLocked() {
+  for (auto it = active_.begin(); it != active_.end();) {
+    if (!it->second->tap->finished()) {
+      ++it;
+      continue;
+    }
+    it->second->tap->Stop();
+    it->second->ToProto(false, &finished_[it->second->name]);
+    it = active_.erase(it);
+  }
 }
 
 std::string RecordingServiceImpl::PathOf(const std::string& field, const std::string& name) const {
@@ -148,6 +161,7 @@ void RecordingServiceImpl::Start(const std::shared_ptr<Scene>& scene, const v1::
   if (options.groups.ros2) options.ros2_path = Ros2PathOf(options.path);
 
   std::lock_guard<std::mutex> lock(mutex_);
+  ReapLocked();
   if (auto it = active_.find(scene->id()); it != active_.end()) {
     throw Error(ErrorCode::kAlreadyExists, "scene_id: scene '" + scene->id() + "' is already being recorded to '" +
                                                it->second->name + "'; stop that recording first");
@@ -155,7 +169,7 @@ void RecordingServiceImpl::Start(const std::shared_ptr<Scene>& scene, const v1::
   if (fs::exists(options.path) || (!options.ros2_path.empty() && fs::exists(options.ros2_path))) {
     throw Error(ErrorCode::kAlreadyExists, "name: a recording '" + name + "' exists; choose another name");
   }
-  auto session = std::make_unique<RecordingSession>(options, scene->Edits());
+  auto session = std::make_unique<RecordingSession>(options);
   auto active = std::make_shared<Active>();
   active->name = name;
   active->path = options.path;
@@ -199,6 +213,10 @@ grpc::ServerUnaryReactor* RecordingServiceImpl::StopRecording(Context* context, 
     }
     const std::string error = active->tap->Stop();
     active->ToProto(false, response);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      finished_[active->name] = *response;
+    }
     if (!error.empty()) throw Error(ErrorCode::kInternal, "recording '" + active->name + "' failed: " + error);
     Log(LogLevel::kInfo, "recording stopped", {{"scene", active->scene_id}, {"path", active->path},
                                                {"frames", std::to_string(response->frames())}});
@@ -209,6 +227,7 @@ grpc::ServerUnaryReactor* RecordingServiceImpl::ListRecordings(Context* context,
                                                                v1::ListRecordingsResponse* response) {
   return RunUnary(context, "RecordingService/ListRecordings", pool_, [=, this] {
     std::lock_guard<std::mutex> lock(mutex_);
+    ReapLocked();
     std::set<std::string> listed;
     for (const auto& [id, active] : active_) {
       active->ToProto(true, response->add_recordings());
@@ -220,12 +239,15 @@ grpc::ServerUnaryReactor* RecordingServiceImpl::ListRecordings(Context* context,
       if (entry.path().extension() == ".mcap" && !listed.count(entry.path().filename().string())) files.push_back(entry.path());
     }
     std::sort(files.begin(), files.end());
+    // Files this server finished carry their figures; older ones (before a restart) their name and size.
     for (const auto& file : files) {
       v1::Recording* out = response->add_recordings();
+      if (auto it = finished_.find(file.filename().string()); it != finished_.end()) *out = it->second;
       out->set_name(file.filename().string());
       out->set_path(file.string());
       if (fs::exists(Ros2PathOf(file.string()))) out->set_ros2_path(Ros2PathOf(file.string()));
       out->set_bytes(fs::file_size(file));
+      out->set_active(false);
     }
   });
 }
@@ -243,10 +265,18 @@ std::shared_ptr<const RecordingServiceImpl::Replay> RecordingServiceImpl::LoadRe
   const std::string path = PathOf("name", name);
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    ReapLocked();
+    for (const auto& [id, active] : active_) {
+      if (active->name == name) {
+        throw Error(ErrorCode::kFailedPrecondition,
+                    "name: recording '" + name + "' of scene '" + id + "' is still being written; stop it first");
+      }
+    }
     if (auto it = replays_.find(name); it != replays_.end()) return it->second;
   }
+  if (!fs::exists(path)) ThrowNotFound("name: no recording '" + name + "'");
   auto replay = std::make_shared<Replay>();
-  recording::ReadMcap(path, [&](const recording::McapMessage& message) {
+  recording::ReadMcap(path, name, [&](const recording::McapMessage& message) {
     if (message.topic == "/graspsim/edit") {
       v1::RecordedEdit edit;
       if (!edit.ParseFromArray(message.data.data(), static_cast<int>(message.data.size()))) {
@@ -260,8 +290,12 @@ std::shared_ptr<const RecordingServiceImpl::Replay> RecordingServiceImpl::LoadRe
       if (!state.ParseFromArray(message.data.data(), static_cast<int>(message.data.size()))) {
         throw Error(ErrorCode::kFailedPrecondition, "recording '" + name + "': a state does not parse");
       }
+      if (state.edits() > replay->edits.size()) {
+        throw Error(ErrorCode::kFailedPrecondition, "recording '" + name + "': a state needs edits not recorded");
+      }
       replay->times.push_back(state.time());
       replay->states.push_back(state.state());
+      replay->edit_counts.push_back(state.edits());
     }
   });
   if (replay->states.empty()) {
@@ -278,21 +312,32 @@ std::shared_ptr<const RecordingServiceImpl::Replay> RecordingServiceImpl::LoadRe
   return replay;
 }
 
-namespace {
-
-// Puts a recorded state into a replayed scene, after checking that it fits the scene's model.
-uint64_t ApplyState(Scene* scene, const std::string& bytes, const std::string& what) {
-  SceneState recorded = persistence::DecodeState(bytes, what);
+uint64_t RecordingServiceImpl::SeekLocked(Scene* scene, const std::string& name, const Replay& replay, size_t frame) {
+  ReplayedScene& replayed = replayed_[scene->id()];
+  const size_t needed = replay.edit_counts[frame];
+  if (needed < replayed.edits) {
+    throw Error(ErrorCode::kFailedPrecondition,
+                "frame: " + std::to_string(frame) + " comes before edit " + std::to_string(replayed.edits) +
+                    " (already applied to scene '" + scene->id() + "'); replay the recording again to go back past it");
+  }
+  for (; replayed.edits < needed; ++replayed.edits) {
+    try {
+      ReplayEdit(scene, replay.edits[replayed.edits], registry_->limits());
+    } catch (const Error& error) {
+      throw Error(ErrorCode::kFailedPrecondition, "recording '" + name + "', edit " +
+                                                      std::to_string(replayed.edits + 1) + " (" +
+                                                      replay.edits[replayed.edits].kind + "): " + error.what());
+    }
+  }
+  const std::string what = "recording '" + name + "', frame " + std::to_string(frame);
+  SceneState recorded = persistence::DecodeState(replay.states[frame], what);
   return scene->Update([&](const std::shared_ptr<const SceneModel>& model, SceneState* state) {
     if (recorded.body_poses.size() != model->bodies.size() || recorded.joint_positions.size() != model->joints.size()) {
-      throw Error(ErrorCode::kFailedPrecondition, what + " does not fit scene '" + scene->id() +
-                                                      "': was it replayed from this recording?");
+      throw Error(ErrorCode::kFailedPrecondition, what + " does not fit scene '" + scene->id() + "'");
     }
     *state = std::move(recorded);
   });
 }
-
-}  // namespace
 
 grpc::ServerUnaryReactor* RecordingServiceImpl::ReplayRecording(Context* context,
                                                                 const v1::ReplayRecordingRequest* request,
@@ -301,17 +346,14 @@ grpc::ServerUnaryReactor* RecordingServiceImpl::ReplayRecording(Context* context
     const auto replay = LoadReplay(request->name());
     auto scene = registry_->Create(request->scene_name().empty() ? "replay of " + request->name() : request->scene_name());
     try {
-      for (size_t i = 0; i < replay->edits.size(); ++i) {
-        try {
-          ReplayEdit(scene.get(), replay->edits[i], registry_->limits());
-        } catch (const Error& error) {
-          throw Error(ErrorCode::kFailedPrecondition, "recording '" + request->name() + "', edit " +
-                                                          std::to_string(i + 1) + " (" + replay->edits[i].kind +
-                                                          "): " + error.what());
-        }
-      }
-      ApplyState(scene.get(), replay->states.front(), "recording '" + request->name() + "', frame 0");
+      std::lock_guard<std::mutex> lock(mutex_);
+      replayed_[scene->id()] = {request->name(), 0};
+      SeekLocked(scene.get(), request->name(), *replay, 0);
     } catch (...) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        replayed_.erase(scene->id());
+      }
       registry_->Delete(scene->id());  // a replay that fails leaves no half-built scene behind
       throw;
     }
@@ -326,12 +368,21 @@ grpc::ServerUnaryReactor* RecordingServiceImpl::SeekReplay(Context* context, con
   return RunUnary(context, "RecordingService/SeekReplay", pool_, [=, this] {
     auto scene = registry_->Get(request->scene_id());
     const auto replay = LoadReplay(request->name());
+    {
+      // Only a replay's own scene: seeking must never overwrite a scene someone is working in.
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto it = replayed_.find(scene->id());
+      if (it == replayed_.end() || it->second.name != request->name()) {
+        throw Error(ErrorCode::kFailedPrecondition, "scene_id: scene '" + scene->id() +
+                                                        "' was not made by ReplayRecording of '" + request->name() + "'");
+      }
+    }
     if (request->frame() >= replay->states.size()) {
       ThrowInvalidArgument("frame: " + std::to_string(request->frame()) + " is past the last frame (" +
                            std::to_string(replay->states.size() - 1) + ")");
     }
-    const std::string what = "recording '" + request->name() + "', frame " + std::to_string(request->frame());
-    response->set_revision(ApplyState(scene.get(), replay->states[request->frame()], what));
+    std::lock_guard<std::mutex> lock(mutex_);
+    response->set_revision(SeekLocked(scene.get(), request->name(), *replay, request->frame()));
     response->set_time(replay->times[request->frame()]);
   });
 }

@@ -42,12 +42,22 @@ class RecordingServiceImpl final : public v1::RecordingService::CallbackService 
   void Start(const std::shared_ptr<Scene>& scene, const v1::StartRecordingRequest& request, v1::Recording* out);
   std::string PathOf(const std::string& field, const std::string& name) const;
   std::shared_ptr<const Replay> LoadReplay(const std::string& name);
+  // Caller holds mutex_. Recordings whose scene was deleted end by themselves: move them to finished_.
+  void ReapLocked();
+  // Applies the edits a frame needs to a replayed scene and then its state.
+  uint64_t SeekLocked(Scene* scene, const std::string& name, const Replay& replay, size_t frame);
 
   SceneRegistry* registry_;
   WorkerPool* pool_;
   const std::string directory_;
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Active>> active_;  // by scene id
+  std::map<std::string, v1::Recording> finished_;          // by name: recordings this server finished
+  struct ReplayedScene {
+    std::string name;    // the recording
+    size_t edits = 0;    // of its edits applied
+  };
+  std::map<std::string, ReplayedScene> replayed_;          // by scene id: scenes made by ReplayRecording
   std::map<std::string, std::shared_ptr<const Replay>> replays_;  // by recording name, the last few loaded
   std::vector<std::string> replay_order_;
 };

@@ -11,11 +11,10 @@ std::unique_ptr<recording::McapWriter> OpenFile(const RecordingOptions& options)
 
 }  // namespace
 
-RecordingSession::RecordingSession(const RecordingOptions& options, std::vector<SceneOp> edits)
+RecordingSession::RecordingSession(const RecordingOptions& options)
     : file_(OpenFile(options)),
       file_channels_(file_.get()),
-      channels_(&file_channels_, options.groups, options.force_torque_joints),
-      edits_(std::move(edits)) {
+      channels_(&file_channels_, options.groups, options.force_torque_joints) {
   if (options.groups.ros2) {
     bag_ = std::make_unique<recording::Ros2Bag>(options.ros2_path, options.compression);
     ros2_ = std::make_unique<recording::Ros2Channels>(bag_.get(), options.force_torque_joints);
@@ -27,8 +26,6 @@ void RecordingSession::Consume(const SceneSnapshot& frame) {
   if (first_) {
     first_ = false;
     start_time_ = time;
-    channels_.WriteEdits(edits_, time);
-    edits_.clear();
     channels_.Log(time, 2, "recording started at t = " + std::to_string(time) + " s");
   }
   last_time_ = time;
@@ -53,7 +50,7 @@ void RecordingSession::Finish() {
 
 void RecordingSession::Publish() {
   messages_ = file_->message_count();
-  bytes_ = file_->bytes_written() + (bag_ ? bag_->bytes_written() : 0);
+  bytes_ = file_->bytes_written();
 }
 
 }  // namespace graspsim::rpc

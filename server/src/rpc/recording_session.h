@@ -27,14 +27,13 @@ struct RecordingOptions {
 
 class RecordingSession : public recording::FrameConsumer {
  public:
-  // Creates the files (Error(kFailedPrecondition) naming a path that cannot be created). `edits` are the
-  // scene's edits so far, written before the first frame.
-  RecordingSession(const RecordingOptions& options, std::vector<SceneOp> edits);
+  // Creates the files (Error(kFailedPrecondition) naming a path that cannot be created).
+  explicit RecordingSession(const RecordingOptions& options);
   void Consume(const SceneSnapshot& frame) override;
   void Finish() override;
 
   uint64_t messages() const { return messages_.load(); }
-  uint64_t bytes() const { return bytes_.load(); }
+  uint64_t bytes() const { return bytes_.load(); }  // of the .mcap file
   double start_time() const { return start_time_.load(); }
   double end_time() const { return end_time_.load(); }
 
@@ -46,7 +45,6 @@ class RecordingSession : public recording::FrameConsumer {
   ProtobufChannels channels_;
   std::unique_ptr<recording::Ros2Bag> bag_;
   std::unique_ptr<recording::Ros2Channels> ros2_;
-  std::vector<SceneOp> edits_;
   bool first_ = true;
   double last_time_ = 0;
   std::chrono::steady_clock::time_point last_flush_ = std::chrono::steady_clock::now();

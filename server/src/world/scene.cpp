@@ -87,12 +87,11 @@ void Scene::JournalLocked(const SceneOp* op, const SceneState& state, bool chang
     journal_->SceneChanged(id_, op, state, revision_ + 1);
     journaled_revision_ = revision_ + 1;
   }
-  if (op) edits_.push_back(*op);
-}
-
-std::vector<SceneOp> Scene::Edits() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return edits_;
+  if (op) {
+    auto edits = std::make_shared<SceneEdits>(*edits_);  // copies pointers, not requests
+    edits->push_back(std::make_shared<const SceneOp>(*op));
+    edits_ = std::move(edits);
+  }
 }
 
 std::shared_ptr<const SceneSnapshot> Scene::DetailedSnapshot() const {
@@ -444,6 +443,7 @@ std::shared_ptr<SceneSnapshot> Scene::SnapshotLocked(bool detail, bool publish) 
   if (detail) {
     snapshot->model = model_;
     snapshot->state = std::make_shared<const SceneState>(state_);
+    snapshot->edits = edits_;
   }
   return snapshot;
 }

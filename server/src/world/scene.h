@@ -97,9 +97,7 @@ class Scene {
   // A new model with these simulation parameters (validated by the caller).
   uint64_t SetSimulationParams(const SimulationParams& params, const SceneOp* op = nullptr);
 
-  // The edits that built the model, in order (what the journal stores), for a recording to replay it.
-  std::vector<SceneOp> Edits() const;
-  // A snapshot of the scene as it is now, with its model and state (SceneSnapshot::model, ::state).
+  // A snapshot of the scene as it is now, with its model, state and edits (SceneSnapshot::model, ::state, ::edits).
   std::shared_ptr<const SceneSnapshot> DetailedSnapshot() const;
 
   // Ends every watcher's stream (scene deleted or server stopping).
@@ -127,7 +125,9 @@ class Scene {
   uint64_t revision_ = 0;
   SceneJournal* journal_ = nullptr;
   uint64_t journaled_revision_ = 0;  // the revision whose state the journal holds
-  std::vector<SceneOp> edits_;  // every model edit with its op, kept with or without a journal
+  // Every model edit with its op, in order, kept with or without a journal (recordings replay them). Replaced,
+  // never changed in place, so snapshots share it.
+  std::shared_ptr<const SceneEdits> edits_ = std::make_shared<const SceneEdits>();
   mutable uint64_t snapshot_sequence_ = 0;
   mutable std::shared_ptr<const std::vector<std::string>> snapshot_body_ids_, snapshot_joint_ids_;
   SnapshotHub hub_;

@@ -12,6 +12,9 @@
 
 namespace graspsim {
 
+struct SceneOp;  // world/scene_journal.h
+using SceneEdits = std::vector<std::shared_ptr<const SceneOp>>;
+
 struct SceneSnapshot {
   uint64_t sequence = 0;  // per hub, +1 per publication
   uint64_t revision = 0;
@@ -23,9 +26,11 @@ struct SceneSnapshot {
   std::vector<double> contacts;         // 6 per contact: point x y z (m), force on body_a x y z (N), world
   std::vector<uint32_t> contact_bodies;  // 2 per contact: body_a, body_b (indices into body_ids)
   // The whole model and state, only while a watcher asked for them (SnapshotHub::WantDetail): a recording
-  // encodes sensors and the exact state from them; other watchers need only the flat arrays above.
+  // encodes sensors, the exact state and the edits that built the model from them; other watchers need only
+  // the flat arrays above.
   std::shared_ptr<const struct SceneModel> model;
   std::shared_ptr<const struct SceneState> state;
+  std::shared_ptr<const SceneEdits> edits;  // every model edit so far, in order
 };
 
 class SnapshotWatcher {
