@@ -1,34 +1,22 @@
-"""RecordingService through the real server (issue 25, docs/recording.md): a work cycle recorded as MCAP and
-checked with the field's own readers, not only ours: mcap's seeking and streaming readers, classes built from the
-schemas embedded in the file (mcap-protobuf-support), Foxglove's generated classes (foxglove-schemas-protobuf),
-rosbags for the ROS 2 bag, and @mcap/core + protobufjs + @foxglove/ws-protocol in Node (tests/node, installed by
-`make node-tests`). A recording cut by kill -9 reads up to the cut; a replay seeks to every recorded state.
+"""RecordingService through the real server (issue 25, docs/recording.md): a work cycle recorded as MCAP and its
+contents checked with the field's own readers, not only ours: mcap's seeking reader, classes built from the schemas
+embedded in the file (mcap-protobuf-support), Foxglove's generated classes (foxglove-schemas-protobuf), rosbags for
+the ROS 2 bag; listing and downloading while recording; bad requests.
 
-Frames pair up across channels by their MCAP log_time (simulation time, ns): the k-th message of a time on one
-channel belongs with the k-th of that time on another (graspsim.mcap does the same).
+Replays, --record, graspsim.mcap.compare and kill -9: test_recording_replay.py. A gateway action recorded beside
+its twin: test_recording_gateway.py. Node's readers and the live Foxglove endpoint: test_recording_live.py.
+Shared pieces (the work-cycle recording, channel tables, frame pairing): _recording_support.py.
 """
-import json
 import os
-import shutil
-import signal
-import subprocess
-import threading
 import time
 from collections import Counter, defaultdict
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict
 
 import grpc
 import numpy as np
 import pytest
-from foxglove_schemas_protobuf.FrameTransforms_pb2 import FrameTransforms
-from foxglove_schemas_protobuf.Log_pb2 import Log
-from foxglove_schemas_protobuf.RawImage_pb2 import RawImage
-from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
 from google.protobuf.unknown_fields import UnknownFieldSet
 from mcap.reader import SeekingReader, make_reader
-from mcap.stream_reader import StreamReader
 from mcap_protobuf.decoder import DecoderFactory
 from rosbags.highlevel import AnyReader
 from rosbags.rosbag2 import Reader as Ros2Reader
@@ -36,101 +24,17 @@ from rosbags.typesys import Stores, get_typestore
 
 import graspsim
 import graspsim.mcap
-from graspsim.v1 import common_pb2, recording_pb2, scene_pb2, tactile_pb2
+from graspsim.v1 import common_pb2, recording_pb2, scene_pb2
 
+from _recording_support import (EXACT, FOXGLOVE_CLASSES, FT_JOINT, NAME, NOT_FOUND, OWN_CLASSES, PADS, ROS2_TYPES,
+                                SCHEMAS, keyed, stamp_ns, work_cycle_recording)
 from _support import IA, expect_error
-from conftest import REPO_ROOT, ServerProcess, free_port
-
-TABLE_TOP = 0.75   # m, built-in table (as tests/python/test_work_cycle.py)
-CUBE = 0.05        # m, built-in cube_5cm edge
-BASE_Z = 1.05      # m, the cell's axis base
-LIFT = 0.03        # m
-HOLD = 0.3         # s
-SETPOINT = 60000.0
-FT_JOINT = "cell/finger_left_joint"
-PADS = ("cell/pad_left", "cell/pad_right")
-NAME = "work-cycle.mcap"
-
-NOT_FOUND = grpc.StatusCode.NOT_FOUND
-EXACT = dict(rtol=0, atol=1e-12)  # what "bit for bit through float64" leaves room for
-
-# Every channel of a recording with all three groups: topic -> schema name (protobuf, the FileDescriptorSet).
-OWN_CLASSES = {"/graspsim/edit": recording_pb2.RecordedEdit, "/graspsim/scene": scene_pb2.Scene,
-               "/graspsim/snapshot": scene_pb2.SceneSnapshot, "/graspsim/state": recording_pb2.RecordedState,
-               "/graspsim/sensor": tactile_pb2.SensorReading}
-FOXGLOVE_CLASSES = {"/tf": FrameTransforms, "/scene": SceneUpdate, "/log": Log,
-                    **{f"/tactile/{pad}": RawImage for pad in PADS}}
-SCHEMAS = {**{topic: cls.DESCRIPTOR.full_name for topic, cls in OWN_CLASSES.items()},
-           **{topic: cls.DESCRIPTOR.full_name for topic, cls in FOXGLOVE_CLASSES.items()}}
-ROS2_TYPES = {"/tf": "tf2_msgs/msg/TFMessage", "/joint_states": "sensor_msgs/msg/JointState",
-              **{f"/tactile/{pad}": "std_msgs/msg/Float32MultiArray" for pad in PADS},
-              f"/wrench/{FT_JOINT}": "geometry_msgs/msg/WrenchStamped"}
-
-
-def build_cell(client, scene_id: str) -> None:
-    client.add_object(scene_id, "table", builtin="table")
-    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + CUBE / 2, 1, 0, 0, 0])
-    client.add_robot(scene_id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, BASE_Z, 1, 0, 0, 0])
-
-
-def keyed(log_times):
-    """(log_time, k) of each message: the k-th at that log time."""
-    seen = Counter()
-    keys = []
-    for t in log_times:
-        keys.append((int(t), seen[t]))
-        seen[t] += 1
-    return keys
-
-
-def stamp_ns(stamp) -> int:
-    """A ROS builtin_interfaces/Time or a google.protobuf.Timestamp as ns."""
-    if hasattr(stamp, "nanosec"):
-        return stamp.sec * 1_000_000_000 + stamp.nanosec
-    return stamp.seconds * 1_000_000_000 + stamp.nanos
-
-
-@dataclass
-class Recorded:
-    info: graspsim.RecordingInfo   # after StopRecording
-    started: graspsim.RecordingInfo
-    local: Path                    # the downloaded .mcap
-    data: graspsim.mcap.RecordingData
-    result: object                 # the WorkCycleResult
-    final_poses: Dict[str, graspsim.Pose]
-    final_joints: Dict[str, float]
-    scene_before: object           # GetScene with geometry just before the recording started
-    sensors: Dict[str, list]       # /graspsim/sensor readings by sensor id, in file order: (log_time, SensorReading)
-    per_topic: Dict[str, int]
 
 
 @pytest.fixture(scope="module")
 def recorded(server, tmp_path_factory):
-    """One work cycle recorded on the shared server (StartRecording -> RunWorkCycle -> StopRecording through
-    Client.record), downloaded; the live scene's end state kept for the replay test."""
-    local = tmp_path_factory.mktemp("recording") / NAME
-    with graspsim.connect(server.address) as client:
-        scene = client.create_scene("test_recording")
-        build_cell(client, scene.id)
-        scene_before = client.get_scene(scene.id, include_geometry=True)
-        with client.record(scene, local, name=NAME, force_torque_joints=[FT_JOINT]) as info:
-            started = graspsim.RecordingInfo(**vars(info))
-            result = client.run_work_cycle(scene.id, "cell", "cube", lift_height=LIFT, hold_time=HOLD,
-                                           tactile_setpoint=SETPOINT, timeout=300)
-        final_poses = client.get_body_poses(scene.id)
-        final_joints = client.get_joint_positions(scene.id)
-        sensors = defaultdict(list)
-        per_topic = Counter()
-        with open(local, "rb") as f:
-            for _, channel, message in make_reader(f).iter_messages(log_time_order=False):
-                per_topic[channel.topic] += 1
-                if channel.topic == "/graspsim/sensor":
-                    reading = tactile_pb2.SensorReading.FromString(message.data)
-                    sensors[reading.sensor_id].append((message.log_time, reading))
-        yield Recorded(info=info, started=started, local=local, data=graspsim.mcap.read(local), result=result,
-                       final_poses=final_poses, final_joints=final_joints, scene_before=scene_before,
-                       sensors=dict(sensors), per_topic=dict(per_topic))
-        client.delete_scene(scene.id)
+    """The work cycle recorded once on the shared server (_recording_support.work_cycle_recording)."""
+    return work_cycle_recording(server, tmp_path_factory)
 
 
 def test_start_and_stop_describe_the_recording(recorded):
@@ -340,138 +244,6 @@ def test_ros2_bag_reads_with_rosbags_and_matches_the_snapshots(recorded):
                                        err_msg=f"{pad}: normal forces (N) of the texels")
 
 
-def test_a_recording_cut_by_kill_9_reads_up_to_the_cut(tmp_path):
-    """kill -9 in the middle of a long StepSimulation run: the file stops inside a record, without summary.
-    graspsim.mcap.read keeps every complete frame; mcap's own StreamReader reads every record before the cut
-    without error. (A ServerProcess of the test's own: the start_server fixture expects exit code 0.)"""
-    recordings = tmp_path / "recordings"
-    proc = ServerProcess([f"--recording-dir={recordings}"], tmp_path)
-    stepping_error = []
-    try:
-        with graspsim.connect(proc.address) as client:
-            scene_id = client.create_scene("killed").id
-            client.add_object(scene_id, "ground", box=(3, 3, 0.1), is_static=True, pose=[0, 0, -0.05, 1, 0, 0, 0])
-            for i in range(12):
-                client.add_object(scene_id, f"box{i}", box=(0.05, 0.05, 0.05), mass=0.1,
-                                  pose=[0.2 * (i % 4) - 0.3, 0.2 * (i // 4) - 0.2, 0.3 + 0.05 * i, 1, 0, 0, 0])
-            info = client.start_recording(scene_id, name="killed.mcap")
-            path = Path(info.path)
-            assert path.parent == recordings
-
-            def step():
-                try:
-                    while True:
-                        client.step_simulation(scene_id, duration=0.5)
-                except graspsim.GraspsimError as err:
-                    stepping_error.append(err)
-
-            thread = threading.Thread(target=step, daemon=True)
-            thread.start()
-            deadline = time.monotonic() + 120
-            frames = 0
-            while time.monotonic() < deadline and frames < 20:
-                time.sleep(0.2)
-                frames = graspsim.mcap.read(path).frames if path.exists() else 0
-            assert frames >= 20, f"no 20 frames on disk within 120 s ({frames})"
-            assert thread.is_alive(), f"the run ended before the kill: {stepping_error}"
-            os.kill(proc.process.pid, signal.SIGKILL)
-            proc.process.wait(timeout=30)
-            thread.join(timeout=60)
-    finally:
-        if proc.process.poll() is None:
-            proc.process.kill()
-            proc.process.wait()
-    assert proc.process.returncode == -signal.SIGKILL
-    assert stepping_error and stepping_error[0].code == grpc.StatusCode.UNAVAILABLE, stepping_error
-
-    data = graspsim.mcap.read(path)
-    assert data.truncated and data.frames >= frames
-    assert data.body_ids[:1] == ["ground"] and len(data.body_ids) == 13
-    assert np.isfinite(data.body_poses).all() and np.all(np.diff(data.times) >= 0)
-    assert data.frames - 1 <= data.messages_per_topic["/tf"] <= data.frames, "the cut may fall inside a frame"
-
-    end, truncated = graspsim.mcap.complete_prefix(path)
-    size = path.stat().st_size
-    assert truncated and 8 < end <= size
-    bounded = [r for r in graspsim.mcap.iter_records(path)]  # stops at the cut by itself
-    raw = []
-    with open(path, "rb") as f:
-        try:
-            for record in StreamReader(f, validate_crcs=True).records:
-                raw.append(record)
-        except Exception:  # noqa: BLE001 — the cut: EndOfFile or the incomplete last chunk
-            pass
-        else:
-            pytest.fail("the stream reader found a complete file after kill -9")
-        assert f.tell() > end or end == size, "the reader failed before the last complete record"
-    assert [type(r).__name__ for r in raw] == [type(r).__name__ for r in bounded][:len(raw)]
-    assert len(raw) == len(bounded), "every complete record before the cut reads with mcap's StreamReader"
-    assert sum(type(r).__name__ == "Message" for r in raw) == sum(data.messages_per_topic.values())
-
-
-def test_replay_seeks_to_every_recorded_frame(client, recorded):
-    """ReplayRecording rebuilds the scene; SeekReplay to every 10th frame and the last puts every body where the
-    /graspsim/snapshot says (1e-12); the last frame is where the live scene ended after the cycle."""
-    data = recorded.data
-    replay = client.replay_recording(recorded.info.name, scene_name="test_recording replay")
-    try:
-        assert isinstance(replay, graspsim.Replay) and replay.frames == data.frames
-        np.testing.assert_array_equal(replay.frame_times, data.times)
-        assert {s.id: s.name for s in client.list_scenes()}[replay.scene_id] == "test_recording replay"
-        column = {b: j for j, b in enumerate(data.body_ids)}
-        revisions = []
-        for i in sorted(set(range(0, data.frames, 10)) | {data.frames - 1}):
-            t, revision = client.seek_replay(replay, recorded.info.name, i)
-            assert t == data.times[i]
-            revisions.append(revision)
-            poses = client.get_body_poses(replay.scene_id)
-            assert set(poses) == set(data.body_ids)
-            for body, pose in poses.items():
-                np.testing.assert_allclose(pose.as_array(), data.body_poses[i, column[body]], **EXACT,
-                                           err_msg=f"{body} at frame {i}")
-            joints = client.get_joint_positions(replay.scene_id)
-            np.testing.assert_allclose([joints[j] for j in data.joint_ids], data.joint_positions[i], **EXACT)
-        assert revisions == sorted(revisions) and len(set(revisions)) == len(revisions), "each seek is an edit"
-        assert set(poses) == set(recorded.final_poses)
-        for body, pose in recorded.final_poses.items():
-            np.testing.assert_allclose(poses[body].as_array(), pose.as_array(), **EXACT,
-                                       err_msg=f"{body}: the last frame is the live scene's end")
-        np.testing.assert_allclose([joints[j] for j in data.joint_ids],
-                                   [recorded.final_joints[j] for j in data.joint_ids], **EXACT)
-    finally:
-        client.delete_scene(replay.scene_id)
-
-
-def test_compare_is_zero_for_itself_and_finite_for_a_rerun(client, recorded, tmp_path):
-    """graspsim.mcap.compare: a recording against itself is all zeros; against the work cycle run again on its
-    replayed scene (sought to the first frame), a finite report over the frames both have."""
-    same = graspsim.mcap.compare(recorded.local, recorded.local)
-    assert same["frames_compared"] == recorded.data.frames and same["frames_only_in_a"] == 0
-    assert same["bodies_compared"] == len(recorded.data.body_ids) and same["sensors_compared"] == len(PADS)
-    for key in ("max_position_diff_m", "max_orientation_diff_rad", "max_joint_diff", "max_tactile_sum_diff"):
-        assert same[key] == 0, (key, same)
-
-    replay = client.replay_recording(recorded.info.name)
-    try:
-        assert {s.id: s.name for s in client.list_scenes()}[replay.scene_id] == f"replay of {recorded.info.name}"
-        client.seek_replay(replay, recorded.info.name, 0)
-        rerun = tmp_path / "rerun.mcap"
-        with client.record(replay, rerun, name="rerun.mcap", force_torque_joints=[FT_JOINT]) as info:
-            client.run_work_cycle(replay.scene_id, "cell", "cube", lift_height=LIFT, hold_time=HOLD,
-                                  tactile_setpoint=SETPOINT, timeout=300)
-        assert info.frames > 10 and not info.active, "record() left the stopped figures in its info"
-    finally:
-        client.delete_scene(replay.scene_id)
-    report = graspsim.mcap.compare(recorded.local, rerun)
-    # The frames' times depend on how the server chunked the run (wall time), so only some align; the first
-    # (the state the replay was sought to) always does.
-    assert report["frames_compared"] >= 1 and report["bodies_compared"] == len(recorded.data.body_ids)
-    assert report["frames_compared"] + report["frames_only_in_a"] == recorded.data.frames
-    for key in ("max_position_diff_m", "max_orientation_diff_rad", "max_joint_diff", "max_tactile_sum_diff"):
-        assert np.isfinite(report[key]) and report[key] >= 0, (key, report)
-    assert report["max_orientation_diff_rad"] <= np.pi
-
-
 def test_list_and_download_while_recording(client, scene_id, tmp_path):
     """An active recording is listed first and downloads as far as written (a truncated file that reads);
     the default name is "<scene id>-<UTC time>.mcap"; after the stop the file is whole."""
@@ -567,188 +339,3 @@ def test_bad_requests_name_the_field_and_write_nothing_outside(start_server, tmp
     assert (recordings / "ok.mcap").is_file()
     assert {p for p in ("/etc/x", "/etc/x.mcap", "/x.mcap") if os.path.exists(p)} == outside_before
 
-
-def test_record_flag_records_every_scene_from_its_creation_and_replays_it(start_server, tmp_path):
-    """--record DIR: a scene is recorded from its creation, so its edits happen while recording (a body added
-    after the first steps); the recording still replays, and every frame seeks to its bodies' poses (1e-12)."""
-    directory = tmp_path / "auto"
-    proc = start_server(f"--record={directory}")
-    with graspsim.connect(proc.address) as client:
-        scene = client.create_scene("recorded from its creation")
-        client.add_object(scene.id, "box", box=(0.05, 0.05, 0.05), mass=0.1, pose=[0, 0, 1, 1, 0, 0, 0])
-        client.step_simulation(scene.id, duration=0.2)
-        client.add_object(scene.id, "ball", sphere=0.02, mass=0.1, pose=[0.3, 0, 1, 1, 0, 0, 0])
-        client.step_simulation(scene.id, duration=0.2)
-        listed = [r for r in client.list_recordings() if r.scene_id == scene.id]
-        assert len(listed) == 1 and listed[0].active and Path(listed[0].path).parent == directory, listed
-        with expect_error(grpc.StatusCode.ALREADY_EXISTS, "scene_id"):
-            client.start_recording(scene)
-        stopped = client.stop_recording(scene)
-        final = client.get_body_poses(scene.id)
-        data = graspsim.mcap.read(stopped.path)
-        assert not data.truncated and data.frames == stopped.frames >= 3 and data.body_ids == ["box", "ball"]
-        assert np.isnan(data.body_poses[0]).all(), "the scene was empty when it was created"
-        assert np.isfinite(data.body_poses[-1]).all()
-        assert data.messages_per_topic["/graspsim/scene"] == data.messages_per_topic["/scene"] == 3, \
-            "the scene at creation, with the box, with the ball"
-        replay = client.replay_recording(stopped.name)
-        assert replay.frames == data.frames
-        for i in range(data.frames):
-            client.seek_replay(replay, stopped.name, i)
-            poses = client.get_body_poses(replay.scene_id)
-            present = [b for j, b in enumerate(data.body_ids) if not np.isnan(data.body_poses[i, j, 0])]
-            assert sorted(poses) == sorted(present), f"frame {i}: bodies {sorted(poses)}, recorded {present}"
-            for j, body in enumerate(data.body_ids):
-                if body in poses:
-                    np.testing.assert_allclose(poses[body].as_array(), data.body_poses[i, j], **EXACT)
-        for body, pose in final.items():
-            np.testing.assert_allclose(poses[body].as_array(), pose.as_array(), **EXACT)
-
-
-# --- graspsim.mcap on files written here with mcap's own writer (no server) -----------------------------------
-def write_synthetic(path: Path, frames: int, offset=(0.0, 0.0, 0.0), turn: float = 0.0, extra: int = 0) -> None:
-    """A recording of two bodies ("a" falls 1 cm a frame, "b" turns about z by `turn` rad) and one 2 x 3 pad whose
-    texels read the frame index + extra, written with mcap.writer (zstd chunks of 2 kB: many chunks)."""
-    from google.protobuf.descriptor_pb2 import FileDescriptorSet
-    from mcap.writer import CompressionType, Writer
-
-    def descriptor_set(cls) -> bytes:
-        files, out = {}, FileDescriptorSet()
-
-        def add(fd):
-            if fd.name not in files:
-                for dependency in fd.dependencies:
-                    add(dependency)
-                files[fd.name] = fd
-                fd.CopyToProto(out.file.add())
-        add(cls.DESCRIPTOR.file)
-        return out.SerializeToString()
-
-    with open(path, "wb") as f:
-        writer = Writer(f, compression=CompressionType.ZSTD, chunk_size=2048)
-        writer.start("", "test_recording")
-        channels = {}
-        for topic, cls in (("/graspsim/snapshot", scene_pb2.SceneSnapshot),
-                           ("/graspsim/sensor", tactile_pb2.SensorReading)):
-            schema = writer.register_schema(cls.DESCRIPTOR.full_name, "protobuf", descriptor_set(cls))
-            channels[topic] = writer.register_channel(topic, "protobuf", schema)
-        for i in range(frames):
-            t = i * 0.01
-            ns = round(t * 1e9)
-            c, s_ = np.cos(turn / 2), np.sin(turn / 2)
-            poses = np.array([[offset[0], offset[1], 1 - 0.01 * i + offset[2], 1, 0, 0, 0], [1, 0, 0, c, 0, 0, s_]])
-            snapshot = scene_pb2.SceneSnapshot(sequence=i, revision=i, time=t, body_ids=["a", "b"],
-                                               body_poses=poses.astype("<f8").tobytes(), joint_ids=["j"],
-                                               joint_positions=np.array([t], "<f8").tobytes())
-            writer.add_message(channels["/graspsim/snapshot"], ns, snapshot.SerializeToString(), ns)
-            reading = tactile_pb2.SensorReading(sensor_id="pad", time=t)
-            reading.tactile.rows, reading.tactile.cols = 2, 3
-            reading.tactile.intensities = np.full(6, i + extra, "<u2").tobytes()
-            writer.add_message(channels["/graspsim/sensor"], ns, reading.SerializeToString(), ns)
-        writer.finish()
-
-
-def test_mcap_read_keeps_every_complete_frame_of_a_file_cut_anywhere(tmp_path):
-    whole = tmp_path / "whole.mcap"
-    write_synthetic(whole, 120)
-    data = graspsim.mcap.read(whole)
-    assert not data.truncated and data.frames == 120 and data.body_ids == ["a", "b"] and data.joint_ids == ["j"]
-    np.testing.assert_array_equal(data.body_poses[:, 0, 2], 1 - 0.01 * np.arange(120))
-    np.testing.assert_array_equal(data.tactile["pad"][:, 1, 2], np.arange(120))
-    assert data.messages_per_topic == {"/graspsim/snapshot": 120, "/graspsim/sensor": 120}
-    raw = whole.read_bytes()
-    cut = tmp_path / "cut.mcap"
-    previous = 0
-    for size in range(8, len(raw), 101):
-        cut.write_bytes(raw[:size])
-        part = graspsim.mcap.read(cut)
-        assert part.truncated and previous <= part.frames <= 120, size
-        if part.frames:
-            np.testing.assert_array_equal(part.body_poses, data.body_poses[:part.frames])
-        np.testing.assert_array_equal(part.tactile.get("pad", np.zeros((0, 2, 3)))[:part.frames - 1],
-                                      data.tactile["pad"][:max(part.frames - 1, 0)])
-        previous = part.frames
-    assert previous == 120, "the messages all precede the summary"
-    cut.write_bytes(raw[:len(raw) // 4] + bytes(4096))  # a crash that left zeros after the last write
-    assert graspsim.mcap.read(cut).truncated
-
-
-def test_mcap_compare_reports_known_differences(tmp_path):
-    write_synthetic(tmp_path / "a.mcap", 50)
-    write_synthetic(tmp_path / "b.mcap", 40, offset=(0.003, 0.004, 0.0), turn=0.25, extra=7)
-    same = graspsim.mcap.compare(tmp_path / "a.mcap", tmp_path / "a.mcap")
-    assert same["frames_compared"] == 50 and all(same[k] == 0 for k in (
-        "max_position_diff_m", "max_orientation_diff_rad", "max_joint_diff", "max_tactile_sum_diff"))
-    report = graspsim.mcap.compare(tmp_path / "a.mcap", tmp_path / "b.mcap")
-    assert (report["frames_compared"], report["frames_only_in_a"], report["frames_only_in_b"]) == (40, 10, 0)
-    assert report["max_position_diff_m"] == pytest.approx(0.005, abs=1e-15)  # the 3-4-5 triangle
-    assert report["max_orientation_diff_rad"] == pytest.approx(0.25, abs=1e-12)
-    assert report["max_tactile_sum_diff"] == 6 * 7 and report["max_joint_diff"] == 0
-    assert report["max_position_diff_body"] == "a"
-
-
-# --- Node: @mcap/core + protobufjs, and @foxglove/ws-protocol (tests/node, installed by `make node-tests`) ---
-NODE = shutil.which("node")
-NODE_TESTS = REPO_ROOT / "build" / "node-tests"
-
-
-def node_script(name: str) -> Path:
-    if NODE is None:
-        pytest.skip("node is not installed: the JavaScript MCAP and Foxglove readers cannot run")
-    script = NODE_TESTS / name
-    if not script.is_file() or not (NODE_TESTS / "node_modules").is_dir():
-        pytest.fail(f"{script} or its node_modules missing: run `make node-tests`", pytrace=False)
-    return script
-
-
-def test_node_mcap_reader_decodes_every_message(recorded):
-    """@mcap/core's indexed reader and protobufjs (from the embedded FileDescriptorSets) read the whole file."""
-    run = subprocess.run([NODE, str(node_script("read_mcap.mjs")), str(recorded.local)], capture_output=True,
-                         text=True, timeout=300)
-    assert run.returncode == 0, run.stderr
-    out = json.loads(run.stdout)
-    assert out["decoded_all"] is True, out["undecodable"]
-    assert out["per_topic"] == recorded.per_topic
-    assert out["messages"] == out["statistics_message_count"] == recorded.info.messages
-    assert out["not_protobuf"] == {} and out["reencoded_size_differs"] == {}, out
-    assert set(out["compression"]) == {"zstd"}
-    first = recorded.data.body_poses[0, :, 0]
-    assert sorted(out["first_tf_child_ids"]) == sorted(b for b, x in zip(recorded.data.body_ids, first)
-                                                       if not np.isnan(x))
-
-
-def test_live_foxglove_endpoint_streams_transforms(start_server):
-    """--foxglove-listen: Foxglove's own client subscribes to /tf of ws://host:port/<scene id> and receives
-    decodable FrameTransforms naming the falling box while the scene steps."""
-    script = node_script("foxglove_live.mjs")
-    port = free_port()
-    proc = start_server(f"--foxglove-listen=127.0.0.1:{port}")
-    with graspsim.connect(proc.address) as client:
-        scene_id = client.create_scene("live").id
-        client.add_object(scene_id, "ground", box=(2, 2, 0.1), is_static=True, pose=[0, 0, -0.05, 1, 0, 0, 0])
-        client.add_object(scene_id, "box", box=(0.05, 0.05, 0.05), mass=0.1, pose=[0, 0, 1, 1, 0, 0, 0])
-        stop, errors = threading.Event(), []
-
-        def step():
-            try:
-                while not stop.is_set():
-                    client.step_simulation(scene_id, duration=0.02)
-                    time.sleep(0.02)
-            except graspsim.GraspsimError as err:
-                errors.append(err)
-
-        thread = threading.Thread(target=step, daemon=True)
-        thread.start()
-        try:
-            run = subprocess.run([NODE, str(script), f"ws://127.0.0.1:{port}/{scene_id}", "/tf", "5", "30"],
-                                 capture_output=True, text=True, timeout=90)
-        finally:
-            stop.set()
-            thread.join(timeout=30)
-    assert not errors, errors
-    assert run.stdout, run.stderr
-    out = json.loads(run.stdout)
-    assert run.returncode in (0, 2), (run.returncode, run.stderr, out)
-    assert out["subprotocol"] == "foxglove.websocket.v1" and out["schema_name"] == "foxglove.FrameTransforms", out
-    assert out["received"] >= 3 and out["decoded"] == out["received"], out
-    assert "box" in out["first_child_ids"] and "ground" in out["first_child_ids"], out

@@ -162,16 +162,34 @@ def simulate_grasp(client: graspsim.Client, scene_id: str) -> None:
 
 
 def run_work_cycle(client: graspsim.Client, out) -> None:
-    """The tactile work cycle at full coverage (a scene of its own, deleted after), its summary and plots."""
+    """The tactile work cycle at full coverage (a scene of its own, deleted after), recorded, its summary and plots."""
     print("\ntactile work cycle (schunk_pg70_on_z_axis picks the cube, coverage 1.0):")
-    result = tactile_cycle.run_cycle(client, 1.0, hold_time=0.5)
+    name = f"demo-work-cycle-{time.strftime('%Y%m%dT%H%M%S')}.mcap"
+    result = tactile_cycle.run_cycle(client, 1.0, hold_time=0.5, record=name)
     tactile_cycle.print_summary("coverage 100 %", result)
+    show_recording(client, next(r for r in client.list_recordings() if r.name == name), out)
     if not tactile_cycle.matplotlib_available():
         print("  (matplotlib not installed: no plots; pip install 'graspsim[plot]')")
         return
     out = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix="graspsim-demo-"))
     for path in tactile_cycle.write_figures({"coverage 100 %": result}, out, prefix="demo-work-cycle"):
         print(f"  plot: {path}")
+
+
+def show_recording(client: graspsim.Client, info, out) -> None:
+    """The work cycle's recording: where it is, how to open it, and a replay of its last frame."""
+    print(f"  recorded: {info.path} ({info.frames} frames, {info.messages} messages, {info.bytes / 1e6:.2f} MB, "
+          f"{info.dropped_frames} dropped)")
+    print(f"    open it in Foxglove (app.foxglove.dev or the desktop app: Open local file), 3D panel on /scene and /tf,")
+    print(f"    Image panel on /tactile/cell/pad_left; ROS 2 bag beside it: {info.ros2_path} (ros2 bag play, rosbags)")
+    local = Path(out if out is not None else tempfile.mkdtemp(prefix="graspsim-demo-")) / info.name
+    client.download_recording(info.name, local)
+    replay = client.replay_recording(info.name)
+    client.seek_replay(replay.scene_id, info.name, len(replay.frame_times) - 1)
+    cube = client.get_body_poses(replay.scene_id, ["cube"])["cube"]
+    print(f"  downloaded to {local}; replayed into {replay.scene_id}: {len(replay.frame_times)} frames, "
+          f"cube at the last one {format_pose(cube)}")
+    client.delete_scene(replay.scene_id)
 
 
 def plan_grasps(client: graspsim.Client) -> str:

@@ -51,8 +51,10 @@ def build_cell(client: graspsim.Client, name: str) -> str:
 
 def run_cycle(client: graspsim.Client, coverage: float, *, hold_time: float = 1.0,
               tactile_setpoint: float = SETPOINT, lift_height: float = 0, frame_rate_hz: float = FRAME_RATE_HZ,
-              verbose: bool = True) -> graspsim.WorkCycleResult:
-    """Builds a fresh scene, runs the work cycle at one coverage, deletes the scene; returns the time series."""
+              verbose: bool = True, record: Optional[str] = None) -> graspsim.WorkCycleResult:
+    """Builds a fresh scene, runs the work cycle at one coverage, deletes the scene; returns the time series.
+    record: a recording name ("<name>.mcap"): the run is recorded on the server, with the finger's force/torque
+    (client.list_recordings() then describes it)."""
     scene_id = build_cell(client, f"tactile cycle, coverage {coverage:g}")
     stages = []
 
@@ -62,10 +64,16 @@ def run_cycle(client: graspsim.Client, coverage: float, *, hold_time: float = 1.
             print(f"    t = {frame.time:6.3f} s  {frame.stage:<9}  sums {frame.left.intensity_sum:6d} / "
                   f"{frame.right.intensity_sum:6d}  cube z = {frame.object_pose.position[2]:.4f} m")
 
-    try:
+    def run() -> graspsim.WorkCycleResult:
         return client.run_work_cycle(scene_id, GRIPPER, CUBE, coverage=coverage, hold_time=hold_time,
                                      tactile_setpoint=tactile_setpoint, lift_height=lift_height,
                                      frame_rate_hz=frame_rate_hz, on_frame=on_frame)
+
+    try:
+        if record is None:
+            return run()
+        with client.record(scene_id, name=record, force_torque_joints=[f"{GRIPPER}/finger_left_joint"]):
+            return run()
     finally:
         client.delete_scene(scene_id)
 

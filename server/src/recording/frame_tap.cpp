@@ -1,23 +1,33 @@
 #include "recording/frame_tap.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include "core/error.h"
 #include "core/log.h"
 
 namespace graspsim::recording {
+namespace {
 
-FrameTap::FrameTap(std::shared_ptr<Scene> scene, std::unique_ptr<FrameConsumer> consumer, size_t max_queued)
-    : scene_(std::move(scene)), consumer_(std::move(consumer)), max_queued_(max_queued) {}
+constexpr int kWriterNice = 10;
+
+}  // namespace
+
+FrameTap::FrameTap(std::shared_ptr<Scene> scene, std::unique_ptr<FrameConsumer> consumer, double interval,
+                   size_t max_queued)
+    : scene_(std::move(scene)), consumer_(std::move(consumer)), interval_(interval), max_queued_(max_queued) {}
 
 FrameTap::~FrameTap() {
   if (thread_.joinable()) Stop();
 }
 
 void FrameTap::Start() {
-  scene_->snapshots().WantDetail(true);
+  scene_->snapshots().WantDetail(true, interval_);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     auto first = scene_->DetailedSnapshot();
     last_sequence_ = first->sequence;
+    last_queued_ = first;
     queue_.push_back(std::move(first));
   }
   subscribed_ = scene_->snapshots().Subscribe(shared_from_this());
@@ -32,21 +42,37 @@ void FrameTap::OnSnapshotAvailable() {
   // state already queued (the first frame) is not queued twice.
   if (!snapshot || !snapshot->state || snapshot->sequence <= last_sequence_ || stopping_) return;
   last_sequence_ = snapshot->sequence;
+  const double since = snapshot->time - last_queued_->time;
+  if (since >= 0 && since < interval_ - 1e-9 && snapshot->model == last_queued_->model &&
+      snapshot->edits == last_queued_->edits) {
+    skipped_ = std::move(snapshot);
+    return;
+  }
+  QueueLocked(std::move(snapshot));
+}
+
+void FrameTap::QueueLocked(std::shared_ptr<const SceneSnapshot> snapshot) {
+  skipped_.reset();
   if (queue_.size() >= max_queued_) {
     ++dropped_;
     return;
   }
+  last_queued_ = snapshot;
   queue_.push_back(std::move(snapshot));
   wake_.notify_one();
 }
 
 void FrameTap::OnHubClosed(const std::string&) {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (skipped_ && !stopping_) QueueLocked(std::move(skipped_));
   stopping_ = true;
   wake_.notify_one();
 }
 
 void FrameTap::Run() {
+  // Below the simulation's threads: on a busy machine the writer yields the CPU and catches up when it is free
+  // (its queue holds the frames meanwhile), so that recording costs the simulation as little as it can.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kWriterNice);
   for (;;) {
     std::shared_ptr<const SceneSnapshot> frame;
     {
@@ -66,11 +92,14 @@ void FrameTap::Run() {
       }
     }
     try {
-      if (error_.empty()) consumer_->Consume(*frame);
-    } catch (const std::exception& error) {  // a full disk: stop recording, keep the simulation running
+      consumer_->Consume(*frame);
+    } catch (const std::exception& error) {  // a full disk: end the tap, keep the simulation running
       std::lock_guard<std::mutex> lock(mutex_);
       error_ = error.what();
-      Log(LogLevel::kError, "recording stopped", {{"scene", scene_->id()}, {"error", error_}});
+      stopping_ = true;
+      queue_.clear();
+      Log(LogLevel::kError, "frame consumer failed", {{"scene", scene_->id()}, {"error", error_}});
+      break;
     }
     std::lock_guard<std::mutex> lock(mutex_);
     ++frames_;
@@ -94,12 +123,13 @@ std::string FrameTap::Stop() {
   if (subscribed_) scene_->snapshots().Unsubscribe(this);
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (skipped_ && !stopping_) QueueLocked(std::move(skipped_));  // the state the recording ends on
     stopping_ = true;
     wake_.notify_one();
   }
   if (thread_.joinable()) {
     thread_.join();
-    scene_->snapshots().WantDetail(false);
+    scene_->snapshots().WantDetail(false, interval_);
   }
   std::lock_guard<std::mutex> lock(mutex_);
   return error_;

@@ -1,7 +1,7 @@
 // A scene's published states handed, in order and each once, to a consumer on a thread of its own: what a
 // recording or a live stream needs (the viewers' watchers skip to the newest state instead). The simulation
 // never waits for it: when the consumer falls behind by more than the queue holds, new states are dropped and
-// counted (Recording.dropped_frames).
+// counted (Recording.dropped_frames). Frames closer in simulated time than the consumer needs are skipped.
 #pragma once
 
 #include <chrono>
@@ -32,7 +32,10 @@ class FrameConsumer {
 
 class FrameTap : public SnapshotWatcher, public std::enable_shared_from_this<FrameTap> {
  public:
-  FrameTap(std::shared_ptr<Scene> scene, std::unique_ptr<FrameConsumer> consumer, size_t max_queued = 1024);
+  // `interval`: simulated seconds between frames at most this close are skipped (not dropped: the last state
+  // before Stop is consumed even so, and a frame with another model or edits is never skipped); 0 = every one.
+  FrameTap(std::shared_ptr<Scene> scene, std::unique_ptr<FrameConsumer> consumer, double interval = 0,
+           size_t max_queued = 1024);
   ~FrameTap() override;
   // Subscribes and starts the thread with the scene's current state as the first frame.
   void Start();
@@ -51,14 +54,17 @@ class FrameTap : public SnapshotWatcher, public std::enable_shared_from_this<Fra
 
  private:
   void Run();
+  void QueueLocked(std::shared_ptr<const SceneSnapshot> snapshot);
 
   std::shared_ptr<Scene> scene_;
   std::unique_ptr<FrameConsumer> consumer_;
+  const double interval_;
   const size_t max_queued_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::shared_ptr<const SceneSnapshot>> queue_;
   uint64_t last_sequence_ = 0, frames_ = 0, dropped_ = 0;
+  std::shared_ptr<const SceneSnapshot> last_queued_, skipped_;  // the newest frame queued, and one skipped since
   bool stopping_ = false, subscribed_ = false, finished_ = false;
   std::string error_;
   std::thread thread_;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include <lz4frame.h>
+#include <zlib.h>
 #include <zstd.h>
 
 #include "core/error.h"
@@ -104,9 +105,14 @@ class Scanner {
       body.Int<uint64_t>();
       body.Int<uint64_t>();
       const uint64_t size = body.Int<uint64_t>();
-      body.Int<uint32_t>();  // CRC: zstd and lz4 frames check themselves
+      const uint32_t crc = body.Int<uint32_t>();
       const std::string_view compression = body.Str();
       const std::string records = Decompress(path_, compression, body.Take(body.Int<uint64_t>()), size);
+      // 0 means "not computed" (the spec); our writer always computes it, other writers may not.
+      if (crc != 0 && crc != static_cast<uint32_t>(::crc32(0, reinterpret_cast<const Bytef*>(records.data()),
+                                                           static_cast<uInt>(records.size())))) {
+        Corrupt(path_, "a chunk's CRC does not match its records");
+      }
       Records(records, false);
     }
   }

@@ -7,6 +7,8 @@
 namespace graspsim::rpc {
 namespace {
 
+constexpr double kLiveInterval = 1.0 / 30;  // simulated s between frames: Foxglove's 3D panel needs no more
+
 // Channels advertised on one connection as the encoder adds them.
 class ConnectionWriter : public recording::ChannelWriter {
  public:
@@ -79,7 +81,7 @@ std::unique_ptr<live::FoxgloveServer> StartFoxgloveLive(const std::string& liste
       return nullptr;
     }
     auto session = std::make_shared<LiveSession>();
-    session->tap = std::make_shared<recording::FrameTap>(scene, std::make_unique<LiveFeed>(connection, id));
+    session->tap = std::make_shared<recording::FrameTap>(scene, std::make_unique<LiveFeed>(connection, id), kLiveInterval);
     session->tap->Start();
     return session;
   });

@@ -73,7 +73,7 @@ grpc::ServerUnaryReactor* GatewayServiceImpl::EmergencyStop(Context* context, co
 
 grpc::ServerWriteReactor<v1::PredictionSample>* GatewayServiceImpl::PredictAction(
     Context* context, const v1::PredictActionRequest* request) {
-  return StartPredictAction(context, request, hub_, registry_, pool_);
+  return StartPredictAction(context, request, hub_, registry_, pool_, recordings_);
 }
 
 }  // namespace graspsim::rpc

@@ -7,14 +7,16 @@
 #include "core/worker_pool.h"
 #include "gateway/gateway_hub.h"
 #include "graspsim/v1/gateway.grpc.pb.h"
+#include "rpc/recording_log.h"
 #include "world/scene_registry.h"
 
 namespace graspsim::rpc {
 
 class GatewayServiceImpl final : public v1::GatewayService::CallbackService {
  public:
-  GatewayServiceImpl(gateway::GatewayHub* hub, SceneRegistry* registry, WorkerPool* pool)
-      : hub_(hub), registry_(registry), pool_(pool) {}
+  // `recordings` (may be null) takes PredictAction's samples into the twin scene's recording.
+  GatewayServiceImpl(gateway::GatewayHub* hub, SceneRegistry* registry, WorkerPool* pool, RecordingLog* recordings)
+      : hub_(hub), registry_(registry), pool_(pool), recordings_(recordings) {}
 
   using Context = grpc::CallbackServerContext;
   using Unary = grpc::ServerUnaryReactor;
@@ -29,6 +31,7 @@ class GatewayServiceImpl final : public v1::GatewayService::CallbackService {
   gateway::GatewayHub* hub_;
   SceneRegistry* registry_;
   WorkerPool* pool_;
+  RecordingLog* recordings_;
 };
 
 }  // namespace graspsim::rpc

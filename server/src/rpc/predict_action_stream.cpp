@@ -35,7 +35,10 @@ class PredictionRun : public std::enable_shared_from_this<PredictionRun> {
 
   // Validated request; builds the twin on the pool (a Simulation samples surfaces), then starts the action.
   void Start(std::string device_id, gateway::DeviceLimits limits, gateway::Move move, double timeout, double rate_hz,
-             std::shared_ptr<const SceneModel> model, SceneState state, std::string gripper_id) {
+             std::shared_ptr<const SceneModel> model, SceneState state, std::string gripper_id,
+             RecordingLog* recordings, std::string scene_id) {
+    recordings_ = recordings;
+    scene_id_ = std::move(scene_id);
     device_id_ = std::move(device_id);
     limits_ = limits;
     move_ = move;
@@ -161,6 +164,7 @@ class PredictionRun : public std::enable_shared_from_this<PredictionRun> {
     ToProto(sample.measured, out.mutable_measured());
     out.set_surprise(sample.surprise);
     out.set_done(sample.done);
+    if (recordings_) recordings_->Append(scene_id_, "/graspsim/gateway/prediction", out);
     if (sample.done) {
       done_ = true;
       finish_pending_ = std::make_unique<grpc::Status>(grpc::Status::OK);
@@ -207,6 +211,8 @@ class PredictionRun : public std::enable_shared_from_this<PredictionRun> {
 
   std::mutex mutex_;
   grpc::ServerWriteReactor<v1::PredictionSample>* reactor_;
+  RecordingLog* recordings_ = nullptr;
+  std::string scene_id_;
   grpc::CallbackServerContext* context_;
   gateway::GatewayHub* hub_;
   WorkerPool* pool_;
@@ -232,7 +238,7 @@ using PredictionReactor = RunReactor<v1::PredictionSample, PredictionRun>;
 grpc::ServerWriteReactor<v1::PredictionSample>* StartPredictAction(grpc::CallbackServerContext* context,
                                                                    const v1::PredictActionRequest* request,
                                                                    gateway::GatewayHub* hub, SceneRegistry* registry,
-                                                                   WorkerPool* pool) {
+                                                                   WorkerPool* pool, RecordingLog* recordings) {
   std::optional<gateway::DeviceInfo> device;
   std::shared_ptr<Scene> scene;
   gateway::Move move;
@@ -254,8 +260,9 @@ grpc::ServerWriteReactor<v1::PredictionSample>* StartPredictAction(grpc::Callbac
   if (!status.ok()) return new FailedWriter<v1::PredictionSample>(status);
   auto* reactor = new PredictionReactor(context, hub, pool);
   SceneView view = scene->View();
+  if (recordings) recordings->Append(scene->id(), "/graspsim/gateway/action", *request);
   reactor->run()->Start(device->id, device->limits, move, timeout, rate_hz, std::move(view.model),
-                        std::move(view.state), request->gripper_id());
+                        std::move(view.state), request->gripper_id(), recordings, scene->id());
   return reactor;
 }
 

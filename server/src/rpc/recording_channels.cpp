@@ -36,9 +36,7 @@ std::string DescriptorSetOf(const pb::Descriptor* descriptor) {
   return set.SerializeAsString();
 }
 
-template <typename Message>
-recording::ChannelSpec ProtobufChannel(const std::string& topic) {
-  const pb::Descriptor* descriptor = Message::descriptor();
+recording::ChannelSpec ProtobufChannel(const std::string& topic, const pb::Descriptor* descriptor) {
   return {topic, "protobuf", descriptor->full_name(), "protobuf", DescriptorSetOf(descriptor)};
 }
 
@@ -154,16 +152,15 @@ struct ProtobufChannels::Channels {
   std::map<std::string, uint32_t> ids;  // by topic, added on first use
   std::shared_ptr<const std::vector<std::string>> last_body_ids;
 
-  template <typename Message>
-  uint32_t Id(const std::string& topic) {
+  uint32_t Id(const std::string& topic, const pb::Descriptor* descriptor) {
     auto it = ids.find(topic);
-    if (it == ids.end()) it = ids.emplace(topic, writer->AddChannel(ProtobufChannel<Message>(topic))).first;
+    if (it == ids.end()) it = ids.emplace(topic, writer->AddChannel(ProtobufChannel(topic, descriptor))).first;
     return it->second;
   }
   // Returns whether the message was written (false: nobody reads the channel now).
   template <typename Message>
   bool Put(const std::string& topic, double time, const std::function<void(Message*)>& fill) {
-    const uint32_t id = Id<Message>(topic);
+    const uint32_t id = Id(topic, Message::descriptor());
     if (!writer->Wanted(id)) return false;
     Message message;
     fill(&message);
@@ -181,6 +178,12 @@ ProtobufChannels::ProtobufChannels(recording::ChannelWriter* writer, ChannelGrou
     : channels_(new Channels{writer, groups, std::move(force_torque_joints), {}, nullptr}) {}
 
 ProtobufChannels::~ProtobufChannels() = default;
+
+void ProtobufChannels::WriteMessage(const std::string& topic, double time, const pb::Message& message) {
+  if (!channels_->groups.graspsim) return;
+  const uint32_t id = channels_->Id(topic, message.GetDescriptor());
+  if (channels_->writer->Wanted(id)) channels_->writer->Write(id, Nanoseconds(time), message.SerializeAsString());
+}
 
 void ProtobufChannels::Log(double time, int level, const std::string& message) {
   if (!channels_->groups.foxglove) return;

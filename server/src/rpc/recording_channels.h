@@ -12,6 +12,10 @@
 #include "recording/channel_writer.h"
 #include "world/scene.h"
 
+namespace google::protobuf {
+class Message;
+}
+
 namespace graspsim::rpc {
 
 struct ChannelGroups {
@@ -26,6 +30,8 @@ class ProtobufChannels {
   ~ProtobufChannels();
   // One frame (carrying its model, state and edits): edits not written yet go first.
   void Write(const SceneSnapshot& frame);
+  // Any API message on a graspsim channel of its own (graspsim group): a real gripper's action beside its twin.
+  void WriteMessage(const std::string& topic, double time, const google::protobuf::Message& message);
   // A line on "/log" (foxglove group).
   void Log(double time, int level, const std::string& message);
 

@@ -1,5 +1,6 @@
 #include "rpc/recording_service.h"
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <filesystem>
@@ -103,6 +104,7 @@ struct RecordingServiceImpl::Replay {
   std::vector<std::string> states;  // persistence::EncodeState bytes, per frame
   std::vector<double> times;
   std::vector<uint64_t> edit_counts;  // per frame: the edits its model needs
+  std::pair<fs::file_time_type, uintmax_t> stamp;  // of the file read: a file replaced since is read again
 };
 
 RecordingServiceImpl::RecordingServiceImpl(SceneRegistry* registry, WorkerPool* pool, std::string directory)
@@ -119,6 +121,22 @@ void RecordingServiceImpl::StopAll() {
     active.swap(active_);
   }
   for (auto& [id, recording] : active) recording->tap->Stop();
+}
+
+void RecordingServiceImpl::Append(const std::string& scene_id, const std::string& topic,
+                                  const google::protobuf::Message& message) {
+  std::shared_ptr<Active> active;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = active_.find(scene_id);
+    if (it == active_.end()) return;
+    active = it->second;
+  }
+  try {
+    active->session->Append(topic, message);
+  } catch (const std::exception& error) {
+    Log(LogLevel::kError, "recording cannot take a message", {{"scene", scene_id}, {"topic", topic}, {"error", error.what()}});
+  }
 }
 
 void RecordingServiceImpl::ReapLocked() {
@@ -153,7 +171,12 @@ void RecordingServiceImpl::Start(const std::shared_ptr<Scene>& scene, const v1::
   options.groups = ParseChannelGroups("groups", {request.groups().begin(), request.groups().end()});
   options.compression = recording::ParseCompression(request.compression(), "compression");
   options.force_torque_joints.assign(request.force_torque_joints().begin(), request.force_torque_joints().end());
-  scene->Read([&](const SceneModel& model, const SceneState&, uint64_t) {
+  const double rate = request.rate_hz() == 0 ? 30 : request.rate_hz();
+  if (!(rate > 0 && rate <= 1000)) ThrowInvalidArgument("rate_hz: " + std::to_string(request.rate_hz()) + " is outside (0, 1000]");
+  options.interval = 1.0 / rate;
+  double scene_time = 0;
+  scene->Read([&](const SceneModel& model, const SceneState& state, uint64_t) {
+    scene_time = state.time;
     for (const std::string& joint : options.force_torque_joints) {
       if (!model.joint_index.count(joint)) ThrowNotFound("force_torque_joints: no joint '" + joint + "' in the scene");
     }
@@ -169,14 +192,14 @@ void RecordingServiceImpl::Start(const std::shared_ptr<Scene>& scene, const v1::
   if (fs::exists(options.path) || (!options.ros2_path.empty() && fs::exists(options.ros2_path))) {
     throw Error(ErrorCode::kAlreadyExists, "name: a recording '" + name + "' exists; choose another name");
   }
-  auto session = std::make_unique<RecordingSession>(options);
+  auto session = std::make_unique<RecordingSession>(options, scene_time);
   auto active = std::make_shared<Active>();
   active->name = name;
   active->path = options.path;
   active->ros2_path = options.ros2_path;
   active->scene_id = scene->id();
   active->session = session.get();
-  active->tap = std::make_shared<recording::FrameTap>(scene, std::move(session));
+  active->tap = std::make_shared<recording::FrameTap>(scene, std::move(session), options.interval);
   active->tap->Start();
   active_[scene->id()] = active;
   active->ToProto(true, out);
@@ -272,10 +295,16 @@ std::shared_ptr<const RecordingServiceImpl::Replay> RecordingServiceImpl::LoadRe
                     "name: recording '" + name + "' of scene '" + id + "' is still being written; stop it first");
       }
     }
-    if (auto it = replays_.find(name); it != replays_.end()) return it->second;
   }
-  if (!fs::exists(path)) ThrowNotFound("name: no recording '" + name + "'");
+  std::error_code error;
+  const auto stamp = std::make_pair(fs::last_write_time(path, error), fs::file_size(path, error));
+  if (error) ThrowNotFound("name: no recording '" + name + "'");
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = replays_.find(name); it != replays_.end() && it->second->stamp == stamp) return it->second;
+  }
   auto replay = std::make_shared<Replay>();
+  replay->stamp = stamp;
   recording::ReadMcap(path, name, [&](const recording::McapMessage& message) {
     if (message.topic == "/graspsim/edit") {
       v1::RecordedEdit edit;
@@ -303,6 +332,7 @@ std::shared_ptr<const RecordingServiceImpl::Replay> RecordingServiceImpl::LoadRe
                 "name: recording '" + name + "' has no /graspsim/state frames (recorded without the graspsim group?)");
   }
   std::lock_guard<std::mutex> lock(mutex_);
+  if (replays_.count(name)) replay_order_.erase(std::find(replay_order_.begin(), replay_order_.end(), name));
   replays_[name] = replay;
   replay_order_.push_back(name);
   if (replay_order_.size() > kReplaysKept) {

@@ -12,11 +12,12 @@
 #include "core/worker_pool.h"
 #include "graspsim/v1/recording.grpc.pb.h"
 #include "recording/frame_tap.h"
+#include "rpc/recording_log.h"
 #include "world/scene_registry.h"
 
 namespace graspsim::rpc {
 
-class RecordingServiceImpl final : public v1::RecordingService::CallbackService {
+class RecordingServiceImpl final : public v1::RecordingService::CallbackService, public RecordingLog {
  public:
   // `directory`: where recordings are written and read ("" = recordings are off: FAILED_PRECONDITION).
   RecordingServiceImpl(SceneRegistry* registry, WorkerPool* pool, std::string directory);
@@ -26,6 +27,7 @@ class RecordingServiceImpl final : public v1::RecordingService::CallbackService 
   void RecordAutomatically(const std::shared_ptr<Scene>& scene);
   // Finishes every recording (server shutdown): their files are complete.
   void StopAll();
+  void Append(const std::string& scene_id, const std::string& topic, const google::protobuf::Message& message) override;
 
   using Context = grpc::CallbackServerContext;
   using Unary = grpc::ServerUnaryReactor;

@@ -11,10 +11,11 @@ std::unique_ptr<recording::McapWriter> OpenFile(const RecordingOptions& options)
 
 }  // namespace
 
-RecordingSession::RecordingSession(const RecordingOptions& options)
+RecordingSession::RecordingSession(const RecordingOptions& options, double start_time)
     : file_(OpenFile(options)),
       file_channels_(file_.get()),
-      channels_(&file_channels_, options.groups, options.force_torque_joints) {
+      channels_(&file_channels_, options.groups, options.force_torque_joints),
+      last_time_(start_time) {
   if (options.groups.ros2) {
     bag_ = std::make_unique<recording::Ros2Bag>(options.ros2_path, options.compression);
     ros2_ = std::make_unique<recording::Ros2Channels>(bag_.get(), options.force_torque_joints);
@@ -22,6 +23,7 @@ RecordingSession::RecordingSession(const RecordingOptions& options)
 }
 
 void RecordingSession::Consume(const SceneSnapshot& frame) {
+  std::lock_guard<std::mutex> lock(mutex_);
   const double time = frame.state->time;
   if (first_) {
     first_ = false;
@@ -41,7 +43,16 @@ void RecordingSession::Consume(const SceneSnapshot& frame) {
   Publish();
 }
 
+void RecordingSession::Append(const std::string& topic, const google::protobuf::Message& message) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (finished_) return;
+  channels_.WriteMessage(topic, last_time_, message);
+  Publish();
+}
+
 void RecordingSession::Finish() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  finished_ = true;
   if (!first_) channels_.Log(last_time_, 2, "recording stopped at t = " + std::to_string(last_time_) + " s");
   if (bag_) bag_->Close();
   file_->Close();

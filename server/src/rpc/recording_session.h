@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -23,14 +24,18 @@ struct RecordingOptions {
   ChannelGroups groups;
   recording::Compression compression = recording::Compression::kZstd;
   std::vector<std::string> force_torque_joints;
+  double interval = 1.0 / 30;  // simulated s between frames (FrameTap)
 };
 
 class RecordingSession : public recording::FrameConsumer {
  public:
-  // Creates the files (Error(kFailedPrecondition) naming a path that cannot be created).
-  explicit RecordingSession(const RecordingOptions& options);
+  // Creates the files (Error(kFailedPrecondition) naming a path that cannot be created). `start_time`: the
+  // scene's simulated time now (Append's time until the first frame).
+  RecordingSession(const RecordingOptions& options, double start_time);
   void Consume(const SceneSnapshot& frame) override;
   void Finish() override;
+  // A message from another part of the server (recording_log.h), at the time of the last frame; thread-safe.
+  void Append(const std::string& topic, const google::protobuf::Message& message);
 
   uint64_t messages() const { return messages_.load(); }
   uint64_t bytes() const { return bytes_.load(); }  // of the .mcap file
@@ -45,7 +50,8 @@ class RecordingSession : public recording::FrameConsumer {
   ProtobufChannels channels_;
   std::unique_ptr<recording::Ros2Bag> bag_;
   std::unique_ptr<recording::Ros2Channels> ros2_;
-  bool first_ = true;
+  std::mutex mutex_;  // the files: frames come from the tap's thread, Append from any
+  bool first_ = true, finished_ = false;
   double last_time_ = 0;
   std::chrono::steady_clock::time_point last_flush_ = std::chrono::steady_clock::now();
   std::atomic<uint64_t> messages_{0}, bytes_{0};

@@ -56,6 +56,11 @@ void CheckListenSecurity(const ServerOptions& options) {
                            "--token-file (docs/security.md), so that only callers with a token get in");
     }
   }
+  // The live Foxglove endpoint has neither TLS nor tokens: it shows any scene to whoever connects.
+  if (options.foxglove_listen != "off" && !IsLoopback(options.foxglove_listen)) {
+    ThrowInvalidArgument("--foxglove-listen: '" + options.foxglove_listen +
+                         "' is not a loopback address; the live endpoint has no TLS or tokens (docs/recording.md)");
+  }
 }
 
 GraspsimServer::GraspsimServer(const ServerOptions& options)
@@ -78,17 +83,6 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
 
-  services_.push_back(
-      std::make_unique<SceneServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
-  services_.push_back(std::make_unique<PerceptionServiceImpl>(&registry_, &pool_, &overlays_));
-  std::shared_ptr<grasp::GraspStore> grasp_store;
-  const std::string grasp_dir = options.grasp_data_dir.empty() ? options.data_dir : options.grasp_data_dir;
-  if (grasp_dir != "off") grasp_store = std::make_shared<grasp::GraspStore>(grasp_dir);
-  services_.push_back(std::make_unique<GraspServiceImpl>(&registry_, &pool_, std::move(grasp_store), &overlays_));
-  services_.push_back(
-      std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
-  services_.push_back(std::make_unique<GatewayServiceImpl>(&gateways_, &registry_, &pool_));
-  services_.push_back(std::make_unique<AuthServiceImpl>(&authorizer_, !options.token_file.empty(), &pool_));
   {
     std::string recording_dir = options.recording_dir;
     if (recording_dir.empty() && options.data_dir != "off") recording_dir = options.data_dir + "/recordings";
@@ -99,6 +93,17 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
       for (const auto& scene : registry_.List()) recordings_->RecordAutomatically(scene);
       registry_.SetCreatedHook([this](const std::shared_ptr<Scene>& scene) { recordings_->RecordAutomatically(scene); });
     }
+  services_.push_back(
+      std::make_unique<SceneServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
+  services_.push_back(std::make_unique<PerceptionServiceImpl>(&registry_, &pool_, &overlays_));
+  std::shared_ptr<grasp::GraspStore> grasp_store;
+  const std::string grasp_dir = options.grasp_data_dir.empty() ? options.data_dir : options.grasp_data_dir;
+  if (grasp_dir != "off") grasp_store = std::make_shared<grasp::GraspStore>(grasp_dir);
+  services_.push_back(std::make_unique<GraspServiceImpl>(&registry_, &pool_, std::move(grasp_store), &overlays_));
+  services_.push_back(
+      std::make_unique<TactileServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
+  services_.push_back(std::make_unique<GatewayServiceImpl>(&gateways_, &registry_, &pool_, recordings_));
+  services_.push_back(std::make_unique<AuthServiceImpl>(&authorizer_, !options.token_file.empty(), &pool_));
   }
 
   grpc::ServerBuilder builder;

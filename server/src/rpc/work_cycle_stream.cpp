@@ -171,9 +171,11 @@ void WorkCycleRun::Simulate() {
         // the buffer. The frames do not depend on the chunking.
         Simulation* simulation = simulations_->For(scene_->id(), model).get();
         const auto until = std::chrono::steady_clock::now() + kChunkWallTime;
-        do {
+        for (;;) {
           cycle_->Advance(simulation, state, StepsPerChunk(model->simulation), &frames);
-        } while (!cycle_->done() && frames.size() < kMaxBuffered / 2 && std::chrono::steady_clock::now() < until);
+          if (cycle_->done() || frames.size() >= kMaxBuffered / 2 || std::chrono::steady_clock::now() >= until) break;
+          scene_->PublishDuringUpdate(*state);  // a recording gets every chunk, not only the committed ones
+        }
       } catch (const Error& error) {
         failure = error;  // commit the steps done before it: the scene then matches the frames sent
       }

@@ -96,7 +96,7 @@ void Scene::JournalLocked(const SceneOp* op, const SceneState& state, bool chang
 
 std::shared_ptr<const SceneSnapshot> Scene::DetailedSnapshot() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return SnapshotLocked(true, false);
+  return SnapshotLocked(state_, revision_, true, false);
 }
 
 uint64_t Scene::revision() const {
@@ -403,37 +403,56 @@ void Scene::CommitLocked() {
   PublishLocked();
 }
 
-void Scene::PublishLocked() { hub_.Publish(SnapshotLocked(hub_.detail_wanted(), true)); }
+void Scene::PublishLocked() {
+  const bool detail = hub_.detail_wanted();
+  if (detail) last_detail_time_ = state_.time;
+  hub_.Publish(SnapshotLocked(state_, revision_, detail, true));
+}
 
-std::shared_ptr<SceneSnapshot> Scene::SnapshotLocked(bool detail, bool publish) const {
+void Scene::PublishDuringUpdate(const SceneState& state) {
+  if (!hub_.detail_wanted()) return;
+  // Spaced as the watchers asked (recordings default to 30 frames per simulated second); time may also go back
+  // (a replay seeks), which always publishes.
+  const double since = state.time - last_detail_time_;
+  if (since >= 0 && since < hub_.detail_interval() - 1e-9) return;
+  last_detail_time_ = state.time;
+  hub_.Publish(SnapshotLocked(state, revision_ + 1, true, true));
+}
+
+std::shared_ptr<SceneSnapshot> Scene::SnapshotLocked(const SceneState& state, uint64_t revision, bool detail,
+                                                     bool publish) const {
   auto snapshot = std::make_shared<SceneSnapshot>();
   // A detailed snapshot taken outside a publication shows the last published sequence: watchers count gaps.
   snapshot->sequence = publish ? ++snapshot_sequence_ : snapshot_sequence_;
-  snapshot->revision = revision_;
-  snapshot->time = state_.time;
-  // Id lists change only with the model; reuse them between snapshots while they are the same.
-  std::vector<std::string> body_ids, joint_ids;
-  for (const auto& body : model_->bodies) body_ids.push_back(body.id);
-  for (const auto& joint : model_->joints) joint_ids.push_back(joint.id);
-  if (!snapshot_body_ids_ || *snapshot_body_ids_ != body_ids) {
-    snapshot_body_ids_ = std::make_shared<const std::vector<std::string>>(std::move(body_ids));
-  }
-  if (!snapshot_joint_ids_ || *snapshot_joint_ids_ != joint_ids) {
-    snapshot_joint_ids_ = std::make_shared<const std::vector<std::string>>(std::move(joint_ids));
+  snapshot->revision = revision;
+  snapshot->time = state.time;
+  // Id lists change only with the model; reuse them between snapshots while they are the same (a new model with
+  // the same ids, e.g. new simulation parameters, keeps them too: watchers compare the pointers).
+  if (snapshot_ids_model_ != model_) {
+    std::vector<std::string> body_ids, joint_ids;
+    for (const auto& body : model_->bodies) body_ids.push_back(body.id);
+    for (const auto& joint : model_->joints) joint_ids.push_back(joint.id);
+    if (!snapshot_body_ids_ || *snapshot_body_ids_ != body_ids) {
+      snapshot_body_ids_ = std::make_shared<const std::vector<std::string>>(std::move(body_ids));
+    }
+    if (!snapshot_joint_ids_ || *snapshot_joint_ids_ != joint_ids) {
+      snapshot_joint_ids_ = std::make_shared<const std::vector<std::string>>(std::move(joint_ids));
+    }
+    snapshot_ids_model_ = model_;
   }
   snapshot->body_ids = snapshot_body_ids_;
   snapshot->joint_ids = snapshot_joint_ids_;
-  snapshot->body_poses.reserve(7 * state_.body_poses.size());
-  for (const Pose& pose : state_.body_poses) {
+  snapshot->body_poses.reserve(7 * state.body_poses.size());
+  for (const Pose& pose : state.body_poses) {
     const Quat& q = pose.orientation;
     for (double v : {pose.position.x(), pose.position.y(), pose.position.z(), q.w(), q.x(), q.y(), q.z()}) {
       snapshot->body_poses.push_back(v);
     }
   }
-  snapshot->joint_positions = state_.joint_positions;
-  snapshot->contacts.reserve(6 * state_.contacts.size());
-  snapshot->contact_bodies.reserve(2 * state_.contacts.size());
-  for (const auto& contact : state_.contacts) {
+  snapshot->joint_positions = state.joint_positions;
+  snapshot->contacts.reserve(6 * state.contacts.size());
+  snapshot->contact_bodies.reserve(2 * state.contacts.size());
+  for (const auto& contact : state.contacts) {
     for (double v : {contact.point.x(), contact.point.y(), contact.point.z(), contact.force.x(), contact.force.y(),
                      contact.force.z()}) {
       snapshot->contacts.push_back(v);
@@ -442,7 +461,7 @@ std::shared_ptr<SceneSnapshot> Scene::SnapshotLocked(bool detail, bool publish) 
   }
   if (detail) {
     snapshot->model = model_;
-    snapshot->state = std::make_shared<const SceneState>(state_);
+    snapshot->state = std::make_shared<const SceneState>(state);
     snapshot->edits = edits_;
   }
   return snapshot;

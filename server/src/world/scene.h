@@ -94,6 +94,10 @@ class Scene {
   using StateChange = std::function<void(const std::shared_ptr<const SceneModel>& model, SceneState* state)>;
   // `journal` false: the change is journaled by a later Checkpoint (simulation chunks), not now.
   uint64_t Update(const StateChange& change, bool journal = true);
+  // From inside an Update's change only (it holds the scene's lock): publishes `state`, not yet committed, as a
+  // frame to the watchers that want detail (recordings, live feeds), so that a long update that runs many
+  // chunks (the work cycle) is recorded chunk by chunk. Nothing when no watcher wants detail.
+  void PublishDuringUpdate(const SceneState& state);
   // A new model with these simulation parameters (validated by the caller).
   uint64_t SetSimulationParams(const SimulationParams& params, const SceneOp* op = nullptr);
 
@@ -110,7 +114,8 @@ class Scene {
   // Caller holds mutex_. Bumps the revision and publishes a snapshot to the watchers.
   void CommitLocked();
   void PublishLocked();
-  std::shared_ptr<SceneSnapshot> SnapshotLocked(bool detail, bool publish) const;
+  std::shared_ptr<SceneSnapshot> SnapshotLocked(const SceneState& state, uint64_t revision, bool detail,
+                                               bool publish) const;
   size_t BodyIndexLocked(const std::string& id) const;
   size_t JointIndexLocked(const std::string& id) const;
   void CheckIdFreeLocked(const std::string& field, const std::string& id) const;
@@ -129,7 +134,9 @@ class Scene {
   // never changed in place, so snapshots share it.
   std::shared_ptr<const SceneEdits> edits_ = std::make_shared<const SceneEdits>();
   mutable uint64_t snapshot_sequence_ = 0;
+  double last_detail_time_ = -1;  // simulated time of the last detailed snapshot published
   mutable std::shared_ptr<const std::vector<std::string>> snapshot_body_ids_, snapshot_joint_ids_;
+  mutable std::shared_ptr<const SceneModel> snapshot_ids_model_;  // the model the id lists were built from
   SnapshotHub hub_;
 };
 

@@ -17,6 +17,21 @@ void SnapshotHub::Publish(std::shared_ptr<const SceneSnapshot> snapshot) {
   for (const auto& watcher : to_notify) watcher->OnSnapshotAvailable();
 }
 
+void SnapshotHub::WantDetail(bool want, double interval) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (want) {
+    detail_intervals_.insert(interval);
+  } else if (auto it = detail_intervals_.find(interval); it != detail_intervals_.end()) {
+    detail_intervals_.erase(it);
+  }
+  detail_wanted_ = static_cast<int>(detail_intervals_.size());
+}
+
+double SnapshotHub::detail_interval() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return detail_intervals_.empty() ? 0 : *detail_intervals_.begin();
+}
+
 std::shared_ptr<const SceneSnapshot> SnapshotHub::Latest() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return latest_;

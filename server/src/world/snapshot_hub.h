@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -51,9 +52,13 @@ class SnapshotHub {
   void Unsubscribe(const SnapshotWatcher* watcher);
   void Close(const std::string& reason);
   size_t WatcherCount() const;
-  // Counted: snapshots carry the model and a copy of the state while at least one watcher wants them.
-  void WantDetail(bool want) { detail_wanted_ += want ? 1 : -1; }
+  // Counted: snapshots carry the model and a copy of the state while at least one watcher wants them. `interval`
+  // (simulated s) is the spacing of frames the watcher needs from a long update (Scene::PublishDuringUpdate);
+  // withdraw with the same interval.
+  void WantDetail(bool want, double interval = 0);
   bool detail_wanted() const { return detail_wanted_.load() > 0; }
+  // The finest interval asked for (0 with no watcher wanting detail).
+  double detail_interval() const;
 
  private:
   mutable std::mutex mutex_;
@@ -61,6 +66,7 @@ class SnapshotHub {
   std::vector<std::weak_ptr<SnapshotWatcher>> watchers_;
   bool closed_ = false;
   std::atomic<int> detail_wanted_{0};
+  std::multiset<double> detail_intervals_;
 };
 
 }  // namespace graspsim
