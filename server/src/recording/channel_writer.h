@@ -8,6 +8,8 @@
 #include <string_view>
 
 #include "recording/mcap_writer.h"
+#include "sensors/readings.h"
+#include "world/snapshot_hub.h"
 
 namespace graspsim::recording {
 
@@ -26,6 +28,18 @@ class ChannelWriter {
   // False when nobody reads the channel (a live client not subscribed to it): the encoder skips the work.
   virtual bool Wanted(uint32_t /*channel*/) const { return true; }
   virtual void Write(uint32_t channel, uint64_t time_ns, std::string_view payload) = 0;
+};
+
+// The tactile frames of one frame, read once for every encoder of it (each array's read transforms every
+// texel's force into the pad frame: the largest share of a recording's CPU when each encoder read them again).
+class FrameReadings {
+ public:
+  explicit FrameReadings(const SceneSnapshot& frame) : frame_(frame) {}
+  const TactileFrame& Pad(size_t pad);
+
+ private:
+  const SceneSnapshot& frame_;
+  std::map<size_t, TactileFrame> pads_;
 };
 
 // Channels of one MCAP file; a schema shared by several channels is written once.

@@ -65,7 +65,7 @@ class FrameTap : public SnapshotWatcher, public std::enable_shared_from_this<Fra
   std::deque<std::shared_ptr<const SceneSnapshot>> queue_;
   uint64_t last_sequence_ = 0, frames_ = 0, dropped_ = 0;
   std::shared_ptr<const SceneSnapshot> last_queued_, skipped_;  // the newest frame queued, and one skipped since
-  bool stopping_ = false, subscribed_ = false, finished_ = false;
+  bool stopping_ = false, subscribed_ = false, finished_ = false, waiting_ = false;
   std::string error_;
   std::thread thread_;
 };

@@ -23,7 +23,7 @@ uint32_t Ros2Channels::Channel(const std::string& topic, const char* type_name) 
   return id;
 }
 
-void Ros2Channels::Write(const SceneSnapshot& frame) {
+void Ros2Channels::Write(const SceneSnapshot& frame, FrameReadings& readings) {
   const SceneModel& model = *frame.model;
   const SceneState& state = *frame.state;
   const uint64_t time_ns = static_cast<uint64_t>(std::llround(state.time * 1e9));
@@ -57,7 +57,7 @@ void Ros2Channels::Write(const SceneSnapshot& frame) {
   for (size_t pad = 0; pad < model.tactile_arrays.size(); ++pad) {
     const uint32_t channel = Channel("/tactile/" + model.tactile_arrays[pad].id, ros2::kFloat32MultiArray.name);
     if (!writer_->Wanted(channel)) continue;
-    const TactileFrame reading = ReadTactileArray(model, state, pad);
+    const TactileFrame& reading = readings.Pad(pad);
     std::vector<float> normal(reading.forces.size());
     for (size_t i = 0; i < normal.size(); ++i) normal[i] = static_cast<float>(std::max(0.0, -reading.forces[i].z()));
     writer_->Write(channel, time_ns, ros2::EncodeFloat32MultiArray(reading.rows, reading.cols, normal));

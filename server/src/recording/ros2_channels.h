@@ -17,8 +17,8 @@ class Ros2Channels {
  public:
   Ros2Channels(ChannelWriter* writer, std::vector<std::string> force_torque_joints)
       : writer_(writer), force_torque_joints_(std::move(force_torque_joints)) {}
-  // `frame` carries its model and state.
-  void Write(const SceneSnapshot& frame);
+  // `frame` carries its model and state; `readings` are its tactile frames.
+  void Write(const SceneSnapshot& frame, FrameReadings& readings);
 
  private:
   uint32_t Channel(const std::string& topic, const char* type_name);

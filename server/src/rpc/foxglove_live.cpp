@@ -38,7 +38,8 @@ class LiveFeed : public recording::FrameConsumer {
       first_ = false;
       channels_.Log(frame.state->time, 2, "live feed of scene '" + scene_id_ + "'");
     }
-    channels_.Write(frame);
+    recording::FrameReadings readings(frame);
+    channels_.Write(frame, readings);
   }
   std::chrono::milliseconds idle_interval() const override { return std::chrono::milliseconds(500); }
 

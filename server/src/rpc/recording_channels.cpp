@@ -195,7 +195,7 @@ void ProtobufChannels::Log(double time, int level, const std::string& message) {
   });
 }
 
-void ProtobufChannels::Write(const SceneSnapshot& frame) {
+void ProtobufChannels::Write(const SceneSnapshot& frame, recording::FrameReadings& readings) {
   Channels& c = *channels_;
   const SceneModel& model = *frame.model;
   const SceneState& state = *frame.state;
@@ -234,7 +234,7 @@ void ProtobufChannels::Write(const SceneSnapshot& frame) {
       c.Put<v1::SensorReading>("/graspsim/sensor", time, [&](v1::SensorReading* out) {
         out->set_sensor_id(model.tactile_arrays[pad].id);
         out->set_time(time);
-        ToProto(ReadTactileArray(model, state, pad), out->mutable_tactile());
+        ToProto(readings.Pad(pad), out->mutable_tactile());
       });
     }
     for (const std::string& joint_id : c.force_torque_joints) {
@@ -276,7 +276,7 @@ void ProtobufChannels::Write(const SceneSnapshot& frame) {
     for (size_t pad = 0; pad < model.tactile_arrays.size(); ++pad) {
       const std::string& id = model.tactile_arrays[pad].id;
       c.Put<foxglove::RawImage>("/tactile/" + id, time, [&](foxglove::RawImage* image) {
-        const TactileFrame reading = ReadTactileArray(model, state, pad);
+        const TactileFrame& reading = readings.Pad(pad);
         SetTime(time, image->mutable_timestamp());
         image->set_frame_id(id);
         image->set_width(reading.cols);

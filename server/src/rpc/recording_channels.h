@@ -28,8 +28,9 @@ class ProtobufChannels {
  public:
   ProtobufChannels(recording::ChannelWriter* writer, ChannelGroups groups, std::vector<std::string> force_torque_joints);
   ~ProtobufChannels();
-  // One frame (carrying its model, state and edits): edits not written yet go first.
-  void Write(const SceneSnapshot& frame);
+  // One frame (carrying its model, state and edits): edits not written yet go first. `readings`: its tactile
+  // frames, shared with the other encoders of the frame.
+  void Write(const SceneSnapshot& frame, recording::FrameReadings& readings);
   // Any API message on a graspsim channel of its own (graspsim group): a real gripper's action beside its twin.
   void WriteMessage(const std::string& topic, double time, const google::protobuf::Message& message);
   // A line on "/log" (foxglove group).

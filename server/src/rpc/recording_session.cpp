@@ -32,8 +32,9 @@ void RecordingSession::Consume(const SceneSnapshot& frame) {
   }
   last_time_ = time;
   end_time_ = time;
-  channels_.Write(frame);
-  if (ros2_) ros2_->Write(frame);
+  recording::FrameReadings readings(frame);
+  channels_.Write(frame, readings);
+  if (ros2_) ros2_->Write(frame, readings);
   const auto now = std::chrono::steady_clock::now();
   if (now - last_flush_ >= kFlushInterval) {
     file_->Flush();
