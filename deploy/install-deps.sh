@@ -14,6 +14,7 @@ DEBIAN_PACKAGES=(
   libtinyxml2-dev  # MJCF (MuJoCo XML) robot files: server/src/import/mjcf_*.cpp
   libsdformat-dev  # SDF robot and world files (libsdformat 12): server/src/import/sdf_*.cpp
   clang libclang-rt-14-dev  # libFuzzer targets and the ASan/UBSan build of the C++ tests (docs/fuzzing.md)
+  libzstd-dev liblz4-dev zlib1g-dev  # MCAP recordings: chunk compression and CRCs (server/src/recording)
   libboost-dev  # Boost.Beast: the Foxglove WebSocket endpoint (server/src/live)
   nlohmann-json3-dev  # JSON of the Foxglove WebSocket protocol (server/src/live); Boost 1.74's JSON is not header-only
 )

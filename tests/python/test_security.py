@@ -257,6 +257,17 @@ def test_non_loopback_without_tls_refuses_to_start(flags, fragment, tmp_path):
     assert "only for 127.0.0.1, ::1 and localhost" in result.stderr + result.stdout
 
 
+def test_foxglove_live_endpoint_is_loopback_only(tmp_path):
+    """The live Foxglove endpoint has neither TLS nor tokens: a wider address stops the start, even with TLS and
+    tokens on the other ports."""
+    port = free_port()
+    result = subprocess.run([str(server_binary()), f"--listen=127.0.0.1:{free_port()}", "--http-listen=off",
+                             f"--foxglove-listen=0.0.0.0:{port}", *data_dir_flags(tmp_path), "--grasp-data-dir=off"],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode != 0
+    assert f"--foxglove-listen: '0.0.0.0:{port}' is not a loopback address" in result.stderr + result.stdout
+
+
 def test_octave_client_sends_its_token(tmp_path):
     """The Matlab/Octave client's 'Token' option, against a loopback server with tokens on."""
     octave = shutil.which("octave")
