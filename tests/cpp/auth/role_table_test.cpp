@@ -13,6 +13,7 @@
 #include "graspsim/v1/gateway.pb.h"
 #include "graspsim/v1/grasp.pb.h"
 #include "graspsim/v1/perception.pb.h"
+#include "graspsim/v1/recording.pb.h"
 #include "graspsim/v1/scene.pb.h"
 #include "graspsim/v1/tactile.pb.h"
 
@@ -24,7 +25,8 @@ TEST(AuthRoleTable, EveryProtoMethodHasARowAndEveryRowAMethod) {
   const google::protobuf::FileDescriptor* files[] = {
       v1::WhoAmIRequest::descriptor()->file(),     v1::DeviceCommand::descriptor()->file(),
       v1::GetGraspSetRequest::descriptor()->file(), v1::SegmentSceneRequest::descriptor()->file(),
-      v1::GetSceneRequest::descriptor()->file(),    v1::SampleRequest::descriptor()->file()};
+      v1::GetSceneRequest::descriptor()->file(),    v1::SampleRequest::descriptor()->file(),
+      v1::StartRecordingRequest::descriptor()->file()};
   std::set<std::string> methods;
   for (const auto* file : files) {
     for (int s = 0; s < file->service_count(); ++s) {
