@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from graspsim import meshes
-from graspsim.v1 import gateway_pb2, grasp_pb2, perception_pb2, scene_pb2, tactile_pb2
+from graspsim.v1 import gateway_pb2, grasp_pb2, perception_pb2, recording_pb2, scene_pb2, tactile_pb2
 
 from _support import scene_bytes
 
@@ -53,7 +53,7 @@ def test_every_api_method_is_listed_and_reachable_without_per_method_code(server
     with urllib.request.urlopen(f"{server.http_url}/v1", timeout=10) as response:
         listed = {(s["name"], m["name"]) for s in json.load(response)["services"] for m in s["methods"]}
     declared = {(service.full_name, method.name)
-                for module in (scene_pb2, perception_pb2, grasp_pb2, tactile_pb2, gateway_pb2)
+                for module in (scene_pb2, perception_pb2, grasp_pb2, tactile_pb2, gateway_pb2, recording_pb2)
                 for service in module.DESCRIPTOR.services_by_name.values() for method in service.methods}
     assert listed == declared
     for service, method in declared:

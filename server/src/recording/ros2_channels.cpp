@@ -13,7 +13,7 @@ uint32_t Ros2Channels::Channel(const std::string& topic, const char* type_name) 
   auto it = channels_.find(topic);
   if (it != channels_.end()) return it->second;
   const ros2::MessageType* types[] = {&ros2::kTFMessage, &ros2::kJointState, &ros2::kFloat32MultiArray,
-                                      &ros2::kWrenchStamped};
+                                      &ros2::kWrenchStamped, &ros2::kPointCloud2};
   std::string definition;
   for (const auto* type : types) {
     if (std::string(type->name) == type_name) definition = type->definition;
@@ -72,6 +72,13 @@ void Ros2Channels::Write(const SceneSnapshot& frame, FrameReadings& readings) {
     const std::string& child = model.bodies[model.joint_bodies[found->second][1]].id;
     writer_->Write(channel, time_ns, ros2::EncodeWrenchStamped(stamp, child, reading.force, reading.torque));
   }
+}
+
+void Ros2Channels::WritePointCloud(const std::string& topic, double time, const std::vector<Vec3>& points) {
+  const uint32_t channel = Channel(topic, ros2::kPointCloud2.name);
+  if (!writer_->Wanted(channel)) return;
+  const uint64_t time_ns = static_cast<uint64_t>(std::llround(std::max(0.0, time) * 1e9));
+  writer_->Write(channel, time_ns, ros2::EncodePointCloud2(ros2::StampOf(time), "world", points));
 }
 
 }  // namespace graspsim::recording

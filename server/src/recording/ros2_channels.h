@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/math.h"
 #include "recording/channel_writer.h"
 #include "world/snapshot_hub.h"
 
@@ -19,6 +20,8 @@ class Ros2Channels {
       : writer_(writer), force_torque_joints_(std::move(force_torque_joints)) {}
   // `frame` carries its model and state; `readings` are its tactile frames.
   void Write(const SceneSnapshot& frame, FrameReadings& readings);
+  // A point cloud in the world frame (sensor_msgs/PointCloud2), e.g. what a shape completion saw.
+  void WritePointCloud(const std::string& topic, double time, const std::vector<Vec3>& points);
 
  private:
   uint32_t Channel(const std::string& topic, const char* type_name);

@@ -69,6 +69,14 @@ const MessageType kWrenchStamped{
     "std_msgs/Header header\nWrench wrench\n" ROS2_HEADER ROS2_SEPARATOR
     "MSG: geometry_msgs/Wrench\nVector3 force\nVector3 torque\n" ROS2_VECTOR3};
 
+const MessageType kPointCloud2{
+    "sensor_msgs/msg/PointCloud2",
+    "std_msgs/Header header\nuint32 height\nuint32 width\nPointField[] fields\nbool is_bigendian\n"
+    "uint32 point_step\nuint32 row_step\nuint8[] data\nbool is_dense\n" ROS2_HEADER ROS2_SEPARATOR
+    "MSG: sensor_msgs/PointField\nuint8 INT8 = 1\nuint8 UINT8 = 2\nuint8 INT16 = 3\nuint8 UINT16 = 4\n"
+    "uint8 INT32 = 5\nuint8 UINT32 = 6\nuint8 FLOAT32 = 7\nuint8 FLOAT64 = 8\nstring name\nuint32 offset\n"
+    "uint8 datatype\nuint32 count\n"};
+
 Stamp StampOf(double seconds) {
   const double whole = std::floor(seconds);
   Stamp stamp{static_cast<int32_t>(whole), static_cast<uint32_t>(std::llround((seconds - whole) * 1e9))};
@@ -117,6 +125,36 @@ std::string EncodeFloat32MultiArray(unsigned rows, unsigned cols, const std::vec
   cdr.Put<uint32_t>(0);  // data_offset
   cdr.Put<uint32_t>(static_cast<uint32_t>(data.size()));
   for (float v : data) cdr.Put<float>(v);
+  return cdr.Take();
+}
+
+std::string EncodePointCloud2(const Stamp& stamp, const std::string& frame_id, const std::vector<Vec3>& points) {
+  constexpr uint8_t kFloat32 = 7;
+  Cdr cdr;
+  cdr.PutHeader(stamp, frame_id);
+  cdr.Put<uint32_t>(1);  // height: unorganized
+  cdr.Put<uint32_t>(static_cast<uint32_t>(points.size()));
+  cdr.Put<uint32_t>(3);
+  const char* names[] = {"x", "y", "z"};
+  for (uint32_t i = 0; i < 3; ++i) {
+    cdr.PutString(names[i]);
+    cdr.Put<uint32_t>(4 * i);
+    cdr.Put<uint8_t>(kFloat32);
+    cdr.Put<uint32_t>(1);
+  }
+  cdr.Put<uint8_t>(0);  // is_bigendian
+  cdr.Put<uint32_t>(12);
+  cdr.Put<uint32_t>(static_cast<uint32_t>(12 * points.size()));
+  cdr.Put<uint32_t>(static_cast<uint32_t>(12 * points.size()));
+  for (const Vec3& p : points) {
+    for (int i = 0; i < 3; ++i) {
+      const float v = static_cast<float>(p[i]);
+      char bytes[4];
+      std::memcpy(bytes, &v, 4);
+      for (char b : bytes) cdr.Put<uint8_t>(static_cast<uint8_t>(b));
+    }
+  }
+  cdr.Put<uint8_t>(1);  // is_dense
   return cdr.Take();
 }
 

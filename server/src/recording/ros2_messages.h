@@ -17,7 +17,7 @@ struct MessageType {
   const char* name;        // "tf2_msgs/msg/TFMessage"
   const char* definition;  // ros2msg text
 };
-extern const MessageType kTFMessage, kJointState, kFloat32MultiArray, kWrenchStamped;
+extern const MessageType kTFMessage, kJointState, kFloat32MultiArray, kWrenchStamped, kPointCloud2;
 
 struct Stamp {
   int32_t sec = 0;
@@ -35,6 +35,8 @@ std::string EncodeJointState(const Stamp& stamp, const std::vector<std::string>&
                              const std::vector<double>& efforts);
 // A row-major rows × cols array: dims "rows" and "cols".
 std::string EncodeFloat32MultiArray(unsigned rows, unsigned cols, const std::vector<float>& data);
+// An unorganized cloud (height 1): fields x, y, z as float32, 12 bytes per point, little endian, dense.
+std::string EncodePointCloud2(const Stamp& stamp, const std::string& frame_id, const std::vector<Vec3>& points);
 std::string EncodeWrenchStamped(const Stamp& stamp, const std::string& frame_id, const Vec3& force,
                                 const Vec3& torque);
 

@@ -12,6 +12,7 @@
 #include "core/format.h"
 #include "core/validate.h"
 #include "perception/mesh_metrics.h"
+#include "perception/observation.h"
 #include "perception/segmentation.h"
 #include "perception/shape_completion.h"
 #include "rpc/call.h"
@@ -105,7 +106,7 @@ SceneOverlays::Completion CompletionOverlay(const CompletionResult& result, cons
 }
 
 void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* registry, SceneOverlays* overlays,
-                   const std::shared_ptr<CompletionRun>& run) {
+                   RecordingLog* recordings, const std::shared_ptr<CompletionRun>& run) {
   try {
     const Limits& limits = registry->limits();
     const CompletionOptions options = OptionsFromProto(request, limits);
@@ -127,6 +128,9 @@ void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* regis
     ResultToProto(*result, &last);
     if (scene) {
       const double mass = request.object_mass() > 0 ? request.object_mass() : kDefaultMass;
+      if (recordings) {  // what the camera saw, in the scene's recording (if any) beside the object it became
+        recordings->AppendPointCloud(scene->id(), "/completion/points", Observe(view, options.max_points).points);
+      }
       last.set_body_id(AddToScene(scene.get(), request.object_name(), mass, result->mesh, limits));
       if (overlays && result->plane) {
         overlays->SetCompletion(request.add_to_scene_id(), CompletionOverlay(*result, last.body_id()));
@@ -144,8 +148,8 @@ grpc::ServerWriteReactor<v1::CompleteShapeProgress>* PerceptionServiceImpl::Comp
     Context* context, const v1::CompleteShapeRequest* request) {
   if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::CompleteShapeProgress>(*refused);
   auto* reactor = new RunReactor<v1::CompleteShapeProgress, CompletionRun>(context, kCompleteShape);
-  pool_->Post([request, registry = registry_, overlays = overlays_, run = reactor->run()] {
-    RunCompletion(*request, registry, overlays, run);
+  pool_->Post([request, registry = registry_, overlays = overlays_, recordings = recordings_, run = reactor->run()] {
+    RunCompletion(*request, registry, overlays, recordings, run);
   });
   return reactor;
 }

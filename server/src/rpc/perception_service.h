@@ -7,6 +7,7 @@
 #include "core/limits.h"
 #include "core/worker_pool.h"
 #include "graspsim/v1/perception.grpc.pb.h"
+#include "rpc/recording_log.h"
 #include "rpc/scene_overlays.h"
 #include "world/scene_registry.h"
 
@@ -14,9 +15,11 @@ namespace graspsim::rpc {
 
 class PerceptionServiceImpl final : public v1::PerceptionService::CallbackService {
  public:
-  // `overlays` (may be null) receives the symmetry plane of completions added to a scene, for the viewer.
-  PerceptionServiceImpl(SceneRegistry* registry, WorkerPool* pool, SceneOverlays* overlays = nullptr)
-      : registry_(registry), pool_(pool), overlays_(overlays) {}
+  // `overlays` (may be null) receives the symmetry plane of completions added to a scene, for the viewer;
+  // `recordings` (may be null) the points such a completion saw, when that scene is being recorded.
+  PerceptionServiceImpl(SceneRegistry* registry, WorkerPool* pool, SceneOverlays* overlays = nullptr,
+                        RecordingLog* recordings = nullptr)
+      : registry_(registry), pool_(pool), overlays_(overlays), recordings_(recordings) {}
 
   using Context = grpc::CallbackServerContext;
   grpc::ServerWriteReactor<v1::CompleteShapeProgress>* CompleteShape(Context*, const v1::CompleteShapeRequest*) override;
@@ -26,6 +29,7 @@ class PerceptionServiceImpl final : public v1::PerceptionService::CallbackServic
   SceneRegistry* registry_;
   WorkerPool* pool_;
   SceneOverlays* overlays_;
+  RecordingLog* recordings_;
 };
 
 }  // namespace graspsim::rpc

@@ -1,6 +1,7 @@
 #include "rpc/recording_channels.h"
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <set>
 
@@ -183,6 +184,29 @@ void ProtobufChannels::WriteMessage(const std::string& topic, double time, const
   if (!channels_->groups.graspsim) return;
   const uint32_t id = channels_->Id(topic, message.GetDescriptor());
   if (channels_->writer->Wanted(id)) channels_->writer->Write(id, Nanoseconds(time), message.SerializeAsString());
+}
+
+void ProtobufChannels::WritePointCloud(const std::string& topic, double time, const std::vector<Vec3>& points) {
+  if (!channels_->groups.foxglove) return;
+  channels_->Put<foxglove::PointCloud>(topic, time, [&](foxglove::PointCloud* cloud) {
+    SetTime(time, cloud->mutable_timestamp());
+    cloud->set_frame_id("world");
+    cloud->mutable_pose()->mutable_orientation()->set_w(1);
+    cloud->set_point_stride(12);
+    const char* names[] = {"x", "y", "z"};
+    for (uint32_t i = 0; i < 3; ++i) {
+      auto* field = cloud->add_fields();
+      field->set_name(names[i]);
+      field->set_offset(4 * i);
+      field->set_type(foxglove::PackedElementField::FLOAT32);
+    }
+    std::string data(12 * points.size(), '\0');
+    for (size_t p = 0; p < points.size(); ++p) {
+      const float xyz[3] = {float(points[p].x()), float(points[p].y()), float(points[p].z())};
+      std::memcpy(data.data() + 12 * p, xyz, 12);
+    }
+    cloud->set_data(std::move(data));
+  });
 }
 
 void ProtobufChannels::Log(double time, int level, const std::string& message) {

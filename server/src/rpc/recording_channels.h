@@ -33,6 +33,8 @@ class ProtobufChannels {
   void Write(const SceneSnapshot& frame, recording::FrameReadings& readings);
   // Any API message on a graspsim channel of its own (graspsim group): a real gripper's action beside its twin.
   void WriteMessage(const std::string& topic, double time, const google::protobuf::Message& message);
+  // A point cloud in the world frame as foxglove.PointCloud (foxglove group): float32 x y z, 12 bytes a point.
+  void WritePointCloud(const std::string& topic, double time, const std::vector<Vec3>& points);
   // A line on "/log" (foxglove group).
   void Log(double time, int level, const std::string& message);
 

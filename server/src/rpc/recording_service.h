@@ -3,6 +3,7 @@
 // names, so a request can neither read nor write outside it.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -28,6 +29,8 @@ class RecordingServiceImpl final : public v1::RecordingService::CallbackService,
   // Finishes every recording (server shutdown): their files are complete.
   void StopAll();
   void Append(const std::string& scene_id, const std::string& topic, const google::protobuf::Message& message) override;
+  void AppendPointCloud(const std::string& scene_id, const std::string& topic,
+                        const std::vector<Vec3>& points) override;
 
   using Context = grpc::CallbackServerContext;
   using Unary = grpc::ServerUnaryReactor;
@@ -40,12 +43,23 @@ class RecordingServiceImpl final : public v1::RecordingService::CallbackService,
 
  private:
   struct Active;
-  struct Replay;
+  // A recording read for replay: its edits, and per frame the state and how many edits its model needs.
+  struct Replay {
+    std::vector<SceneOp> edits;
+    std::vector<std::string> states;  // persistence::EncodeState bytes
+    std::vector<double> times;
+    std::vector<uint64_t> edit_counts;
+    std::pair<std::filesystem::file_time_type, uintmax_t> stamp;  // of the file read: a file replaced is read again
+  };
   void Start(const std::shared_ptr<Scene>& scene, const v1::StartRecordingRequest& request, v1::Recording* out);
   std::string PathOf(const std::string& field, const std::string& name) const;
   std::shared_ptr<const Replay> LoadReplay(const std::string& name);
   // Caller holds mutex_. Recordings whose scene was deleted end by themselves: move them to finished_.
   void ReapLocked();
+  // Caller holds mutex_. The scene whose recording is writing the file `name` ("" when none is).
+  std::string ActiveSceneOfLocked(const std::string& name);
+  // The active recording of a scene, or null.
+  std::shared_ptr<Active> ActiveOf(const std::string& scene_id);
   // Applies the edits a frame needs to a replayed scene and then its state.
   uint64_t SeekLocked(Scene* scene, const std::string& name, const Replay& replay, size_t frame);
 

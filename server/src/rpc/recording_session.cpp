@@ -51,6 +51,14 @@ void RecordingSession::Append(const std::string& topic, const google::protobuf::
   Publish();
 }
 
+void RecordingSession::AppendPointCloud(const std::string& topic, const std::vector<Vec3>& points) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (finished_) return;
+  channels_.WritePointCloud(topic, last_time_, points);
+  if (ros2_) ros2_->WritePointCloud(topic, last_time_, points);
+  Publish();
+}
+
 void RecordingSession::Finish() {
   std::lock_guard<std::mutex> lock(mutex_);
   finished_ = true;

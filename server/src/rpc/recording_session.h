@@ -36,6 +36,7 @@ class RecordingSession : public recording::FrameConsumer {
   void Finish() override;
   // A message from another part of the server (recording_log.h), at the time of the last frame; thread-safe.
   void Append(const std::string& topic, const google::protobuf::Message& message);
+  void AppendPointCloud(const std::string& topic, const std::vector<Vec3>& points);
 
   uint64_t messages() const { return messages_.load(); }
   uint64_t bytes() const { return bytes_.load(); }  // of the .mcap file

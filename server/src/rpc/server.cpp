@@ -95,7 +95,7 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
     }
   services_.push_back(
       std::make_unique<SceneServiceImpl>(&registry_, &pool_, &simulations_, options.watch_max_rate_hz));
-  services_.push_back(std::make_unique<PerceptionServiceImpl>(&registry_, &pool_, &overlays_));
+  services_.push_back(std::make_unique<PerceptionServiceImpl>(&registry_, &pool_, &overlays_, recordings_));
   std::shared_ptr<grasp::GraspStore> grasp_store;
   const std::string grasp_dir = options.grasp_data_dir.empty() ? options.data_dir : options.grasp_data_dir;
   if (grasp_dir != "off") grasp_store = std::make_shared<grasp::GraspStore>(grasp_dir);
