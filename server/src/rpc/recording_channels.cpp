@@ -88,11 +88,9 @@ void AddEntity(const BodySpec& body, double time, foxglove::SceneUpdate* update)
       case Geometry::Kind::kSphere: {
         auto* sphere = entity->add_spheres();
         SetPose(g.origin, sphere->mutable_pose());
-        for (auto* size : {sphere->mutable_size()}) {
-          size->set_x(2 * g.radius);
-          size->set_y(2 * g.radius);
-          size->set_z(2 * g.radius);
-        }
+        sphere->mutable_size()->set_x(2 * g.radius);
+        sphere->mutable_size()->set_y(2 * g.radius);
+        sphere->mutable_size()->set_z(2 * g.radius);
         color(sphere->mutable_color());
         break;
       }
