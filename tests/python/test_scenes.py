@@ -83,3 +83,22 @@ def test_too_long_scene_name_is_invalid(client):
     assert info.value.code == grpc.StatusCode.INVALID_ARGUMENT, str(info.value)
     assert "name" in info.value.message, str(info.value)
     assert {s.id for s in client.list_scenes()} == before
+
+
+def test_readme_example_passes_the_created_scene_itself(client):
+    """README's first example hands create_scene's SceneSummary on as the scene: every method taking a scene takes
+    the object carrying its id (a Scene from get_scene too); anything else is a TypeError naming the parameter."""
+    scene = client.create_scene("readme")
+    client.add_object(scene, "table", builtin="table")
+    client.add_object(scene, "cube", builtin="cube_5cm", pose=[0, 0, 0.775, 1, 0, 0, 0])
+    client.add_robot(scene, "pg70", builtin="schunk_pg70", base_pose=[0, 0, 0.91, 0, 1, 0, 0])
+    client.set_joint_positions(scene, {"pg70/finger_left_joint": 0.03})
+    assert set(client.get_body_poses(scene)) >= {"table", "cube", "pg70/base_link"}
+    full = client.get_scene(scene)
+    assert client.step_simulation(full, duration=0.01).steps == 10
+    assert client.get_body_poses(scene.id).keys() == client.get_body_poses(full).keys()
+    with pytest.raises(TypeError, match="scene_id: a scene id"):
+        client.get_body_poses(42)
+    with pytest.raises(TypeError, match="add_to_scene_id: a scene id"):
+        client.complete_shape([0, 0, 1, 1, 0, 0, 0], points=[[0, 0, 0]] * 3, add_to_scene_id=3.5)
+    client.delete_scene(scene)

@@ -9,6 +9,7 @@ from graspsim import _build, _robot_files
 from graspsim._auth import AuthMethods, PemLike, open_channel
 from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
 from graspsim._gateway import GatewayMethods
+from graspsim._ids import accept_scene_objects
 from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, target_proto
 from graspsim._motion import MotionMethods
 from graspsim._perception import PerceptionMethods
@@ -48,6 +49,7 @@ def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_time
     return Client(channel, call_timeout)
 
 
+@accept_scene_objects
 class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, RecordingMethods):
     """A connection to one graspsim server (see connect()); a context manager that closes the channel.
 

@@ -16,22 +16,8 @@ import grpc
 import numpy as np
 
 from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
+from graspsim._ids import SceneLike, scene_id_of
 from graspsim.v1 import recording_pb2, recording_pb2_grpc
-
-# What names a scene: its id, or an object that carries it (SceneSummary.id, Replay.scene_id).
-SceneLike = Union[str, object]
-
-
-def scene_id_of(scene: SceneLike) -> str:
-    """The scene id of a str, or of an object with .scene_id (Replay, Recording) or .id (SceneSummary)."""
-    if isinstance(scene, str):
-        return scene
-    for attribute in ("scene_id", "id"):
-        value = getattr(scene, attribute, None)
-        if isinstance(value, str):
-            return value
-    raise TypeError(f"a scene is a scene id (str) or has .scene_id or .id, got {type(scene).__name__}")
-
 
 @dataclass
 class RecordingInfo:
