@@ -87,7 +87,7 @@ def test_planner_per_problem(client, cell):
         dict(scene_id=cell, arm_id="kr5", start_positions=AWAY, goal_positions=ACROSS, planner="rrt_connect"),
         dict(scene_id=cell, arm_id="kr5", start_positions=AWAY, goal_positions=ACROSS),
     ])
-    assert [type(r) for r in results] == [graspsim.ArmPath, graspsim.GraspsimError, graspsim.ArmPath,
+    assert [type(r) for r in results] == [graspsim.ArmPath, graspsim.InvalidArgument, graspsim.ArmPath,
                                           graspsim.ArmPath]
     assert results[0].planner == "ompl_rrt_connect"
     assert results[1].code == IA and "planner: 'bogus'" in results[1].message

@@ -102,3 +102,17 @@ def test_readme_example_passes_the_created_scene_itself(client):
     with pytest.raises(TypeError, match="add_to_scene_id: a scene id"):
         client.complete_shape([0, 0, 1, 1, 0, 0, 0], points=[[0, 0, 0]] * 3, add_to_scene_id=3.5)
     client.delete_scene(scene)
+
+
+def test_errors_are_subclasses_of_their_status_and_still_graspsim_errors(client):
+    with pytest.raises(graspsim.NotFound) as not_found:
+        client.get_scene("scene-does-not-exist")
+    assert isinstance(not_found.value, graspsim.GraspsimError) and not_found.value.code == grpc.StatusCode.NOT_FOUND
+    assert "scene_id" in not_found.value.message
+    scene = client.create_scene("errors")
+    client.add_object(scene, "cube", builtin="cube_5cm")
+    with pytest.raises(graspsim.AlreadyExists):
+        client.add_object(scene, "cube", builtin="cube_5cm")
+    with pytest.raises(graspsim.InvalidArgument, match="INVALID_ARGUMENT"):
+        client.set_body_poses(scene, {"cube": [0, 0, 0, 2, 0, 0, 0]})  # not a unit quaternion
+    client.delete_scene(scene)

@@ -11,7 +11,9 @@ recordings (optional extra "record", the mcap package) in graspsim.mcap, likewis
 """
 from graspsim import inertia, meshes, viewer
 from graspsim._client import Client, connect
-from graspsim._errors import GraspsimError
+from graspsim._errors import (AlreadyExists, Aborted, Cancelled, DataLoss, DeadlineExceeded, FailedPrecondition,
+                              GraspsimError, Internal, InvalidArgument, NotFound, OutOfRange, PermissionDenied,
+                              ResourceExhausted, Unauthenticated, Unavailable, Unimplemented)
 from graspsim._gateway import PredictionResult
 from graspsim._grasp import GraspSetResult
 from graspsim._motion import ArmMotion, ArmPath, PickAndPlaceResult
@@ -25,7 +27,7 @@ from graspsim.viewer import viewer_url
 from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult, WorkCycleSummary
 from graspsim.v1 import common_pb2, scene_pb2, tactile_pb2
 
-__all__ = ["ArmMotion", "ArmPath", "PickAndPlaceResult", "Client", "CompletedShape", "SceneSegments", "ForceTorqueState", "GraspSetResult", "GraspsimError", "GripperState", "MissingFilesError", "Pose", "PredictionResult", "RecordingInfo", "Replay", "SceneWatch", "SensorStream",
+__all__ = ["ArmMotion", "ArmPath", "PickAndPlaceResult", "Client", "CompletedShape", "SceneSegments", "ForceTorqueState", "GraspSetResult", "GraspsimError", "Cancelled", "InvalidArgument", "DeadlineExceeded", "NotFound", "AlreadyExists", "PermissionDenied", "ResourceExhausted", "FailedPrecondition", "Aborted", "OutOfRange", "Unimplemented", "Internal", "Unavailable", "DataLoss", "Unauthenticated", "GripperState", "MissingFilesError", "Pose", "PredictionResult", "RecordingInfo", "Replay", "SceneWatch", "SensorStream",
            "Snapshot", "TactileFrame", "WorkCycleFrame", "WorkCycleResult", "WorkCycleSummary", "as_pose",
            "common_pb2", "connect", "inertia", "meshes", "quaternion_about_axis", "quaternion_to_matrix",
            "scene_pb2", "tactile_pb2", "viewer", "viewer_url"]

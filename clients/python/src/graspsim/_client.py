@@ -44,7 +44,7 @@ def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_time
         grpc.channel_ready_future(channel).result(timeout=timeout)
     except grpc.FutureTimeoutError:
         channel.close()
-        raise GraspsimError(grpc.StatusCode.UNAVAILABLE,
+        raise GraspsimError.for_code(grpc.StatusCode.UNAVAILABLE,
                             f"no graspsim server answered at {target} within {timeout:g} s") from None
     return Client(channel, call_timeout)
 
@@ -402,7 +402,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             if bar is not None:
                 bar.close()
         if result is None:
-            raise GraspsimError(grpc.StatusCode.INTERNAL, "PlanGrasps ended without a grasp set")
+            raise GraspsimError.for_code(grpc.StatusCode.INTERNAL, "PlanGrasps ended without a grasp set")
         return result
 
     def get_grasp_set(self, set_id: str) -> GraspSetResult:

@@ -4,6 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, List, Optional, Sequence, Union
 
+import grpc
 import numpy as np
 
 from graspsim._errors import GraspsimError, error_for_code, translated_errors
@@ -164,5 +165,5 @@ class MotionMethods:
                     on_progress(message.stage, message.fraction)
                 last = message
         if last is None or last.stage != "done":
-            raise RuntimeError("PickAndPlace ended without a result")
+            raise GraspsimError.for_code(grpc.StatusCode.INTERNAL, "PickAndPlace ended without a result")
         return _pick_result(last)

@@ -8,7 +8,7 @@ from typing import Callable, Dict, List, Optional, Sequence
 import grpc
 import numpy as np
 
-from graspsim._errors import from_rpc_error, translated_errors
+from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
 from graspsim._pose import PoseLike, as_pose
 from graspsim.v1 import common_pb2, perception_pb2, perception_pb2_grpc
 
@@ -129,7 +129,7 @@ class PerceptionMethods:
         except grpc.RpcError as err:
             raise from_rpc_error(err) from None
         if last is None or last.stage != "done":
-            raise RuntimeError("CompleteShape ended without a mesh")
+            raise GraspsimError.for_code(grpc.StatusCode.INTERNAL, "CompleteShape ended without a mesh")
         return CompletedShape.from_proto(last, stages)
 
     def segment_scene(self, points, *, cluster_tolerance: float = 0.0, plane_threshold: float = 0.0,

@@ -145,7 +145,7 @@ class RecordingMethods:
                 written = 0
                 for chunk in call:
                     if chunk.offset != written:
-                        raise GraspsimError(grpc.StatusCode.DATA_LOSS,
+                        raise GraspsimError.for_code(grpc.StatusCode.DATA_LOSS,
                                             f"DownloadRecording {name!r}: a chunk at offset {chunk.offset}, expected "
                                             f"{written}")
                     out.write(chunk.data)
