@@ -24,25 +24,12 @@
 // Exit code 0 when COUNT messages came, 2 on the timeout (JSON still printed), 1 when the connection failed or
 // the server closed it first (JSON printed, the reason also on stderr), 3 on bad arguments.
 import wsProtocol from "@foxglove/ws-protocol";  // CommonJS for Node: no named exports
-import protobuf from "protobufjs";
-import descriptor from "protobufjs/ext/descriptor/index.js";
 import WebSocket from "ws";
+
+import { get, protobufType } from "./protobuf_schema.mjs";
 
 const { FoxgloveClient } = wsProtocol;
 const MAX_ERRORS = 10;
-
-function protobufType(schemaName, fileDescriptorSet) {
-  const set = descriptor.FileDescriptorSet.decode(fileDescriptorSet);
-  const root = protobuf.Root.fromDescriptor(set);
-  return root.lookupType(schemaName.replace(/^\./, ""));
-}
-
-function get(object, snake) {
-  if (object == null) return undefined;
-  if (snake in object) return object[snake];
-  const camel = snake.replace(/_([a-z])/g, (_, c) => c.toUpperCase());
-  return object[camel];
-}
 
 const args = process.argv.slice(2);
 const subprotocols = args.filter((a) => a.startsWith("--subprotocol=")).map((a) => a.slice("--subprotocol=".length));

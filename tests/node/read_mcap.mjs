@@ -25,26 +25,10 @@ import { open } from "node:fs/promises";
 import { McapIndexedReader } from "@mcap/core";
 import { FileHandleReadable } from "@mcap/nodejs";
 import { loadDecompressHandlers } from "@mcap/support";
-import protobuf from "protobufjs";
-import descriptor from "protobufjs/ext/descriptor/index.js";
+
+import { get, protobufType } from "./protobuf_schema.mjs";
 
 const MAX_ERRORS = 10;
-
-// The message type of a protobuf schema: schema.data is a serialized FileDescriptorSet holding schema.name.
-function protobufType(schemaName, fileDescriptorSet) {
-  const set = descriptor.FileDescriptorSet.decode(fileDescriptorSet);
-  const root = protobuf.Root.fromDescriptor(set);
-  return root.lookupType(schemaName.replace(/^\./, ""));
-}
-
-// A field of a decoded message by its .proto name (protobufjs keeps the snake_case names when built
-// from a descriptor; camelCase is accepted too).
-function get(object, snake) {
-  if (object == null) return undefined;
-  if (snake in object) return object[snake];
-  const camel = snake.replace(/_([a-z])/g, (_, c) => c.toUpperCase());
-  return object[camel];
-}
 
 async function main() {
   const path = process.argv[2];

@@ -1,6 +1,7 @@
 """Shared helpers of the end-to-end tests: rejected-request and error checks, raw uploads, small URDFs and meshes."""
 import contextlib
 import hashlib
+import time
 from typing import Callable, Iterable
 
 import grpc
@@ -8,7 +9,7 @@ import numpy as np
 import pytest
 
 import graspsim
-from graspsim import meshes
+from graspsim import meshes, partial_view
 from graspsim.v1 import scene_pb2
 
 IA = grpc.StatusCode.INVALID_ARGUMENT
@@ -89,3 +90,30 @@ def two_link_urdf(mesh_path: str = "") -> str:
     """base (a box) + arm on a revolute joint; the arm is the mesh at mesh_path when given."""
     arm = f'<mesh filename="{mesh_path}"/>' if mesh_path else '<box size="0.05 0.05 0.2"/>'
     return urdf("arm", link("base"), link("arm", arm), joint("shoulder", "base", "arm"))
+
+
+def wait_stopped(client, device_id, timeout=10.0):
+    """Reads until the fingers stop; returns the last reading."""
+    deadline = time.monotonic() + timeout
+    while True:
+        reading = client.send_command(device_id, read=True).reading
+        if not reading.moving or time.monotonic() > deadline:
+            return reading
+        time.sleep(0.02)
+
+
+# A rendered partial view: a cylinder (r 4 cm, h 10 cm) standing on the table z = 0, seen from 0.5 m and 30 degrees
+# above by a 160 x 120 pinhole camera.
+VIEW_W, VIEW_H, VIEW_F = 160, 120, 150.0
+VIEW_INTRINSICS = (VIEW_F, VIEW_F, (VIEW_W - 1) / 2, (VIEW_H - 1) / 2)
+VIEW_RADIUS, VIEW_HEIGHT = 0.04, 0.10
+
+
+def cylinder_view():
+    """(camera pose, depth image, object mask) of the cylinder."""
+    vertices, triangles = partial_view.cylinder_mesh(VIEW_RADIUS, VIEW_HEIGHT, 48)
+    centre = np.array([0.0, 0.0, VIEW_HEIGHT / 2])
+    eye = centre + 0.5 * np.array([np.cos(np.radians(30)), 0.0, np.sin(np.radians(30))])
+    camera = partial_view.look_at(eye, centre)
+    depth, mask = partial_view.render_depth(vertices, triangles, camera, VIEW_W, VIEW_H, *VIEW_INTRINSICS)
+    return camera, depth, mask

@@ -12,7 +12,7 @@ import pytest
 
 import graspsim
 from graspsim.gateway_rig import GatewayRig
-from _support import expect_error
+from _support import expect_error, wait_stopped
 from conftest import server_binary
 
 KINDS = ["robotiq-tcp", "robotiq-rtu", "pg70"]
@@ -28,16 +28,6 @@ def rig(server, tmp_path_factory):
                         log_path=tmp_path_factory.mktemp("gateway") / "gateway.log") as r:
             r.wait_for_devices(client)
             yield r
-
-
-def wait_stopped(client, device_id, timeout=10.0):
-    """Reads until the fingers stop; returns the last reading."""
-    deadline = time.monotonic() + timeout
-    while True:
-        reading = client.send_command(device_id, read=True).reading
-        if not reading.moving or time.monotonic() > deadline:
-            return reading
-        time.sleep(0.02)
 
 
 def test_devices_registered_with_limits_and_readings(client, rig):

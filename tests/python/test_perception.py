@@ -8,24 +8,20 @@ import graspsim
 from graspsim import partial_view
 from graspsim.v1 import perception_pb2
 
-from _support import expect_error
+from _support import (VIEW_F, VIEW_H, VIEW_HEIGHT, VIEW_INTRINSICS, VIEW_RADIUS, VIEW_W, cylinder_view,
+                      expect_error)
 
 IA = grpc.StatusCode.INVALID_ARGUMENT
 RE = grpc.StatusCode.RESOURCE_EXHAUSTED
-W, H, F = 160, 120, 150.0
-INTRINSICS = (F, F, (W - 1) / 2, (H - 1) / 2)
-RADIUS, HEIGHT = 0.04, 0.10
+W, H, F = VIEW_W, VIEW_H, VIEW_F
+INTRINSICS = VIEW_INTRINSICS
+RADIUS, HEIGHT = VIEW_RADIUS, VIEW_HEIGHT
 
 
 @pytest.fixture(scope="module")
 def view():
     """A cylinder (r 4 cm, h 10 cm) standing on the table z = 0, seen from 0.5 m and 30 degrees above."""
-    vertices, triangles = partial_view.cylinder_mesh(RADIUS, HEIGHT, 48)
-    centre = np.array([0.0, 0.0, HEIGHT / 2])
-    eye = centre + 0.5 * np.array([np.cos(np.radians(30)), 0.0, np.sin(np.radians(30))])
-    camera = partial_view.look_at(eye, centre)
-    depth, mask = partial_view.render_depth(vertices, triangles, camera, W, H, *INTRINSICS)
-    return camera, depth, mask
+    return cylinder_view()
 
 
 def test_complete_shape_from_depth_image(client, view):

@@ -11,20 +11,15 @@ from rosbags.typesys import Stores, get_typestore
 
 from graspsim import partial_view
 
-W, H, F = 160, 120, 150.0
-INTRINSICS = (F, F, (W - 1) / 2, (H - 1) / 2)
-RADIUS, HEIGHT = 0.04, 0.10
+from _support import VIEW_INTRINSICS, cylinder_view
+
 TOPIC = "/completion/points"
 
 
 def seen_points():
-    """A cylinder (r 4 cm, h 10 cm) on the table z = 0 seen from 0.5 m and 30 degrees above: its points, world."""
-    vertices, triangles = partial_view.cylinder_mesh(RADIUS, HEIGHT, 48)
-    centre = np.array([0.0, 0.0, HEIGHT / 2])
-    eye = centre + 0.5 * np.array([np.cos(np.radians(30)), 0.0, np.sin(np.radians(30))])
-    camera = partial_view.look_at(eye, centre)
-    depth, mask = partial_view.render_depth(vertices, triangles, camera, W, H, *INTRINSICS)
-    return camera, partial_view.depth_to_points(depth, camera, *INTRINSICS, mask=mask)
+    """The cylinder of _support.cylinder_view: its camera pose and its seen points, world."""
+    camera, depth, mask = cylinder_view()
+    return camera, partial_view.depth_to_points(depth, camera, *VIEW_INTRINSICS, mask=mask)
 
 
 def test_completion_input_is_recorded_as_point_clouds(client):

@@ -6,7 +6,6 @@ with classes built from the schemas it embeds (mcap-protobuf-support), not with 
 """
 import math
 import struct
-import time
 
 from google.protobuf.descriptor import FieldDescriptor
 from google.protobuf.unknown_fields import UnknownFieldSet
@@ -17,17 +16,9 @@ import graspsim
 from graspsim.gateway_rig import GatewayRig
 from graspsim.v1 import gateway_pb2
 
+from _support import wait_stopped
+
 ACTION, PREDICTION = "/graspsim/gateway/action", "/graspsim/gateway/prediction"
-
-
-def wait_stopped(client, device_id, timeout=10.0):
-    """Reads until the fingers stop; returns the last reading."""
-    deadline = time.monotonic() + timeout
-    while True:
-        reading = client.send_command(device_id, read=True).reading
-        if not reading.moving or time.monotonic() > deadline:
-            return reading
-        time.sleep(0.02)
 
 
 def same_value(a, b) -> bool:

@@ -3,7 +3,6 @@
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 #include <lz4frame.h>
 #include <zlib.h>
@@ -127,11 +126,12 @@ class Scanner {
 
 void ReadMcap(const std::string& path, const std::string& label,
               const std::function<void(const McapMessage&)>& on_message) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw Error(ErrorCode::kNotFound, "recording '" + label + "' cannot be opened: " + std::strerror(errno));
-  std::ostringstream contents;
-  contents << in.rdbuf();
-  const std::string bytes = contents.str();
+  std::string bytes(static_cast<size_t>(in.tellg()), '\0');  // read once, straight into place
+  in.seekg(0);
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  bytes.resize(static_cast<size_t>(in.gcount()));
   static constexpr char kMagic[] = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0) Corrupt(label, "not an MCAP file");
   Scanner(label, on_message).Records(std::string_view(bytes).substr(8), true);

@@ -157,16 +157,17 @@ void McapWriter::CloseChunk() {
   if (chunk_.empty()) return;
   const bool has_messages = !chunk_index_.empty();
   const std::string compressed = Compress(options_.compression, chunk_);
-  std::string body;
-  Int<uint64_t>(&body, has_messages ? chunk_start_time_ : 0);
-  Int<uint64_t>(&body, has_messages ? chunk_end_time_ : 0);
-  Int<uint64_t>(&body, chunk_.size());
-  Int<uint32_t>(&body, Crc32(chunk_));
-  Str(&body, CompressionName(options_.compression));
-  Int<uint64_t>(&body, compressed.size());
-  body.append(compressed);
-  std::string out;
-  Record(&out, kChunk, body);
+  const std::string_view compression = CompressionName(options_.compression);
+  std::string out;  // the chunk record written in place (the compressed bytes are copied once)
+  U8(&out, kChunk);
+  Int<uint64_t>(&out, 8 + 8 + 8 + 4 + 4 + compression.size() + 8 + compressed.size());
+  Int<uint64_t>(&out, has_messages ? chunk_start_time_ : 0);
+  Int<uint64_t>(&out, has_messages ? chunk_end_time_ : 0);
+  Int<uint64_t>(&out, chunk_.size());
+  Int<uint32_t>(&out, Crc32(chunk_));
+  Str(&out, compression);
+  Int<uint64_t>(&out, compressed.size());
+  out.append(compressed);
   ChunkIndexEntry entry{has_messages ? chunk_start_time_ : 0, has_messages ? chunk_end_time_ : 0, file_offset_,
                         out.size(), 0, {}, compressed.size(), chunk_.size()};
   for (const auto& [channel, entries] : chunk_index_) {

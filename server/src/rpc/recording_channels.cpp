@@ -49,15 +49,22 @@ void SetTime(double seconds, pb::Timestamp* out) {
   out->set_nanos(static_cast<int32_t>(ns % 1000000000u));
 }
 
+void SetVector(const Vec3& v, foxglove::Vector3* out) {
+  out->set_x(v.x());
+  out->set_y(v.y());
+  out->set_z(v.z());
+}
+
+void SetQuaternion(const Quat& q, foxglove::Quaternion* out) {
+  out->set_x(q.x());
+  out->set_y(q.y());
+  out->set_z(q.z());
+  out->set_w(q.w());
+}
+
 void SetPose(const Pose& pose, foxglove::Pose* out) {
-  out->mutable_position()->set_x(pose.position.x());
-  out->mutable_position()->set_y(pose.position.y());
-  out->mutable_position()->set_z(pose.position.z());
-  const Quat& q = pose.orientation;
-  out->mutable_orientation()->set_x(q.x());
-  out->mutable_orientation()->set_y(q.y());
-  out->mutable_orientation()->set_z(q.z());
-  out->mutable_orientation()->set_w(q.w());
+  SetVector(pose.position, out->mutable_position());
+  SetQuaternion(pose.orientation, out->mutable_orientation());
 }
 
 // One entity per body in its own frame (frame_locked: it moves with the body's transform on /tf).
@@ -79,27 +86,21 @@ void AddEntity(const BodySpec& body, double time, foxglove::SceneUpdate* update)
       case Geometry::Kind::kBox: {
         auto* cube = entity->add_cubes();
         SetPose(g.origin, cube->mutable_pose());
-        cube->mutable_size()->set_x(g.box_size.x());
-        cube->mutable_size()->set_y(g.box_size.y());
-        cube->mutable_size()->set_z(g.box_size.z());
+        SetVector(g.box_size, cube->mutable_size());
         color(cube->mutable_color());
         break;
       }
       case Geometry::Kind::kSphere: {
         auto* sphere = entity->add_spheres();
         SetPose(g.origin, sphere->mutable_pose());
-        sphere->mutable_size()->set_x(2 * g.radius);
-        sphere->mutable_size()->set_y(2 * g.radius);
-        sphere->mutable_size()->set_z(2 * g.radius);
+        SetVector(Vec3::Constant(2 * g.radius), sphere->mutable_size());
         color(sphere->mutable_color());
         break;
       }
       case Geometry::Kind::kCylinder: {
         auto* cylinder = entity->add_cylinders();
         SetPose(g.origin, cylinder->mutable_pose());
-        cylinder->mutable_size()->set_x(2 * g.radius);
-        cylinder->mutable_size()->set_y(2 * g.radius);
-        cylinder->mutable_size()->set_z(g.length);
+        SetVector(Vec3(2 * g.radius, 2 * g.radius, g.length), cylinder->mutable_size());
         cylinder->set_bottom_scale(1);
         cylinder->set_top_scale(1);
         color(cylinder->mutable_color());
@@ -285,14 +286,8 @@ void ProtobufChannels::Write(const SceneSnapshot& frame, recording::FrameReading
         SetTime(time, t->mutable_timestamp());
         t->set_parent_frame_id("world");
         t->set_child_frame_id(model.bodies[i].id);
-        const Pose& pose = state.body_poses[i];
-        t->mutable_translation()->set_x(pose.position.x());
-        t->mutable_translation()->set_y(pose.position.y());
-        t->mutable_translation()->set_z(pose.position.z());
-        t->mutable_rotation()->set_x(pose.orientation.x());
-        t->mutable_rotation()->set_y(pose.orientation.y());
-        t->mutable_rotation()->set_z(pose.orientation.z());
-        t->mutable_rotation()->set_w(pose.orientation.w());
+        SetVector(state.body_poses[i].position, t->mutable_translation());
+        SetQuaternion(state.body_poses[i].orientation, t->mutable_rotation());
       }
     });
     for (size_t pad = 0; pad < model.tactile_arrays.size(); ++pad) {
