@@ -104,9 +104,11 @@ class RecordingMethods:
 
     def start_recording(self, scene: SceneLike, name: Optional[str] = None, groups: Optional[Sequence[str]] = None,
                         compression: Optional[str] = None,
-                        force_torque_joints: Optional[Sequence[str]] = None) -> RecordingInfo:
+                        force_torque_joints: Optional[Sequence[str]] = None,
+                        rate_hz: Optional[float] = None) -> RecordingInfo:
         """Starts recording a scene into the server's recording directory: every state the scene publishes from
-        now on (each simulation chunk and edit) becomes a frame.
+        now on (each simulation chunk and edit) becomes a frame, at most rate_hz per simulated second (None: the
+        server's 30; states closer than 1/rate_hz are skipped, the last one before the stop kept).
 
         name: the file name, ending in ".mcap" (letters, digits, '-', '_', '.'; no directories); None: the
         server's "<scene_id>-<UTC time>.mcap". groups: any of "graspsim", "foxglove", "ros2" (None: all three).
@@ -116,7 +118,7 @@ class RecordingMethods:
         """
         request = recording_pb2.StartRecordingRequest(
             scene_id=scene_id_of(scene), name=name or "", groups=list(groups or []), compression=compression or "",
-            force_torque_joints=list(force_torque_joints or []))
+            force_torque_joints=list(force_torque_joints or []), rate_hz=rate_hz or 0.0)
         return RecordingInfo.from_proto(self._recording_call("StartRecording", request))
 
     def stop_recording(self, scene: SceneLike) -> RecordingInfo:
