@@ -117,6 +117,12 @@ const std::vector<FlagSpec>& Specs() {
        [](const std::string& v, ServerFlags* f) {
          f->server.worker_threads = static_cast<int>(std::min<uint64_t>(ParseCount("worker-threads", v, 1), 1024));
        }},
+      {"compute-threads", "threads of the pool every parallel stage shares (grasp planning, mesh parsing); 0 = the "
+                          "cores this process may use, container CPU quota included (docs/scaling.md)",
+       [](const ServerFlags& f) { return std::to_string(f.compute_threads); },
+       [](const std::string& v, ServerFlags* f) {
+         f->compute_threads = static_cast<size_t>(std::min<uint64_t>(ParseCount("compute-threads", v, 0), 1024));
+       }},
       {"drain-timeout-s", "on SIGTERM, how long in-flight requests may finish before they are cancelled, s",
        [](const ServerFlags& f) { return FormatNumber(f.server.drain_timeout_s); },
        [](const std::string& v, ServerFlags* f) { f->server.drain_timeout_s = ParsePositive("drain-timeout-s", v); }},

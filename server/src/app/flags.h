@@ -12,6 +12,7 @@ namespace graspsim {
 struct ServerFlags {
   rpc::ServerOptions server;
   LogLevel log_level = LogLevel::kInfo;
+  size_t compute_threads = 0;  // the shared ComputePool; 0 = DefaultComputeThreads()
   bool help = false;
 };
 

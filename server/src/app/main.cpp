@@ -8,6 +8,7 @@
 #include <absl/synchronization/mutex.h>
 
 #include "app/flags.h"
+#include "core/compute_pool.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -36,6 +37,10 @@ int main(int argc, char** argv) {
   sigaddset(&stop_signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
+  // Started here, after the mask, so that its threads leave the stop signals to sigwait as well.
+  graspsim::ComputePool::Configure(flags.compute_threads);
+  graspsim::Log(graspsim::LogLevel::kInfo, "compute pool",
+                {{"threads", std::to_string(graspsim::ComputePool::Shared().threads())}});
 
   try {
     graspsim::rpc::GraspsimServer server(flags.server);

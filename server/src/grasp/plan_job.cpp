@@ -26,7 +26,7 @@ std::optional<StoredGraspSet> FindOrPlan(const PlanJob& job, GraspStore* store, 
     }
   }
   const GraspPlanner planner(job.hand, job.mesh, job.obstacles, job.simulation);
-  std::optional<GraspSet> set = planner.Plan(planner.Candidates(job.candidates), 2, job.max_grasps, progress);
+  std::optional<GraspSet> set = planner.Plan(planner.Candidates(job.candidates), 0, job.max_grasps, progress);
   if (!set) return std::nullopt;
   entry.created_unix = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   entry.set = std::move(*set);

@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <mutex>
-#include <thread>
+#include <atomic>
 
 #include <time.h>
 
+#include "core/compute_pool.h"
 #include "core/error.h"
 #include "core/format.h"
 
@@ -133,24 +132,20 @@ std::vector<Candidate> GraspPlanner::Candidates(const CandidateParams& params) c
   return GenerateCandidates(*object_, hand_model_->roll_period(), params);
 }
 
-void GraspPlanner::AddVolumes(std::vector<PlannedGrasp>* grasps, int threads) const {
+void GraspPlanner::AddVolumes(std::vector<PlannedGrasp>* grasps, size_t width) const {
   // Whole hulls are the slow part of a plan's answer (~10-100 ms each): the kept grasps are shared out.
   const size_t count = std::min(grasps->size(), kMaxVolumes);
   const SimulationParams& p = simulator_->params();
-  auto work = [&](size_t first, size_t stride) {
+  std::atomic<size_t> next{0};
+  ComputePool::Shared().Run(std::min(width, count), [&](size_t) {
     std::vector<Wrench> wrenches;
-    for (size_t i = first; i < count; i += stride) {
+    for (size_t i = next.fetch_add(1); i < count; i = next.fetch_add(1)) {
       PlannedGrasp& grasp = (*grasps)[i];
       ContactWrenches(grasp.contacts.data(), grasp.contacts.size(), object_->centroid(),
                       object_->characteristic_length(), simulator_->link_friction(), p.cone_edges, &wrenches);
       grasp.quality.volume = HullQuality(wrenches, true).volume;
     }
-  };
-  const size_t workers = std::max<size_t>(1, std::min<size_t>(threads, count));
-  std::vector<std::thread> pool;
-  for (size_t t = 1; t < workers; ++t) pool.emplace_back(work, t, workers);
-  work(0, workers);
-  for (std::thread& t : pool) t.join();
+  });
 }
 
 Outcome GraspPlanner::Evaluate(const Candidate& candidate, PlannedGrasp* grasp) const {
@@ -169,21 +164,19 @@ Outcome GraspPlanner::Evaluate(const Candidate& candidate, PlannedGrasp* grasp) 
   return outcome;
 }
 
-std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candidates, int threads, size_t max_grasps,
+std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candidates, size_t width, size_t max_grasps,
                                            const std::function<bool(size_t, size_t)>& progress) const {
   const auto start = std::chrono::steady_clock::now();
   const size_t total = candidates.size();
-  const int workers = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
+  ComputePool& pool = ComputePool::Shared();
+  width = std::min(width == 0 ? pool.threads() : width, pool.threads());
   std::atomic<size_t> next{0}, done{0};
   std::atomic<bool> cancelled{false};
   std::vector<Outcome> outcomes(total, Outcome::kMissed);
-  std::vector<std::vector<PlannedGrasp>> found(workers);
-
-  std::vector<double> cpu(workers, 0.0);
-  std::mutex finished_mutex;
-  std::condition_variable finished_cv;
-  int finished = 0;
-  auto work = [&](int worker) {
+  std::vector<std::vector<PlannedGrasp>> found(width);
+  std::vector<double> cpu(width, 0.0);
+  auto report_due = start;
+  pool.Run(width, [&](size_t worker) {
     const double cpu0 = ThreadCpuSeconds();
     SimulationWork scratch;
     for (;;) {
@@ -197,25 +190,15 @@ std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candida
                                    scratch.contacts, scratch.quality});
         }
       }
-      done.fetch_add(end - begin);
+      const size_t now_done = done.fetch_add(end - begin) + (end - begin);
+      // Worker 0 is the calling thread: it reports progress between its chunks, about every 20 ms.
+      if (worker == 0 && now_done < total && std::chrono::steady_clock::now() >= report_due) {
+        report_due = std::chrono::steady_clock::now() + std::chrono::milliseconds(20);
+        if (!progress(now_done, total)) cancelled = true;
+      }
     }
     cpu[worker] = ThreadCpuSeconds() - cpu0;
-    std::lock_guard<std::mutex> lock(finished_mutex);
-    ++finished;
-    finished_cv.notify_one();
-  };
-  std::vector<std::thread> pool;
-  for (int t = 0; t < workers; ++t) pool.emplace_back(work, t);
-  // Progress about every 20 ms; woken at once when the last worker finishes (a plan of a few hundred ms would
-  // otherwise wait out most of a period).
-  for (;;) {
-    std::unique_lock<std::mutex> lock(finished_mutex);
-    if (finished_cv.wait_for(lock, std::chrono::milliseconds(20), [&] { return finished == workers; })) break;
-    lock.unlock();
-    if (cancelled.load()) continue;  // the workers stop after their chunk
-    if (done.load() < total && !progress(done.load(), total)) cancelled = true;
-  }
-  for (std::thread& t : pool) t.join();
+  });
   if (cancelled.load() || !progress(total, total)) return std::nullopt;
 
   GraspSet set;
@@ -241,7 +224,7 @@ std::optional<GraspSet> GraspPlanner::Plan(const std::vector<Candidate>& candida
   const auto scored = std::chrono::steady_clock::now();
   set.seconds = std::chrono::duration<double>(scored - start).count();
   for (double c : cpu) set.cpu_seconds += c;
-  AddVolumes(&set.grasps, workers);
+  AddVolumes(&set.grasps, width);
   set.volume_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - scored).count();
   return set;
 }

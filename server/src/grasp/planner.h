@@ -59,19 +59,19 @@ class GraspPlanner {
 
   std::vector<Candidate> Candidates(const CandidateParams& params) const;
 
-  // Simulates and scores every candidate on `threads` threads (0 = the machine's cores), keeps the best
-  // `max_grasps` force-closure grasps (0 = all) and computes the hull volumes of the best 64 with qhull (the
-  // others keep volume -1). `progress(done,
-  // total)` is called from the calling thread about every 20 ms and at the end; returning false cancels: the
-  // threads stop after their current chunk and Plan returns nullopt.
-  std::optional<GraspSet> Plan(const std::vector<Candidate>& candidates, int threads, size_t max_grasps,
+  // Simulates and scores every candidate on up to `width` threads of the shared ComputePool (0 = all of them),
+  // keeps the best `max_grasps` force-closure grasps (0 = all) and computes the hull volumes of the best 64 with
+  // qhull (the others keep volume -1). `progress(done, total)` is called from the calling thread about every
+  // 20 ms and at the end; returning false cancels: the threads stop after their current chunk and Plan returns
+  // nullopt.
+  std::optional<GraspSet> Plan(const std::vector<Candidate>& candidates, size_t width, size_t max_grasps,
                                const std::function<bool(size_t, size_t)>& progress) const;
 
   // One candidate, simulated and scored (whatever its outcome), with its hull volume.
   Outcome Evaluate(const Candidate& candidate, PlannedGrasp* grasp) const;
 
  private:
-  void AddVolumes(std::vector<PlannedGrasp>* grasps, int threads) const;
+  void AddVolumes(std::vector<PlannedGrasp>* grasps, size_t width) const;
 
   HandSpec hand_spec_;
   std::unique_ptr<RayDevice> device_;

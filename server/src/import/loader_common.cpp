@@ -1,13 +1,13 @@
 #include "import/loader_common.h"
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
-#include <future>
 #include <optional>
-#include <thread>
 
 #include <Eigen/Eigenvalues>
 
+#include "core/compute_pool.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/validate.h"
@@ -173,21 +173,19 @@ void MeshFiles::Prefetch(const std::vector<Request>& requests) {
     }
   }
   if (jobs.size() < 2) return;  // nothing to overlap: Load parses it
-  const size_t parallel = std::max(2u, std::thread::hardware_concurrency());
-  for (size_t first = 0; first < jobs.size(); first += parallel) {
-    std::vector<std::future<std::shared_ptr<const TriangleMesh>>> parsed;
-    for (size_t i = first; i < std::min(jobs.size(), first + parallel); ++i) {
-      parsed.push_back(std::async(std::launch::async, [&job = jobs[i], this]() -> std::shared_ptr<const TriangleMesh> {
-        try {
-          return LoadSharedMeshFile(job.field, job.path, *job.bytes, job.scale, limits_);
-        } catch (const Error&) {
-          return nullptr;  // Load parses it again and reports it with its field
-        }
-      }));
+  std::vector<std::shared_ptr<const TriangleMesh>> parsed(jobs.size());
+  std::atomic<size_t> next{0};
+  ComputePool::Shared().Run(jobs.size(), [&](size_t) {
+    for (size_t i = next.fetch_add(1); i < jobs.size(); i = next.fetch_add(1)) {
+      try {
+        parsed[i] = LoadSharedMeshFile(jobs[i].field, jobs[i].path, *jobs[i].bytes, jobs[i].scale, limits_);
+      } catch (const Error&) {
+        // Load parses it again and reports it with its field
+      }
     }
-    for (size_t i = first; i < first + parsed.size(); ++i) {
-      if (auto mesh = parsed[i - first].get()) cache_[jobs[i].key] = std::move(mesh);
-    }
+  });
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    if (parsed[i]) cache_[jobs[i].key] = std::move(parsed[i]);
   }
 }
 

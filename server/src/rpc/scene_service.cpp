@@ -43,7 +43,7 @@ grpc::ServerUnaryReactor* ShortSceneRead(grpc::CallbackServerContext* context, c
 grpc::ServerUnaryReactor* SceneServiceImpl::CreateScene(grpc::CallbackServerContext* context, const v1::CreateSceneRequest* request,
                                            v1::Scene* response) {
   return RunUnary(context, "CreateScene", pool_, [=, this] {
-    ToProto(registry_->Create(request->name())->View(), false, response);
+    ToProto(registry_->Create(request->name(), request->scene_id())->View(), false, response);
   });
 }
 

@@ -1,28 +1,58 @@
 #include "world/scene_registry.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include "core/error.h"
 
 namespace graspsim {
 
-std::shared_ptr<Scene> SceneRegistry::Create(const std::string& name) {
+namespace {
+
+std::string Quoted(const std::string& s) { return "'" + s + "'"; }
+
+// A client-chosen id (a fleet routes a scene's calls by it before the scene exists, docs/scaling.md): 1-64
+// characters a URL and a metadata header carry as they are; never of the server's own form scene-<n>, so the
+// ids the server makes stay unique.
+void CheckClientId(const std::string& id) {
+  const bool allowed = !id.empty() && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.';
+  });
+  if (!allowed) {
+    ThrowInvalidArgument("scene_id: " + Quoted(id.substr(0, 80)) +
+                         " is not 1-64 characters of letters, digits, '-', '_' and '.'");
+  }
+  if (id.starts_with("scene-") && id.size() > 6 &&
+      std::all_of(id.begin() + 6, id.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+    ThrowInvalidArgument("scene_id: " + Quoted(id) + " has the form scene-<n> of the ids the server makes; choose another");
+  }
+}
+
+}  // namespace
+
+std::shared_ptr<Scene> SceneRegistry::Create(const std::string& name, const std::string& requested_id) {
   if (name.size() > 128) {
     ThrowInvalidArgument("name: " + std::to_string(name.size()) + " characters, at most 128 allowed");
   }
+  if (!requested_id.empty()) CheckClientId(requested_id);
   std::shared_ptr<Scene> scene;
   std::function<void(const std::shared_ptr<Scene>&)> hook;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (!requested_id.empty() && scenes_.count(requested_id)) {
+      throw Error(ErrorCode::kAlreadyExists, "scene_id: " + Quoted(requested_id) + " already exists");
+    }
     if (scenes_.size() >= limits_.max_scenes) {
       ThrowResourceExhausted("the server already holds " + std::to_string(scenes_.size()) +
                              " scenes, the limit (--max-scenes) is " + std::to_string(limits_.max_scenes));
-  }
-    const std::string id = "scene-" + std::to_string(next_id_);
+    }
+    const bool generated = requested_id.empty();
+    const std::string id = generated ? "scene-" + std::to_string(next_id_) : requested_id;
+    const uint64_t next_id = generated ? next_id_ + 1 : next_id_;
     scene = std::make_shared<Scene>(id, name, limits_);
-    if (journal_) journal_->SceneCreated(id, name, next_id_ + 1);  // durable before anyone sees the id
+    if (journal_) journal_->SceneCreated(id, name, next_id);  // durable before anyone sees the id
     scene->AttachJournal(journal_);
-    ++next_id_;
+    next_id_ = next_id;
     scenes_[id] = scene;
     hook = created_hook_;
   }

@@ -20,8 +20,10 @@ class SceneRegistry {
   explicit SceneRegistry(const Limits& limits) : limits_(limits) {}
 
   const Limits& limits() const { return limits_; }
-  // Errors: kInvalidArgument (name longer than 128 characters), kResourceExhausted (too many scenes).
-  std::shared_ptr<Scene> Create(const std::string& name);
+  // `requested_id` empty: the server's next id "scene-<n>"; else that id (1-64 of [A-Za-z0-9._-], not of the form
+  // scene-<n>). Errors: kInvalidArgument (name longer than 128 characters, a bad id), kAlreadyExists (the id is
+  // taken), kResourceExhausted (too many scenes).
+  std::shared_ptr<Scene> Create(const std::string& name, const std::string& requested_id = "");
   // Error: kNotFound naming the id.
   std::shared_ptr<Scene> Get(const std::string& id) const;
   // The same without waiting: null while the registry is busy (a scene being created or deleted commits its

@@ -81,7 +81,7 @@ inline GraspSet PlanSmallSet(const GraspPlanner& planner, uint64_t seed = Candid
   params.spacing = 0.015;
   params.preshapes = {0, 1};
   params.max_candidates = 300;
-  const auto set = planner.Plan(planner.Candidates(params), 2, 0, [](size_t, size_t) { return true; });
+  const auto set = planner.Plan(planner.Candidates(params), 0, 0, [](size_t, size_t) { return true; });
   EXPECT_TRUE(set);
   return *set;
 }

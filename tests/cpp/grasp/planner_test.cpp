@@ -96,7 +96,7 @@ TEST(GraspPlannerTest, CancelStopsThePlan) {
   GraspPlanner planner("schunk_pg70", ToMesh(collision::SphereMesh(0.03)), {}, SimulationParams());
   CandidateParams params;
   params.spacing = 0.005;
-  const auto set = planner.Plan(planner.Candidates(params), 2, 0, [](size_t, size_t) { return false; });
+  const auto set = planner.Plan(planner.Candidates(params), 0, 0, [](size_t, size_t) { return false; });
   EXPECT_FALSE(set);
 }
 

@@ -102,11 +102,13 @@ TEST(SceneReplayTest, ARestartServesTheScenesThatWereStored) {
     empty_before = registry.Create("empty")->View();
     deleted_id = registry.Create("deleted")->id();
     registry.Delete(deleted_id);
+    registry.Create("chosen", "client-chosen-id");
     before = scene->View();
   }
   persistence::SceneStore store(dir);
   SceneRegistry registry(limits);
-  ASSERT_EQ(RestoreScenes(&store, &registry), 2u);
+  ASSERT_EQ(RestoreScenes(&store, &registry), 3u);
+  EXPECT_EQ(registry.Get("client-chosen-id")->View().name, "chosen");
   const SceneView after = registry.Get(before.id)->View();
   EXPECT_EQ(after.name, "everything");
   EXPECT_EQ(after.revision, before.revision);

@@ -39,7 +39,7 @@ const grasp::GraspSet& PlanSet(const SceneView& view) {
   const grasp::PlanJob job = pickplace::DefaultGraspSetJob(*view.model, view.state, "arm", "cube", 1);
   const grasp::GraspPlanner planner(job.hand, job.mesh, job.obstacles, job.simulation);
   std::optional<grasp::GraspSet> planned =
-      planner.Plan(planner.Candidates(job.candidates), 2, job.max_grasps, [](size_t, size_t) { return true; });
+      planner.Plan(planner.Candidates(job.candidates), 0, job.max_grasps, [](size_t, size_t) { return true; });
   return *planned;
   }();
   return set;

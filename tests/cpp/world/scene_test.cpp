@@ -228,6 +228,20 @@ TEST(SceneRegistryTest, LimitsIdsAndDeletion) {
   registry.Create("c");  // room again after the delete
 }
 
+// A fleet routes by the id before the scene exists (docs/scaling.md): the client may choose it.
+TEST(SceneRegistryTest, TakesAClientChosenIdOnceAndKeepsItsOwnIdsUnique) {
+  SceneRegistry registry(Limits{});
+  EXPECT_EQ(registry.Create("mine", "lab-7.cell_2")->id(), "lab-7.cell_2");
+  EXPECT_EQ(registry.Get("lab-7.cell_2")->View().name, "mine");
+  ExpectError([&] { registry.Create("again", "lab-7.cell_2"); }, ErrorCode::kAlreadyExists, {"scene_id", "lab-7.cell_2"});
+  ExpectError([&] { registry.Create("x", "scene-3"); }, ErrorCode::kInvalidArgument, {"scene_id", "scene-3", "scene-<n>"});
+  ExpectError([&] { registry.Create("x", "a/b"); }, ErrorCode::kInvalidArgument, {"scene_id", "a/b"});
+  ExpectError([&] { registry.Create("x", std::string(65, 'a')); }, ErrorCode::kInvalidArgument, {"scene_id", "1-64"});
+  EXPECT_EQ(registry.List().size(), 1u) << "a refused creation changes nothing";
+  EXPECT_EQ(registry.Create("generated")->id(), "scene-1") << "client ids do not use up the server's numbers";
+  EXPECT_EQ(registry.Create("scene-x", "scene-x")->id(), "scene-x");
+}
+
 TEST(KinematicsTest, RevoluteJointRotatesAboutItsAxis) {
   JointSpec joint;
   joint.type = JointType::kRevolute;
