@@ -21,6 +21,10 @@ headers = {};
 if ~isempty(client.Token)
   headers = {'Authorization', ['Bearer ' client.Token]};  % checked by the server like any gRPC call's
 end
+scene = sceneOf(request);
+if ~isempty(scene)
+  headers(end + 1:end + 2) = {'graspsim-scene-id', scene};  % a fleet's balancer routes by it (docs/scaling.md)
+end
 try
   if graspsim.internal.isOctave()
     % Octave's webwrite sends only forms: the gateway reads the JSON from the field payload=<json>.
@@ -68,4 +72,25 @@ elseif ~isempty(strfind(text, 'timeout')) || ~isempty(strfind(text, 'timed out')
   error('graspsim:DEADLINE_EXCEEDED', 'no answer from the graspsim HTTP gateway at %s in time: %s', where, err.message);
 end
 error('graspsim:UNAVAILABLE', 'no answer from the graspsim HTTP gateway at %s: %s', where, err.message);
+end
+
+function id = sceneOf(request)
+% The scene a request is about: its scene_id or add_to_scene_id, or its object's (PlanGrasps, EvaluateGrasp);
+% the first message's for a client stream. '' when none.
+id = '';
+if iscell(request) && ~isempty(request)
+  request = request{1};
+end
+if ~isstruct(request) || isempty(request)
+  return;
+end
+for name = {'scene_id', 'add_to_scene_id'}
+  if isfield(request, name{1}) && ischar(request.(name{1})) && ~isempty(request.(name{1}))
+    id = request.(name{1});
+    return;
+  end
+end
+if isfield(request, 'object') && isstruct(request.object)
+  id = sceneOf(request.object);
+end
 end

@@ -7,6 +7,7 @@ from typing import Optional, Union
 import grpc
 
 from graspsim._errors import translated_errors
+from graspsim._routing import CallDetails, SceneRouting
 from graspsim.v1 import auth_pb2, auth_pb2_grpc
 
 PemLike = Union[bytes, str, "os.PathLike[str]", None]
@@ -32,7 +33,7 @@ class _BearerToken(grpc.UnaryUnaryClientInterceptor, grpc.UnaryStreamClientInter
         metadata = tuple(details.metadata or ()) + self._metadata
         fields = {name: getattr(details, name, None) for name in
                   ("method", "timeout", "credentials", "wait_for_ready", "compression")}
-        return _CallDetails(metadata=metadata, **fields)
+        return CallDetails(metadata=metadata, **fields)
 
     def intercept_unary_unary(self, continuation, details, request):
         return continuation(self._details(details), request)
@@ -47,26 +48,20 @@ class _BearerToken(grpc.UnaryUnaryClientInterceptor, grpc.UnaryStreamClientInter
         return continuation(self._details(details), requests)
 
 
-class _CallDetails(grpc.ClientCallDetails):
-    def __init__(self, method, timeout, metadata, credentials, wait_for_ready, compression):
-        self.method, self.timeout, self.metadata = method, timeout, metadata
-        self.credentials, self.wait_for_ready, self.compression = credentials, wait_for_ready, compression
-
-
 def open_channel(target: str, options, *, token: Optional[str] = None, tls: bool = False,
                  root_certificates: PemLike = None, private_key: PemLike = None,
                  certificate_chain: PemLike = None) -> grpc.Channel:
     """A channel to target: TLS when tls is true or any certificate is given (root_certificates: the CA that
     signed the server's certificate, default the system's; private_key + certificate_chain: a client
-    certificate), plaintext otherwise; with a bearer token on every call when token is given."""
+    certificate), plaintext otherwise; with a bearer token on every call when token is given, and the
+    graspsim-scene-id header on every call of a scene (a fleet routes by it, docs/scaling.md)."""
     if tls or root_certificates is not None or certificate_chain is not None:
         credentials = grpc.ssl_channel_credentials(_pem(root_certificates), _pem(private_key), _pem(certificate_chain))
         channel = grpc.secure_channel(target, credentials, options=options)
     else:
         channel = grpc.insecure_channel(target, options=options)
-    if token:
-        channel = grpc.intercept_channel(channel, _BearerToken(token))
-    return channel
+    interceptors = [SceneRouting()] + ([_BearerToken(token)] if token else [])
+    return grpc.intercept_channel(channel, *interceptors)
 
 
 class AuthMethods:

@@ -1,6 +1,7 @@
 """Client: the graspsim SceneService with Python values in and numpy/dataclasses out."""
 from __future__ import annotations
 
+import secrets
 from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence
 
 import grpc
@@ -30,13 +31,15 @@ _CHANNEL_OPTIONS = [
 
 def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_timeout: float = 60.0,
             token: Optional[str] = None, tls: bool = False, root_certificates: PemLike = None,
-            private_key: PemLike = None, certificate_chain: PemLike = None) -> Client:
+            private_key: PemLike = None, certificate_chain: PemLike = None, fleet: bool = False) -> Client:
     """Connects to a graspsim server at "host:port", waiting up to timeout (s) for the channel to be ready.
 
     call_timeout (s) is the deadline of every unary call. Raises GraspsimError(UNAVAILABLE) when no server
     answers in time. token: the bearer token sent with every call. tls=True (or root_certificates, PEM bytes
     or a file path: the CA of the server's certificate) connects over TLS; private_key + certificate_chain add
-    a client certificate (docs/security.md).
+    a client certificate (docs/security.md). fleet=True: target is a load balancer in front of several servers
+    (docs/scaling.md): create_scene then chooses each new scene's id itself, so that the balancer can route the
+    creation and every later call of the scene to the same server.
     """
     channel = open_channel(target, _CHANNEL_OPTIONS, token=token, tls=tls, root_certificates=root_certificates,
                            private_key=private_key, certificate_chain=certificate_chain)
@@ -46,7 +49,7 @@ def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_time
         channel.close()
         raise GraspsimError.for_code(grpc.StatusCode.UNAVAILABLE,
                             f"no graspsim server answered at {target} within {timeout:g} s") from None
-    return Client(channel, call_timeout)
+    return Client(channel, call_timeout, fleet=fleet)
 
 
 @accept_scene_objects
@@ -58,9 +61,10 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
     The raw stubs are available as `scene_stub` and `tactile_stub` for messages this class does not wrap.
     """
 
-    def __init__(self, channel: grpc.Channel, call_timeout: float = 60.0):
+    def __init__(self, channel: grpc.Channel, call_timeout: float = 60.0, *, fleet: bool = False):
         self.channel = channel
         self.call_timeout = call_timeout
+        self.fleet = fleet
         self.scene_stub = scene_pb2_grpc.SceneServiceStub(channel)
         self.tactile_stub = tactile_pb2_grpc.TactileServiceStub(channel)
         self.grasp_stub = grasp_pb2_grpc.GraspServiceStub(channel)
@@ -80,9 +84,14 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             return getattr(stub or self.scene_stub, method)(request, timeout=self.call_timeout)
 
     # --- scenes -------------------------------------------------------------------------------------------
-    def create_scene(self, name: str = "scene") -> scene_pb2.SceneSummary:
-        """Creates an empty scene; returns its summary (.id is the server-generated scene id)."""
-        return self._unary("CreateScene", scene_pb2.CreateSceneRequest(name=name)).summary
+    def create_scene(self, name: str = "scene", scene_id: Optional[str] = None) -> scene_pb2.SceneSummary:
+        """Creates an empty scene; returns its summary (.id is the scene id). scene_id: the id to give it (1-64 of
+        letters, digits, '-', '_', '.'; ALREADY_EXISTS when taken); None = the server's next "scene-<n>", or a
+        random "s-<16 hex digits>" on a fleet connection (connect(fleet=True))."""
+        if scene_id is None and self.fleet:
+            scene_id = "s-" + secrets.token_hex(8)
+        request = scene_pb2.CreateSceneRequest(name=name, scene_id=scene_id or "")
+        return self._unary("CreateScene", request).summary
 
     def list_scenes(self) -> List[scene_pb2.SceneSummary]:
         """Summaries of every scene on the server."""

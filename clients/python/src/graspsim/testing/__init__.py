@@ -1,0 +1,2 @@
+"""Rigs for tests and local experiments (never imported by the client itself): fleet.Fleet runs several
+graspsim-server replicas behind HAProxy on loopback."""
