@@ -11,7 +11,7 @@ SERVER := $(BUILD)/bin/graspsim-server
 PROTOS := $(wildcard proto/graspsim/v1/*.proto)
 CLIENT_FILES := clients/python/pyproject.toml clients/python/setup.py
 
-.PHONY: all deps build python node-tests demo test test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke mbm-data
+.PHONY: all deps build python node-tests go-tools demo test test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke mbm-data
 all: build python
 
 deps:
@@ -27,7 +27,7 @@ build: deps $(BUILD)/build.ninja
 
 $(VENV)/.installed: $(PROTOS) $(CLIENT_FILES) | deps
 	@test -x $(PYTHON) || python3 -m venv $(VENV)
-	@$(PYTHON) -m pip install -q -e 'clients/python[test,plot]'
+	@$(PYTHON) -m pip install -q -e 'clients/python[test,plot,batch]'
 	@touch $@
 
 python: $(VENV)/.installed
@@ -70,7 +70,23 @@ test-cpp: build mbm-data
 	  || { grep -E -A40 '\[  FAILED  \]|\*\*\*Failed|\*\*\*Exception' $(BUILD)/test-cpp.log | head -n 150; tail -n 20 $(BUILD)/test-cpp.log; exit 1; }
 	@sed -n '/tests passed/,$$p' $(BUILD)/test-cpp.log
 
-test-python: build python node-tests
+# Go tools the Python tests run (issue 23), from the Go module proxy into $(TOOLS)/bin: grpc-health-probe (the
+# fleet's HAProxy health check, tests/python/test_fleet.py) and kustomize (renders deploy/k8s for
+# tests/python/test_deploy_files.py). Each is installed once; a version change here installs it again.
+TOOLS := $(BUILD)/tools
+GO_TOOLS := github.com/grpc-ecosystem/grpc-health-probe@v0.4.62 sigs.k8s.io/kustomize/kustomize/v5@v5.5.0
+GO := $(shell command -v go || echo /usr/local/go/bin/go)
+
+$(TOOLS)/.installed-%: | deps
+	@mkdir -p $(TOOLS)
+	@GOBIN=$(abspath $(TOOLS))/bin GOPATH=$(abspath $(TOOLS))/go GOFLAGS=-modcacherw $(GO) install $(subst +,/,$*) 2>&1 | grep -v '^go: downloading' || true
+	@module=$(firstword $(subst @, ,$(subst +,/,$*))); name=$${module##*/}; \
+	  if [[ $$name =~ ^v[0-9]+$$ ]]; then module=$${module%/*}; name=$${module##*/}; fi; \
+	  test -x $(TOOLS)/bin/$$name && touch $@
+
+go-tools: $(foreach t,$(GO_TOOLS),$(TOOLS)/.installed-$(subst /,+,$(t)))
+
+test-python: build python node-tests go-tools
 	@GRASPSIM_SERVER=$(abspath $(SERVER)) $(PYTHON) -m pytest -q tests/python
 
 test-matlab: build

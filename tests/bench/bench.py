@@ -9,7 +9,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _harness import commit, log, machine  # noqa: E402
 
-BENCHMARKS = ["scene_ops", "upload", "watch", "physics", "tactile", "grasp", "shape", "viewers", "gateway", "motion", "crash", "rpc", "import", "mbm", "record"]
+BENCHMARKS = ["scene_ops", "upload", "watch", "physics", "tactile", "grasp", "shape", "viewers", "gateway", "motion", "crash", "rpc", "import", "mbm", "record", "batch", "fleet"]
 # A benchmark whose module has another name ("record": tests/bench/recording.py).
 MODULES = {"record": "recording"}
 

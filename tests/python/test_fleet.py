@@ -11,6 +11,7 @@ import grpc
 import pytest
 
 import graspsim
+from graspsim.fleet import rebalance
 from graspsim.testing.fleet import Fleet, config_with_replicas
 from conftest import REPO_ROOT, server_binary
 
@@ -144,29 +145,29 @@ def test_stateless_calls_spread_and_skip_a_replica_that_is_down(fleet, scenes):
         victim.start()
 
 
-def test_a_fourth_replica_moves_about_a_quarter_of_the_scenes(fleet, scenes):
-    """Consistent hashing: adding a replica changes the home of ~1/4 of the scenes (to the new one only);
-    docs/scaling.md says what happens to them."""
+def test_a_fourth_replica_moves_about_a_quarter_of_the_scenes_and_rebalance_moves_them(fleet, scenes):
+    """Consistent hashing: adding a replica changes the home of ~1/4 of the scenes, to the new replica only;
+    graspsim.fleet.rebalance then moves exactly those by archive (docs/scaling.md)."""
     before = homes(fleet)
     assert sorted(before) == sorted(scenes)
     fleet.add_replica()
     fleet.start_balancer(config_with_replicas(CONFIG.read_text(), 4))
     try:
-        moved = []
-        with graspsim.connect(fleet.address, fleet=True) as client:
-            for sid in scenes:
-                try:
-                    client.get_scene(sid)
-                except graspsim.NotFound:
-                    moved.append(sid)
-            # Where do moved scenes route now? Creating one anew under its id lands it on the new replica.
-            for sid in moved[:5]:
-                client.create_scene("probe", scene_id=sid)
-        fraction = len(moved) / len(scenes)
+        addresses = [r.address for r in fleet.replicas]
+        planned = rebalance(fleet.address, addresses, dry_run=True)
+        fraction = len(planned.moved) / len(scenes)
         assert 0.1 <= fraction <= 0.4, f"{fraction:.2f} of the scenes changed home (about 0.25 expected)"
-        with graspsim.connect(fleet.replicas[3].address) as new_replica:
-            on_new = {summary.id for summary in new_replica.list_scenes()}
-        assert set(moved[:5]) == on_new, "a moved scene's calls go to the new replica, none elsewhere"
-        assert all(before[sid] != "r3" for sid in moved)
+        assert all(source != fleet.replicas[3].address for _, source in planned.moved)
+        done = rebalance(fleet.address, addresses)
+        assert not done.failed, done.failed
+        assert sorted(done.moved) == sorted(planned.moved)
+        after = homes(fleet)  # every scene once, the moved ones on the new replica only
+        assert sorted(after) == sorted(scenes)
+        assert {sid for sid, home in after.items() if home == "r3"} == {sid for sid, _ in planned.moved}
+        with graspsim.connect(fleet.address, fleet=True) as client:
+            for i, sid in enumerate(scenes):
+                pose = client.get_body_poses(sid, ["cube"])["cube"]
+                assert pose.position[2] == pytest.approx(0.1 + 0.001 * i, abs=1e-3), sid
+        assert not rebalance(fleet.address, addresses, dry_run=True).moved, "a second rebalance has nothing to do"
     finally:
         fleet.start_balancer()

@@ -163,7 +163,7 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
     if (refused_ || !options_.tokens) return;
     const void* message = methods->GetSendMessage();
     if (message == nullptr) return;
-    if (method_ == "/graspsim.v1.SceneService/CreateScene") {
+    if (method_ == "/graspsim.v1.SceneService/CreateScene" || method_ == "/graspsim.v1.SceneService/ImportScene") {
       authorizer_->SetOwner(static_cast<const v1::Scene*>(message)->summary().id(), who_.name);
     } else if (method_ == "/graspsim.v1.RecordingService/ReplayRecording") {
       authorizer_->SetOwner(static_cast<const v1::ReplayRecordingResponse*>(message)->scene_id(), who_.name);

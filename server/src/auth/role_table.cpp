@@ -13,6 +13,8 @@ const std::map<std::string, MethodRule, std::less<>>& RoleTable() {
       {"/graspsim.v1.SceneService/ListScenes", {kViewer, A::kNone}},  // the answer lists only readable scenes
       {"/graspsim.v1.SceneService/GetScene", {kViewer, A::kRead}},
       {"/graspsim.v1.SceneService/DeleteScene", {kScripter, A::kWrite}},
+      {"/graspsim.v1.SceneService/ExportScene", {kViewer, A::kRead}},  // what GetScene with geometry shows
+      {"/graspsim.v1.SceneService/ImportScene", {kScripter, A::kNone}},  // creates a scene, as CreateScene
       {"/graspsim.v1.SceneService/UploadFile", {kScripter, A::kWrite}},
       {"/graspsim.v1.SceneService/ListBuiltinModels", {kViewer, A::kNone}},
       {"/graspsim.v1.SceneService/AddObject", {kScripter, A::kWrite}},

@@ -1,5 +1,7 @@
 #include "rpc/scene_replay.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 #include "rpc/scene_edits.h"
 
@@ -54,6 +56,44 @@ size_t RestoreScenes(persistence::SceneStore* store, SceneRegistry* registry) {
   registry->SetNextId(stored.next_id);
   registry->AttachJournal(store);
   return stored.scenes.size();
+}
+
+persistence::SceneArchive ArchiveOf(const Scene& scene) {
+  const std::shared_ptr<const SceneSnapshot> snapshot = scene.DetailedSnapshot();
+  persistence::SceneArchive archive;
+  archive.id = scene.id();
+  archive.name = scene.View().name;
+  archive.revision = snapshot->revision;
+  for (const auto& op : *snapshot->edits) archive.ops.push_back(*op);
+  archive.state = *snapshot->state;
+  return archive;
+}
+
+std::shared_ptr<Scene> ImportArchive(const persistence::SceneArchive& archive, const std::string& id,
+                                     SceneRegistry* registry) {
+  auto scene = registry->CreateMoved(archive.name, id.empty() ? archive.id : id);
+  try {
+    for (size_t i = 0; i < archive.ops.size(); ++i) {
+      try {
+        ReplayEdit(scene.get(), archive.ops[i], registry->limits());
+      } catch (const Error& error) {
+        ThrowInvalidArgument("data: the archive's edit " + std::to_string(i + 1) + " (" + archive.ops[i].kind +
+                             ") does not apply here: " + error.what());
+      }
+    }
+    // A revision above every one the new scene had, so that its watchers see the restored state as news and the
+    // journal stores it.
+    try {
+      scene->RestoreState(archive.state, std::max(archive.revision, scene->revision() + 1));
+    } catch (const Error& error) {
+      ThrowInvalidArgument(std::string("data: the archive's state does not fit its model: ") + error.what());
+    }
+    scene->Checkpoint();
+  } catch (...) {
+    registry->Delete(scene->id());
+    throw;
+  }
+  return scene;
 }
 
 }  // namespace graspsim::rpc

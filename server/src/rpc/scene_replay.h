@@ -3,6 +3,7 @@
 // stored state and revision are put back; after that the registry journals every edit to the store.
 #pragma once
 
+#include "persistence/scene_archive.h"
 #include "persistence/scene_store.h"
 #include "world/scene_registry.h"
 
@@ -15,5 +16,12 @@ void ReplayEdit(Scene* scene, const SceneOp& op, const Limits& limits);
 // Throws Error(kFailedPrecondition) naming the database, the scene and the stored edit that cannot be replayed.
 // Returns the number of scenes restored.
 size_t RestoreScenes(persistence::SceneStore* store, SceneRegistry* registry);
+
+// A scene as it is now, to move it (ExportScene): its edits, files, state and revision, taken at one instant.
+persistence::SceneArchive ArchiveOf(const Scene& scene);
+// A new scene rebuilt from an archive under `id` (empty = the archive's), journaled like any edit. All or
+// nothing: an edit that fails deletes the new scene again and throws Error(kInvalidArgument) naming the edit.
+std::shared_ptr<Scene> ImportArchive(const persistence::SceneArchive& archive, const std::string& id,
+                                     SceneRegistry* registry);
 
 }  // namespace graspsim::rpc

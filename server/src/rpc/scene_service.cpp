@@ -7,6 +7,7 @@
 #include "core/validate.h"
 #include "rpc/call.h"
 #include "rpc/convert.h"
+#include "rpc/scene_archive_calls.h"
 #include "rpc/scene_edits.h"
 #include "rpc/upload_file.h"
 #include "rpc/watch_scene.h"
@@ -67,6 +68,15 @@ grpc::ServerUnaryReactor* SceneServiceImpl::DeleteScene(grpc::CallbackServerCont
     registry_->Delete(request->scene_id());
     simulations_->Forget(request->scene_id());
   });
+}
+
+grpc::ServerWriteReactor<v1::SceneArchiveChunk>* SceneServiceImpl::ExportScene(Context* context,
+                                                                             const v1::ExportSceneRequest* request) {
+  return StartExport(context, request, registry_, pool_);
+}
+
+grpc::ServerReadReactor<v1::SceneArchiveChunk>* SceneServiceImpl::ImportScene(Context* context, v1::Scene* response) {
+  return StartImport(context, registry_, pool_, response);
 }
 
 grpc::ServerReadReactor<v1::UploadFileChunk>* SceneServiceImpl::UploadFile(grpc::CallbackServerContext* context,

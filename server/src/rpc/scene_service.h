@@ -25,6 +25,8 @@ class SceneServiceImpl final : public v1::SceneService::CallbackService {
   Unary* GetScene(Context*, const v1::GetSceneRequest*, v1::Scene*) override;
   Unary* DeleteScene(Context*, const v1::DeleteSceneRequest*, v1::DeleteSceneResponse*) override;
   grpc::ServerReadReactor<v1::UploadFileChunk>* UploadFile(Context*, v1::FileInfo*) override;
+  grpc::ServerWriteReactor<v1::SceneArchiveChunk>* ExportScene(Context*, const v1::ExportSceneRequest*) override;
+  grpc::ServerReadReactor<v1::SceneArchiveChunk>* ImportScene(Context*, v1::Scene*) override;
   Unary* ListBuiltinModels(Context*, const v1::ListBuiltinModelsRequest*, v1::ListBuiltinModelsResponse*) override;
   Unary* AddObject(Context*, const v1::AddObjectRequest*, v1::Body*) override;
   Unary* AddRobot(Context*, const v1::AddRobotRequest*, v1::AddRobotResponse*) override;

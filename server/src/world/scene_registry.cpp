@@ -14,7 +14,16 @@ std::string Quoted(const std::string& s) { return "'" + s + "'"; }
 // A client-chosen id (a fleet routes a scene's calls by it before the scene exists, docs/scaling.md): 1-64
 // characters a URL and a metadata header carry as they are; never of the server's own form scene-<n>, so the
 // ids the server makes stay unique.
-void CheckClientId(const std::string& id) {
+// The n of a server-made id "scene-<n>", else 0.
+uint64_t ServerIdNumber(const std::string& id) {
+  if (!id.starts_with("scene-") || id.size() == 6 || id.size() > 26 ||
+      !std::all_of(id.begin() + 6, id.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+    return 0;
+  }
+  return std::stoull(id.substr(6));
+}
+
+void CheckClientId(const std::string& id, bool server_form_allowed) {
   const bool allowed = !id.empty() && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.';
   });
@@ -22,8 +31,7 @@ void CheckClientId(const std::string& id) {
     ThrowInvalidArgument("scene_id: " + Quoted(id.substr(0, 80)) +
                          " is not 1-64 characters of letters, digits, '-', '_' and '.'");
   }
-  if (id.starts_with("scene-") && id.size() > 6 &&
-      std::all_of(id.begin() + 6, id.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+  if (!server_form_allowed && ServerIdNumber(id) > 0) {
     ThrowInvalidArgument("scene_id: " + Quoted(id) + " has the form scene-<n> of the ids the server makes; choose another");
   }
 }
@@ -31,10 +39,19 @@ void CheckClientId(const std::string& id) {
 }  // namespace
 
 std::shared_ptr<Scene> SceneRegistry::Create(const std::string& name, const std::string& requested_id) {
+  return CreateWith(name, requested_id, false);
+}
+
+std::shared_ptr<Scene> SceneRegistry::CreateMoved(const std::string& name, const std::string& id) {
+  return CreateWith(name, id, true);
+}
+
+std::shared_ptr<Scene> SceneRegistry::CreateWith(const std::string& name, const std::string& requested_id,
+                                                 bool server_form_allowed) {
   if (name.size() > 128) {
     ThrowInvalidArgument("name: " + std::to_string(name.size()) + " characters, at most 128 allowed");
   }
-  if (!requested_id.empty()) CheckClientId(requested_id);
+  if (!requested_id.empty() || server_form_allowed) CheckClientId(requested_id, server_form_allowed);
   std::shared_ptr<Scene> scene;
   std::function<void(const std::shared_ptr<Scene>&)> hook;
   {
@@ -48,7 +65,8 @@ std::shared_ptr<Scene> SceneRegistry::Create(const std::string& name, const std:
     }
     const bool generated = requested_id.empty();
     const std::string id = generated ? "scene-" + std::to_string(next_id_) : requested_id;
-    const uint64_t next_id = generated ? next_id_ + 1 : next_id_;
+    // A moved scene of the form scene-<n> keeps the ids this server makes past its own.
+    const uint64_t next_id = generated ? next_id_ + 1 : std::max(next_id_, ServerIdNumber(id) + 1);
     scene = std::make_shared<Scene>(id, name, limits_);
     if (journal_) journal_->SceneCreated(id, name, next_id);  // durable before anyone sees the id
     scene->AttachJournal(journal_);

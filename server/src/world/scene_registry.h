@@ -24,6 +24,9 @@ class SceneRegistry {
   // scene-<n>). Errors: kInvalidArgument (name longer than 128 characters, a bad id), kAlreadyExists (the id is
   // taken), kResourceExhausted (too many scenes).
   std::shared_ptr<Scene> Create(const std::string& name, const std::string& requested_id = "");
+  // A scene moved here from another server (ImportScene) under its id there, of the form scene-<n> too; the
+  // ids this server makes then continue past n. Errors as Create.
+  std::shared_ptr<Scene> CreateMoved(const std::string& name, const std::string& id);
   // Error: kNotFound naming the id.
   std::shared_ptr<Scene> Get(const std::string& id) const;
   // The same without waiting: null while the registry is busy (a scene being created or deleted commits its
@@ -44,6 +47,8 @@ class SceneRegistry {
   void CloseAllWatchers(const std::string& reason);
 
  private:
+  std::shared_ptr<Scene> CreateWith(const std::string& name, const std::string& requested_id, bool server_form_allowed);
+
   const Limits limits_;
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Scene>> scenes_;

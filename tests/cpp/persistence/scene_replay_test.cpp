@@ -181,3 +181,72 @@ TEST(SceneReplayTest, AnEditWhoseJournalWriteFailsChangesNothing) {
 
 }  // namespace
 }  // namespace graspsim::rpc
+
+namespace graspsim::rpc {
+namespace {
+
+// A scene moved by archive (ExportScene → ImportScene) is the scene: same bodies, files, state; the copy is
+// journaled at its new home, so it survives that server's restart too.
+TEST(SceneArchiveTest, AnImportedSceneIsTheExportedOneAndSurvivesARestart) {
+  Limits limits;
+  SceneRegistry source(limits);
+  auto scene = source.Create("everything", "moving-scene");
+  BuildScene(scene.get(), limits);
+  const SceneView before = scene->View();
+  const std::string bytes = persistence::EncodeSceneArchive(ArchiveOf(*scene));
+
+  const std::string dir = TempDirectory();
+  {
+    persistence::SceneStore store(dir);
+    SceneRegistry target(limits);
+    RestoreScenes(&store, &target);
+    const auto copy = ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "", &target);
+    EXPECT_EQ(copy->id(), "moving-scene");
+    EXPECT_EQ(persistence::EncodeState(copy->View().state), persistence::EncodeState(before.state));
+    EXPECT_GT(copy->revision(), 0u);
+    test_util::ExpectError([&] { ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "", &target); },
+                           ErrorCode::kAlreadyExists, {"moving-scene"});
+    EXPECT_EQ(ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "second-copy", &target)->id(),
+              "second-copy");
+  }
+  persistence::SceneStore store(dir);
+  SceneRegistry restarted(limits);
+  ASSERT_EQ(RestoreScenes(&store, &restarted), 2u);
+  const SceneView after = restarted.Get("moving-scene")->View();
+  EXPECT_EQ(after.name, "everything");
+  ASSERT_EQ(after.model->bodies.size(), before.model->bodies.size());
+  for (size_t i = 0; i < after.model->bodies.size(); ++i) EXPECT_EQ(after.model->bodies[i].id, before.model->bodies[i].id);
+  EXPECT_EQ(after.model->simulation.gravity, Vec3(0, 0, -1.62));
+  EXPECT_EQ(persistence::EncodeState(after.state), persistence::EncodeState(before.state));
+  EXPECT_EQ(*after.files.at("tet.obj").bytes, kTetObj);
+  fs::remove_all(dir);
+}
+
+// Bad archives are refused naming the field, and leave no scene behind.
+TEST(SceneArchiveTest, ABadArchiveIsRefusedAndChangesNothing) {
+  Limits limits;
+  SceneRegistry source(limits);
+  auto scene = source.Create("s");
+  BuildScene(scene.get(), limits);
+  persistence::SceneArchive archive = ArchiveOf(*scene);
+  const std::string bytes = persistence::EncodeSceneArchive(archive);
+  using test_util::ExpectError;
+  ExpectError([&] { persistence::DecodeSceneArchive("not an archive", "data"); }, ErrorCode::kInvalidArgument,
+              {"data", "GSSCENE"});
+  ExpectError([&] { persistence::DecodeSceneArchive(bytes.substr(0, bytes.size() - 10), "data"); },
+              ErrorCode::kInvalidArgument, {"data", "truncated"});
+  ExpectError([&] { persistence::DecodeSceneArchive(bytes + "x", "data"); }, ErrorCode::kInvalidArgument,
+              {"data", "after the end"});
+  std::string tampered = bytes;
+  tampered[tampered.find("v 0.1 0 0")] = 'w';  // the uploaded file's bytes, no longer its SHA-256
+  ExpectError([&] { persistence::DecodeSceneArchive(tampered, "data"); }, ErrorCode::kInvalidArgument,
+              {"tet.obj", "SHA-256"});
+
+  SceneRegistry target(limits);
+  archive.ops.erase(archive.ops.begin());  // the robot's mesh file is gone: its AddRobot cannot apply
+  ExpectError([&] { ImportArchive(archive, "", &target); }, ErrorCode::kInvalidArgument, {"data", "edit 1", "AddRobot"});
+  EXPECT_TRUE(target.List().empty());
+}
+
+}  // namespace
+}  // namespace graspsim::rpc

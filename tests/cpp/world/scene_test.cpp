@@ -240,6 +240,10 @@ TEST(SceneRegistryTest, TakesAClientChosenIdOnceAndKeepsItsOwnIdsUnique) {
   EXPECT_EQ(registry.List().size(), 1u) << "a refused creation changes nothing";
   EXPECT_EQ(registry.Create("generated")->id(), "scene-1") << "client ids do not use up the server's numbers";
   EXPECT_EQ(registry.Create("scene-x", "scene-x")->id(), "scene-x");
+  // A scene moved from another server keeps its scene-<n> id; this server's own ids continue past it.
+  EXPECT_EQ(registry.CreateMoved("moved", "scene-7")->id(), "scene-7");
+  EXPECT_EQ(registry.Create("next")->id(), "scene-8");
+  ExpectError([&] { registry.CreateMoved("again", "scene-7"); }, ErrorCode::kAlreadyExists, {"scene-7"});
 }
 
 TEST(KinematicsTest, RevoluteJointRotatesAboutItsAxis) {

@@ -105,6 +105,34 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         """Deletes a scene with everything in it."""
         self._unary("DeleteScene", scene_pb2.DeleteSceneRequest(scene_id=scene_id))
 
+    def export_scene(self, scene_id: str) -> bytes:
+        """The whole scene as an archive (its edits as received, its files, its state), for import_scene on
+        another server: how a fleet moves a scene (graspsim.fleet.rebalance, docs/scaling.md)."""
+        with translated_errors():
+            stream = self.scene_stub.ExportScene(scene_pb2.ExportSceneRequest(scene_id=scene_id),
+                                                 timeout=self.call_timeout)
+            try:
+                return b"".join(chunk.data for chunk in stream)
+            finally:
+                stream.cancel()
+
+    def import_scene(self, archive: bytes, scene_id: Optional[str] = None,
+                     chunk_size: int = 1 << 20) -> scene_pb2.SceneSummary:
+        """A scene rebuilt from export_scene's archive, under scene_id (None = the id it had); ALREADY_EXISTS
+        when the id is taken. Returns its summary. Through a fleet's balancer give scene_id: the import is
+        routed by it (None goes to any replica)."""
+        if chunk_size <= 0:
+            raise ValueError(f"chunk_size must be > 0 bytes, got {chunk_size}")
+        view = memoryview(archive).cast("B")
+
+        def chunks():
+            yield scene_pb2.SceneArchiveChunk(scene_id=scene_id or "", data=bytes(view[:chunk_size]))
+            for start in range(chunk_size, len(view), chunk_size):
+                yield scene_pb2.SceneArchiveChunk(data=bytes(view[start:start + chunk_size]))
+
+        with translated_errors():
+            return self.scene_stub.ImportScene(chunks(), timeout=self.call_timeout).summary
+
     # --- files and models ---------------------------------------------------------------------------------
     def upload_file(self, scene_id: str, path_in_scene: str, data: FileData,
                     chunk_size: int = 1 << 20) -> common_pb2.FileInfo:
