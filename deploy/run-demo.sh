@@ -19,7 +19,8 @@ stop_server() {
 trap 'kill -TERM "$pid" 2>/dev/null || true' EXIT
 
 demo_status=0
-"$python" "$top/clients/python/examples/demo.py" --server 127.0.0.1:50051 --http http://127.0.0.1:8080 || demo_status=$?
+"$python" "$top/clients/python/examples/demo.py" --server 127.0.0.1:50051 --http http://127.0.0.1:8080 \
+  --server-binary "$server" || demo_status=$?
 # The same job from GNU Octave through the HTTP/JSON gateway (the Matlab client), when Octave is installed.
 if [[ $demo_status -eq 0 ]] && command -v octave >/dev/null; then
   echo

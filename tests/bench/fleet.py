@@ -17,9 +17,16 @@ balancer by a fleet client (connect(fleet=True): client-chosen ids), each with t
   scene directly at its home replica and through HAProxy (with the graspsim-scene-id header), REPS runs each,
   interleaved; balancer_overhead_pct = (1 - balanced calls/s / direct calls/s) * 100 of the medians, with the
   latency medians and [min, max] spreads. direct_calls_per_s is also one replica's capacity for this cheap call.
+- balancer_cpu_us_per_call: HAProxy's own CPU time (user + system) per balanced call: the cost that stays when
+  the balancer has cores of its own (on these 2 cores it is taken from the server and ghz, hence the
+  throughput overhead).
 - moved_fraction_on_adding_a_replica: the scenes whose home changes when a (REPLICAS+1)th replica joins the ring
-  (their calls answer NOT_FOUND after the reload: docs/scaling.md says what is done about them).
-- memory_kib_per_scene: the RSS growth of one replica over the scenes it holds / their count (table + cube each).
+  (after the balancer's reload their calls answer NOT_FOUND until moved); rebalance_moved, rebalance_failed,
+  rebalance_s: graspsim.fleet.rebalance moving them by archive (ExportScene → ImportScene → DeleteScene);
+  unreachable_after_rebalance: scenes whose cube does not answer through the balancer afterwards (goal 0).
+- memory_kib_per_scene: the RSS growth of one replica over the scenes it holds / their count (table + cube each);
+  memory_kib_per_gripper_scene: the same for 20 scenes of the work cycle's kind (PG70 on its z axis, table, cube,
+  10 steps simulated).
 Environment: GRASPSIM_FLEET_SCENES (300), GRASPSIM_FLEET_REPS (5).
 """
 import json
@@ -33,10 +40,11 @@ from collections import Counter
 from pathlib import Path
 
 import graspsim
+from graspsim.fleet import rebalance
 from graspsim.testing.fleet import Fleet, config_with_replicas
 
 from _harness import REPO, SERVER_BIN, log
-from rpc import GHZ, GHZ_FLAGS, PROTO_DIR, proc_status
+from rpc import GHZ, GHZ_FLAGS, PROTO_DIR, cpu_seconds, proc_status
 
 REPLICAS = 3
 SCENES = int(os.environ.get("GRASPSIM_FLEET_SCENES", "300"))
@@ -143,27 +151,58 @@ def overhead(fleet, scene, home) -> dict:
     for rep in range(REPS):
         order = [(direct, home.address), (balanced, fleet.address)]
         for sink, address in (order if rep % 2 == 0 else order[::-1]):
+            before = cpu_seconds(fleet.balancer.pid)
             sink.append(ghz_run(address, scene))
+            sink[-1]["balancer_cpu_us_per_call"] = 1e6 * (cpu_seconds(fleet.balancer.pid) - before) / OVERHEAD_CALLS
     med = lambda runs, key: statistics.median(r[key] for r in runs)
     span = lambda runs, key: [round(min(r[key] for r in runs), 1), round(max(r[key] for r in runs), 1)]
     return {"direct_calls_per_s": round(med(direct, "calls_per_s"), 1), "direct_calls_per_s_spread": span(direct, "calls_per_s"),
             "balanced_calls_per_s": round(med(balanced, "calls_per_s"), 1),
             "balanced_calls_per_s_spread": span(balanced, "calls_per_s"),
             "direct_p50_us": round(med(direct, "p50_us"), 1), "balanced_p50_us": round(med(balanced, "p50_us"), 1),
-            "balancer_overhead_pct": round(100 * (1 - med(balanced, "calls_per_s") / med(direct, "calls_per_s")), 2)}
+            "balancer_overhead_pct": round(100 * (1 - med(balanced, "calls_per_s") / med(direct, "calls_per_s")), 2),
+            "balancer_cpu_us_per_call": round(med(balanced, "balancer_cpu_us_per_call"), 1),
+            "balancer_cpu_us_per_call_spread": span(balanced, "balancer_cpu_us_per_call")}
 
 
-def moved_on_add(fleet, scenes) -> float:
+def grow(fleet, scenes) -> dict:
+    """A replica added, the balancer reloaded, the moved scenes moved by graspsim.fleet.rebalance."""
     fleet.add_replica()
     fleet.start_balancer(config_with_replicas(CONFIG.read_text(), REPLICAS + 1))
-    moved = 0
+    addresses = [r.address for r in fleet.replicas]
+    planned = rebalance(fleet.address, addresses, dry_run=True)
+    start = time.perf_counter()
+    done = rebalance(fleet.address, addresses)
+    seconds = time.perf_counter() - start
+    unreachable = 0
     with graspsim.connect(fleet.address, fleet=True) as client:
         for sid in scenes:
             try:
-                client.get_scene(sid)
-            except graspsim.NotFound:
-                moved += 1
-    return round(moved / len(scenes), 4)
+                client.get_body_poses(sid, ["cube"])
+            except graspsim.GraspsimError:
+                unreachable += 1
+    return {"moved_fraction_on_adding_a_replica": round(len(planned.moved) / len(scenes), 4),
+            "rebalance_moved": len(done.moved), "rebalance_failed": len(done.failed),
+            "rebalance_s": round(seconds, 2), "unreachable_after_rebalance": unreachable}
+
+
+def gripper_scene_memory(fleet, count: int = 20) -> float:
+    """RSS growth per scene of the work cycle's kind (the PG70 on its z axis, the table, the cube), one replica."""
+    replica = fleet.replicas[0]
+    with graspsim.connect(replica.address) as client:
+        rss = proc_status(replica.process.pid)["rss_kib"]
+        made = []
+        for i in range(count):
+            sid = client.create_scene(f"gripper {i}").id
+            client.add_robot(sid, "gripper", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, 1.05, 1, 0, 0, 0])
+            client.add_object(sid, "table", builtin="table")
+            client.add_object(sid, "cube", builtin="cube_5cm", pose=[0, 0, 0.775, 1, 0, 0, 0])
+            client.step_simulation(sid, steps=10)
+            made.append(sid)
+        per_scene = (proc_status(replica.process.pid)["rss_kib"] - rss) / count
+        for sid in made:
+            client.delete_scene(sid)
+    return round(per_scene, 1)
 
 
 def run():
@@ -187,7 +226,9 @@ def run():
         figures.update(overhead(fleet, scenes[0], next(r for r in fleet.replicas if r.name == where[scenes[0]])))
         log("fleet: a replica killed under load")
         figures.update(kill_under_load(fleet, scenes, where))
-        figures["moved_fraction_on_adding_a_replica"] = moved_on_add(fleet, scenes)
+        figures["memory_kib_per_gripper_scene"] = gripper_scene_memory(fleet)
+        log("fleet: a fourth replica, rebalanced")
+        figures.update(grow(fleet, scenes))
     figures.update({"repetitions": REPS, "concurrency": CONCURRENCY, "load_avg_start": round(load_start, 2),
                     "load_avg_end": round(os.getloadavg()[0], 2)})
     return figures, 0

@@ -18,7 +18,9 @@ def test_demo_runs(server, tmp_path):
                      "peak sums", "cube lifted", "put back", "added as 'cube_seen'", "hardware gateway", "robotiq-tcp moved to 30.0 mm",
                      "refused: INVALID_ARGUMENT", "e-stop: ", "beside its simulated twin", "surprise peak",
                      "pick and place (KR 5 + PG70", "from the goal (tolerance 10 mm, 10°): placed",
-                     "arm path around a post (rrt_connect)", "arm path around a post (ompl_rrt_connect)"):
+                     "arm path around a post (rrt_connect)", "arm path around a post (ompl_rrt_connect)",
+                     "3 replicas behind HAProxy", "r1 killed (-9)", "UNAVAILABLE (its scenes)",
+                     "restarted on its data dir", "moved by archive", "(0 failed)"):
         assert expected in result.stdout, f"{expected!r} missing from:\n{result.stdout}"
     pytest.importorskip("matplotlib")
     for name in ("demo-work-cycle.png", "demo-work-cycle-peak-100pct.png"):

@@ -16,13 +16,16 @@ beside its simulated twin with the surprise. Last, a KUKA KR 5 with the PG70 pic
 puts it 25 cm away, planned and executed in the dynamic simulation (examples/pick_and_place.py). And when the
 `pybullet` package is installed, a robot nobody here wrote: pybullet_data's Franka Panda loaded from its URDF by
 path (its meshes uploaded by the client), with the repairs the server made (docs/import.md), and arm paths
-planned for it around a post in one PlanArmPaths call, graspsim's planner beside OMPL's (docs/motion.md). Exits
-non-zero on any error.
+planned for it around a post in one PlanArmPaths call, graspsim's planner beside OMPL's (docs/motion.md). And
+beyond one machine (docs/scaling.md): three servers started from --server-binary behind HAProxy, scenes routed by
+id, one killed and restarted, a fourth added and the scenes rebalanced (examples/fleet.py). Exits non-zero on
+any error.
 
-    python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080 [--out DIR]
+    python3 demo.py --server 127.0.0.1:50051 --http http://127.0.0.1:8080 [--out DIR] [--server-binary PATH]
 """
 import argparse
 import json
+import shutil
 import sys
 import tempfile
 import time
@@ -32,12 +35,15 @@ from pathlib import Path
 import numpy as np
 
 import graspsim
+import fleet  # examples/fleet.py, next to this file
 import grasp_planning  # examples/grasp_planning.py, next to this file
 import hardware_gateway  # examples/hardware_gateway.py, next to this file
 import pick_and_place  # examples/pick_and_place.py, next to this file
 import shape_completion  # examples/shape_completion.py, next to this file
 import tactile_cycle  # examples/tactile_cycle.py, next to this file
 from graspsim.v1 import common_pb2
+
+REPO = Path(__file__).resolve().parents[3]
 
 TABLE_TOP_Z = 0.75        # m, top surface of the built-in table placed at the origin
 CUBE_EDGE = 0.05          # m
@@ -257,12 +263,25 @@ def load_public_robot(client) -> None:
     client.delete_scene(scene_id)
 
 
+def beyond_one_machine(server_binary: str) -> None:
+    """A fleet of three servers behind HAProxy on this machine (examples/fleet.py), when haproxy and
+    grpc-health-probe are installed (make go-tools); the servers are started from server_binary."""
+    probe = REPO / "build" / "tools" / "bin" / "grpc-health-probe"
+    print("\nbeyond one machine: a fleet (docs/scaling.md):")
+    if not shutil.which("haproxy") or not probe.is_file() or not Path(server_binary).is_file():
+        print(f"  skipped: needs haproxy, {probe} (make go-tools) and the server binary {server_binary}")
+        return
+    fleet.demo(server_binary, str(probe))
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--server", default="127.0.0.1:50051", help="host:port of graspsim-server")
     parser.add_argument("--http", default="http://127.0.0.1:8080", help="URL of the server's HTTP/JSON gateway")
     parser.add_argument("--keep", action="store_true", help="keep the scene on the server (default: delete it)")
     parser.add_argument("--out", default=None, help="directory for the work cycle's plots (default: a temp dir)")
+    parser.add_argument("--server-binary", default=str(REPO / "build" / "bin" / "graspsim-server"),
+                        help="graspsim-server to start the fleet's replicas from")
     args = parser.parse_args(argv)
     try:
         with graspsim.connect(args.server) as client:
@@ -285,6 +304,7 @@ def main(argv=None) -> int:
             hardware_gateway.demo(client, args.server)
             pick_and_place_completed(client, completed_scene)
             load_public_robot(client)
+        beyond_one_machine(args.server_binary)
     except (graspsim.GraspsimError, OSError) as err:
         print(f"demo failed: {err}", file=sys.stderr)
         return 1
