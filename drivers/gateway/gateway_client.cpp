@@ -70,6 +70,7 @@ struct GatewayClient::Worker {
   std::condition_variable wake;
   std::deque<v1::DeviceCommand> queue;
   std::string last_error;  // of the last failed poll: logged once, not at every period
+  std::atomic<int64_t> loop_ns{NowNs()};  // when the thread last came round its loop (options.alive)
   std::thread thread;
 };
 
@@ -255,6 +256,7 @@ void GatewayClient::DeviceLoop(Worker& worker) {
   GuardedDevice& device = *worker.device;
   auto next_poll = Clock::now();
   while (!stop_) {
+    worker.loop_ns = NowNs();
     std::optional<v1::DeviceCommand> command;
     {
       std::unique_lock<std::mutex> lock(worker.mutex);
@@ -315,6 +317,12 @@ void GatewayClient::WatchdogLoop() {
   const auto period = std::max(std::chrono::milliseconds(1), options_.watchdog / 20);
   while (!stop_) {
     std::this_thread::sleep_for(period);
+    if (options_.alive) {
+      const int64_t limit = std::chrono::nanoseconds(options_.reading_period + options_.stall_limit).count();
+      bool stuck = false;
+      for (const auto& worker : workers_) stuck = stuck || NowNs() - worker->loop_ns.load() > limit;
+      if (!stuck) options_.alive();
+    }
     if (!armed_) continue;
     const auto silent = std::chrono::nanoseconds(NowNs() - last_rx_ns_.load());
     if (silent <= options_.watchdog) continue;

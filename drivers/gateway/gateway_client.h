@@ -13,6 +13,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -38,6 +39,10 @@ struct GatewayOptions {
   // Security (docs/security.md): PEM files; tls_ca set = TLS to the server, tls_cert + tls_key = the client
   // certificate the server requires for Connect when it has --tls-client-ca. token: a bearer token (role gateway).
   std::string tls_ca, tls_cert, tls_key, token;
+  // Liveness (graspsim-gateway's systemd watchdog): called from the watchdog thread at each of its ticks while
+  // every device thread has come round its loop within reading_period + stall_limit; never while one is stuck.
+  std::function<void()> alive;
+  std::chrono::milliseconds stall_limit{15000};  // above the longest device call (Robotiq activation: 5 s)
 };
 
 class GatewayClient {

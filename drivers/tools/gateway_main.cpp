@@ -5,6 +5,8 @@
 // SPEC: [ID=]robotiq-tcp:HOST:PORT | [ID=]robotiq-rtu:DEVICE | [ID=]pg70-can:IFACE[:MODULE] | [ID=]pg70-fd:FD[:MODULE]
 // LIST: name=value,... narrowing every device's limits (min_opening, max_opening m; min_speed, max_speed m/s;
 // min_force, max_force N). Runs until SIGINT or SIGTERM, then stops every device and exits 0.
+// Under systemd (Type=notify): READY=1 once the devices are open and initialised, WATCHDOG=1 while its loops are
+// alive (sd_notify.h; deploy/systemd/graspsim-gateway.service).
 #include <unistd.h>
 
 #include <csignal>
@@ -19,11 +21,13 @@
 #include "core/log.h"
 #include "drivers/gateway/device_spec.h"
 #include "drivers/gateway/gateway_client.h"
+#include "drivers/tools/sd_notify.h"
 
 namespace {
 
 using namespace graspsim;
 using namespace graspsim::drivers::gateway;
+namespace sdnotify = graspsim::drivers::sdnotify;
 
 // The first word of the file: a token on the command line would show in every process listing.
 std::string ReadToken(const std::string& path) {
@@ -116,11 +120,15 @@ int main(int argc, char** argv) {
       }
       Log(LogLevel::kInfo, "device ready", {{"device", spec.id}, {"link", devices.back()->link()}});
     }
+    sdnotify::WatchdogPinger pinger(sdnotify::WatchdogInterval());
+    if (pinger.enabled()) options.alive = [&pinger] { pinger.Ping(); };
     GatewayClient client(options, std::move(devices));
     g_client = &client;
     std::signal(SIGINT, [](int) { g_client->Shutdown(); });
     std::signal(SIGTERM, [](int) { g_client->Shutdown(); });
     std::signal(SIGPIPE, SIG_IGN);
+    // Ready without waiting for the server: reconnecting is the gateway's own job, not a failed start.
+    sdnotify::Notify("READY=1");
     client.Run();
     return 0;
   } catch (const Error& error) {

@@ -24,7 +24,8 @@ balancer by a fleet client (connect(fleet=True): client-chosen ids), each with t
   (after the balancer's reload their calls answer NOT_FOUND until moved); rebalance_moved, rebalance_failed,
   rebalance_s: graspsim.fleet.rebalance moving them by archive (ExportScene → ImportScene → DeleteScene);
   unreachable_after_rebalance: scenes whose cube does not answer through the balancer afterwards (goal 0).
-- memory_kib_per_scene: the RSS growth of one replica over the scenes it holds / their count (table + cube each);
+- replica_idle_rss_mib: a replica's RSS before it holds a scene (median of the replicas);
+  memory_kib_per_scene: the RSS growth of one replica over the scenes it holds / their count (table + cube each);
   memory_kib_per_gripper_scene: the same for 20 scenes of the work cycle's kind (PG70 on its z axis, table, cube,
   10 steps simulated).
 Environment: GRASPSIM_FLEET_SCENES (300), GRASPSIM_FLEET_REPS (5).
@@ -221,7 +222,8 @@ def run():
         figures = {"replicas": REPLICAS, "scenes": SCENES, "scenes_on_two_replicas": twice,
                    "replica_scene_counts": dict(sorted(counts.items())),
                    "misrouted_calls": misrouted(fleet, scenes),
-                   "memory_kib_per_scene": round(statistics.median(per_scene), 1)}
+                   "memory_kib_per_scene": round(statistics.median(per_scene), 1),
+                   "replica_idle_rss_mib": round(statistics.median(rss_before.values()) / 1024, 1)}
         log("fleet: balancer overhead (ghz)")
         figures.update(overhead(fleet, scenes[0], next(r for r in fleet.replicas if r.name == where[scenes[0]])))
         log("fleet: a replica killed under load")
