@@ -11,6 +11,8 @@ parameters (bounding-box candidates at δ = 1 cm, every pre-shape, 4 rolls, 20 g
 - scaling_efficiency: the 2-worker rate over twice the 1-worker rate (like for like: one planner thread each).
 - lost_tasks, duplicate_rows: the 12-object job on 2 workers with one worker actor killed (ray.kill) once a
   quarter of its tasks are written: tasks missing from its dataset, rows beyond one per grasp of each task.
+- dataset_bytes_per_set, dataset_rows_per_set: the Parquet files of the 12-object job per grasp set (rows: kept
+  grasps, one row for a set without any).
 - one_server_grasp_sets_per_s_1_thread / _2_threads: one plain server (no Ray) planning the 6-object workload's
   18 sets one after another through one Client, with --compute-threads=1 and 2 (threads within each request:
   docs/scaling.md), REPS alternating runs each, medians; one_server_thread_scaling_efficiency: 2 threads over
@@ -145,6 +147,8 @@ def run():
                     loads.append(os.getloadavg()[0])
                     log(f"batch: rep {rep} {workers} worker(s): {summary.tasks} sets in {summary.seconds:.1f} s")
             plain = job(all_paths, Path(tmp) / "plain", 2)
+            dataset_bytes = sum(f.stat().st_size for f in Path(plain.dataset).glob("*.parquet"))
+            dataset_rows = len(rows(plain.dataset))
             log(f"batch: 12 objects on 2 workers: {plain.tasks} sets in {plain.seconds:.1f} s")
             killed_dir, killed = Path(tmp) / "killed", []
             killer = threading.Thread(target=kill_one_actor_after,
@@ -180,6 +184,7 @@ def run():
         "grasp_sets_per_s_2_workers_range": [round(min(rates[2]), 3), round(max(rates[2]), 3)],
         "scaling_efficiency": round(r2 / (2 * r1), 3),
         "scaling_efficiency_range": [round(min(per_rep), 3), round(max(per_rep), 3)],
+        "dataset_bytes_per_set": round(dataset_bytes / plain.tasks), "dataset_rows_per_set": round(dataset_rows / plain.tasks, 2),
         "full_job_s_2_workers": plain.seconds, "killed_job_s_2_workers": faulty.seconds,
         "killed_actors": len(killed), "retried_tasks": faulty.retried,
         "lost_tasks": lost, "duplicate_rows": duplicates, "matches_single_server": bool(matches),

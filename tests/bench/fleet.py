@@ -38,7 +38,6 @@ import tempfile
 import threading
 import time
 from collections import Counter
-from pathlib import Path
 
 import graspsim
 from graspsim.fleet import rebalance

@@ -7,7 +7,6 @@ import threading
 import time
 from collections import Counter
 
-import grpc
 import pytest
 
 import graspsim

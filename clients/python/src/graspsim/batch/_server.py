@@ -15,14 +15,13 @@ import time
 from pathlib import Path
 from typing import Optional, Sequence
 
-import grpc
 import ray
 
 import graspsim
+from graspsim._health import serving
 
 START_TIMEOUT_S = 60.0
 STOP_TIMEOUT_S = 30.0
-_HEALTH = "/grpc.health.v1.Health/Check"  # grpc.health.v1 by hand: HealthCheckRequest{} is b"", SERVING is 08 01
 
 
 def server_binary(server: Optional[str] = None) -> str:
@@ -104,14 +103,7 @@ class ServerHost:
         self.stop()
         raise RuntimeError(f"graspsim-server did not start (exit {self.process.returncode}):\n{tail}")
 
-    @staticmethod
-    def _serving(address: str, timeout: float) -> bool:
-        try:
-            with grpc.insecure_channel(address) as channel:
-                check = channel.unary_unary(_HEALTH, request_serializer=bytes, response_deserializer=bytes)
-                return check(b"", timeout=timeout) == b"\x08\x01"
-        except grpc.RpcError:
-            return False
+    _serving = staticmethod(serving)
 
     def alive(self) -> bool:
         """The server process runs and answers its health check."""

@@ -17,25 +17,12 @@ import time
 from pathlib import Path
 from typing import List, Optional, Sequence
 
-import grpc
-
-_HEALTH = "/grpc.health.v1.Health/Check"  # HealthCheckRequest{} is b""; SERVING answers 08 01
-
+from graspsim._health import serving
 
 def free_port() -> int:
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         return sock.getsockname()[1]
-
-
-def serving(address: str, timeout: float = 1.0) -> bool:
-    """grpc.health.v1 answers SERVING at address."""
-    try:
-        with grpc.insecure_channel(address) as channel:
-            check = channel.unary_unary(_HEALTH, request_serializer=bytes, response_deserializer=bytes)
-            return check(b"", timeout=timeout) == b"\x08\x01"
-    except grpc.RpcError:
-        return False
 
 
 def _wait(predicate, timeout: float, what: str, process: Optional[subprocess.Popen] = None, log: Path = None):
