@@ -135,7 +135,7 @@ def test_position_mode_reaches_the_target(client, scene_id):
 
 def test_divergence_is_reported_and_the_scene_keeps_its_last_finite_state(client, scene_id):
     client.set_simulation_params(scene_id, integrator="semi_implicit_euler", time_step=1e-2,
-                                 contact={"stiffness": 1e6, "damping": 1e-9})
+                                 contact={"stiffness": 1e8, "damping": 1e-9})
     client.add_object(scene_id, "floor", box=[1, 1, 0.1], mass=100, pose=[0, 0, -0.05, 1, 0, 0, 0],
                       is_static=True)
     client.add_object(scene_id, "fingertip", sphere=0.01, mass=0.05, pose=[0, 0, 0.009, 1, 0, 0, 0])

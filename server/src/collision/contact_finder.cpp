@@ -2,9 +2,11 @@
 // other body's geometries (exact distance for primitives, Embree for meshes). See contact_finder.h.
 #include "collision/contact_finder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <string>
 
 #include "collision/mesh_query.h"
@@ -27,7 +29,56 @@ struct Shape {
   Mat3 rotation = Mat3::Identity();  // geometry frame in the body frame
   Vec3 position = Vec3::Zero();
   const collision::MeshBvh* mesh = nullptr;
+  uint32_t index = 0;  // in the body's collision list (the geometry index of its samples' features)
 };
+
+// Curved surfaces against primitives touch in points found exactly, not by samples. Samples would make a rolling
+// sphere or cylinder a polyhedron on a bed of nails: its contact hops from sample to sample, and the patch of
+// points around the true contact slips and is damped unevenly, which brakes rolling (11 % at 20°, issue 21).
+// - A sphere against a primitive (box, sphere, cylinder): one support contact at its deepest point, instead of
+//   the samples of either side.
+// - A cylinder against a box: its line nearest the box, clipped to the box's face, at both ends (two points on its
+//   side; one on a cap's rim when tilted), instead of its side and rim samples and of the box's samples inside
+//   it; its caps' inner samples still carry it when it rests on a rim. Within 5° of standing on the face it keeps
+//   every sample (the cap rests flat, on the rim's ring too).
+enum class Support { kNone, kAll, kRim };
+bool IsPrimitive(Geometry::Kind kind) { return kind != Geometry::Kind::kMesh; }
+Support SupportOf(Geometry::Kind sampled, Geometry::Kind target) {
+  using K = Geometry::Kind;
+  if ((sampled == K::kSphere && IsPrimitive(target)) || (target == K::kSphere && IsPrimitive(sampled))) {
+    return Support::kAll;
+  }
+  if (sampled == K::kBox && target == K::kCylinder) return Support::kAll;
+  return sampled == K::kCylinder && target == K::kBox ? Support::kRim : Support::kNone;
+}
+// Within this angle of standing on a box face, a cylinder keeps its samples (all of them, and the box's inside it):
+// its cap rests flat, on the rim's ring too. Beyond it, it touches along a line or on a rim point.
+const double kStandingCos = std::cos(5 * std::numbers::pi / 180);
+
+// Whether a cylinder (axis and centre in a box's frame) stands on the box face nearest its centre.
+bool StandsOn(const Vec3& half, const Vec3& centre, const Vec3& axis) {
+  Vec3 face;
+  collision::BoxDepth(half, centre, &face);
+  return std::abs(axis.dot(face)) > kStandingCos;
+}
+
+// The feature of a support contact: above every sample index of the sphere geometry, one per target geometry.
+constexpr uint32_t kSupportFeature = 0xffff0000u;
+
+// Penetration depth (> 0 inside) of point p (the shape's frame) into a primitive shape, and its outward normal.
+double PrimitiveDepth(const Shape& shape, const Vec3& p, Vec3* normal) {
+  switch (shape.kind) {
+    case Geometry::Kind::kBox:
+      return collision::BoxDepth(shape.half, p, normal);
+    case Geometry::Kind::kSphere:
+      return collision::SphereDepth(shape.radius, p, normal);
+    case Geometry::Kind::kCylinder:
+      return collision::CylinderDepth(shape.radius, shape.half_length, p, normal);
+    case Geometry::Kind::kMesh:
+      break;
+  }
+  return -std::numeric_limits<double>::infinity();
+}
 
 struct WorldFrame {
   Mat3 rotation;
@@ -63,6 +114,7 @@ struct ContactFinder::Impl {
   std::map<const TriangleMesh*, std::unique_ptr<collision::MeshBvh>> meshes;  // one BVH per distinct mesh
   std::vector<collision::BodySamples> samples;  // per body
   std::vector<std::vector<Shape>> shapes;       // per body
+  std::vector<std::vector<Geometry::Kind>> geometry_kinds;  // per body, per collision geometry
   std::vector<Aabb> body_bounds;                // per body, body frame, union of its geometries' boxes
   size_t max_shapes = 0;
 
@@ -78,6 +130,41 @@ struct ContactFinder::Impl {
 
   void SamplesInto(uint32_t a, uint32_t b, const std::vector<WorldFrame>& world, std::vector<LocalFrame>* locals,
                    std::vector<ContactPoint>* contacts) const;
+  const Shape* ShapeOf(uint32_t body, uint32_t geometry) const {
+    for (const Shape& shape : shapes[body]) {
+      if (shape.index == geometry) return &shape;
+    }
+    return nullptr;
+  }
+  // A cylinder standing on a box (StandsOn), for a pair of a sampled shape and a target, either way round; `local`
+  // maps the sampled body's frame into the target's.
+  static bool Standing(const Shape& own, const Shape& target, const LocalFrame& local) {
+    using K = Geometry::Kind;
+    if (own.kind == K::kCylinder && target.kind == K::kBox) {
+      return StandsOn(target.half, local.rotation * own.position + local.translation,
+                      local.rotation * own.rotation.col(2));
+    }
+    if (own.kind == K::kBox && target.kind == K::kCylinder) {
+      // The cylinder's centre and axis in the sampled body's frame, then in the box's.
+      const Vec3 centre = local.rotation.transpose() * -local.translation;
+      const Vec3 axis = local.rotation.transpose().col(2);
+      return StandsOn(own.half, own.rotation.transpose() * (centre - own.position), own.rotation.transpose() * axis);
+    }
+    return false;
+  }
+  // A cylinder's sample (body frame) on its side or its caps' rims.
+  static bool OnRim(const Shape& cylinder, const Vec3& sample) {
+    const Vec3 p = cylinder.rotation.transpose() * (sample - cylinder.position);
+    return std::hypot(p.x(), p.y()) >= cylinder.radius * (1 - 1e-9);
+  }
+  // The support contacts of a's spheres and cylinders against b's primitives (SupportOf); uses the frames
+  // SamplesInto set.
+  void SupportsInto(uint32_t a, uint32_t b, const std::vector<WorldFrame>& world, const std::vector<LocalFrame>& locals,
+                    std::vector<ContactPoint>* contacts) const;
+  void SphereSupports(uint32_t a, uint32_t b, const Shape& sphere, const std::vector<WorldFrame>& world,
+                      const std::vector<LocalFrame>& locals, std::vector<ContactPoint>* contacts) const;
+  void RimSupports(uint32_t a, uint32_t b, const Shape& cylinder, const std::vector<WorldFrame>& world,
+                   const std::vector<LocalFrame>& locals, std::vector<ContactPoint>* contacts) const;
 };
 
 ContactFinder::ContactFinder(const SceneModel& model, const ContactFinderOptions& options)
@@ -95,10 +182,13 @@ ContactFinder::ContactFinder(const SceneModel& model, const ContactFinderOptions
     m.bodies.push_back({body.motion == BodyMotion::kStatic, body.robot_id});
     m.samples.push_back(collision::SampleBody(body, options.sample_spacing));
     std::vector<Shape>& shapes = m.shapes.emplace_back();
+    std::vector<Geometry::Kind>& kinds = m.geometry_kinds.emplace_back();
+    for (const Geometry& geometry : body.collision) kinds.push_back(geometry.kind);
     Aabb bounds;
     for (const Geometry& geometry : body.collision) {
       if (geometry.kind == Geometry::Kind::kMesh && !geometry.mesh) continue;
       Shape shape;
+      shape.index = static_cast<uint32_t>(&geometry - body.collision.data());
       shape.kind = geometry.kind;
       shape.half = 0.5 * geometry.box_size;
       shape.radius = geometry.radius;
@@ -148,7 +238,12 @@ void ContactFinder::Find(const std::vector<Pose>& body_poses, std::vector<Contac
     for (uint32_t b = 0; b < n; ++b) {
       if (b == a || m.shapes[b].empty() || !m.Interacts(a, b)) continue;
       if (world[a].bounds.Empty() || world[b].bounds.Empty() || !world[a].bounds.Overlaps(world[b].bounds)) continue;
+      const size_t first = contacts->size();
       m.SamplesInto(a, b, world, &locals, contacts);
+      m.SupportsInto(a, b, world, locals, contacts);
+      // Support features sort after their sphere's samples: keep the pair's contacts in feature order.
+      std::sort(contacts->begin() + static_cast<std::ptrdiff_t>(first), contacts->end(),
+                [](const ContactPoint& x, const ContactPoint& y) { return x.feature < y.feature; });
     }
   }
 }
@@ -173,8 +268,19 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
   }
 
   const collision::BodySamples& own = samples[a];
+  std::vector<Support> supported(targets.size());  // how this block's geometry meets each target
   for (const collision::SampleBlock& block : own.blocks) {
     if (!block.bounds.Overlaps(query)) continue;
+    const auto geometry = static_cast<uint32_t>(own.features[block.begin] >> 32);  // a block is one geometry's
+    const Geometry::Kind kind = geometry_kinds[a][geometry];
+    const Shape* own_shape = ShapeOf(a, geometry);
+    for (size_t g = 0; g < targets.size(); ++g) {
+      supported[g] = SupportOf(kind, targets[g].kind);
+      if (supported[g] != Support::kNone && own_shape && Standing(*own_shape, targets[g], (*locals)[g])) {
+        supported[g] = Support::kNone;
+      }
+    }
+    const Shape* cylinder = kind == Geometry::Kind::kCylinder ? own_shape : nullptr;
     for (uint32_t k = block.begin; k < block.end; ++k) {
       const Vec3& s = own.points[k];
       // With several geometries, the one the sample is deepest in decides (ties: the first).
@@ -182,6 +288,7 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
       size_t best = targets.size();
       Vec3 best_normal = Vec3::UnitZ();
       for (size_t g = 0; g < targets.size(); ++g) {
+        if (supported[g] == Support::kAll || (supported[g] == Support::kRim && OnRim(*cylinder, s))) continue;
         const LocalFrame& local = (*locals)[g];
         const Vec3 p = local.rotation * s + local.translation;
         if (!Contains(targets[g].cull, p)) continue;
@@ -216,6 +323,104 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
       c.point = fa.rotation * s + fa.position;
       c.normal = (*locals)[best].world_rotation * best_normal;
       c.depth = best_depth;
+    }
+  }
+}
+
+void ContactFinder::Impl::SupportsInto(uint32_t a, uint32_t b, const std::vector<WorldFrame>& world,
+                                       const std::vector<LocalFrame>& locals,
+                                       std::vector<ContactPoint>* contacts) const {
+  for (const Shape& own : shapes[a]) {
+    if (own.kind == Geometry::Kind::kSphere) {
+      SphereSupports(a, b, own, world, locals, contacts);
+    } else if (own.kind == Geometry::Kind::kCylinder) {
+      RimSupports(a, b, own, world, locals, contacts);
+    }
+  }
+}
+
+void ContactFinder::Impl::SphereSupports(uint32_t a, uint32_t b, const Shape& sphere, const std::vector<WorldFrame>& world,
+                                         const std::vector<LocalFrame>& locals,
+                                         std::vector<ContactPoint>* contacts) const {
+  const std::vector<Shape>& targets = shapes[b];
+  const double margin = std::max(options.margin, 0.0);
+  for (size_t g = 0; g < targets.size(); ++g) {
+    const Shape& target = targets[g];
+    // Two spheres meet once: the pair's lower body reports it.
+    if (!IsPrimitive(target.kind) || (target.kind == Geometry::Kind::kSphere && a > b)) continue;
+    const LocalFrame& local = locals[g];
+    const Vec3 centre = local.rotation * sphere.position + local.translation;  // in the target's frame
+    if (!Contains(Grown(target.cull, sphere.radius), centre)) continue;
+    Vec3 normal;
+    const double depth = sphere.radius + PrimitiveDepth(target, centre, &normal);
+    if (!(depth > -margin)) continue;
+    ContactPoint& c = contacts->emplace_back();
+    c.body_a = a;
+    c.body_b = b;
+    c.feature = static_cast<uint64_t>(sphere.index) << 32 | (kSupportFeature | target.index);
+    c.normal = local.world_rotation * normal;
+    // The sphere's deepest point: its centre, one radius against the normal.
+    c.point = world[a].rotation * sphere.position + world[a].position - sphere.radius * c.normal;
+    c.depth = depth;
+  }
+}
+
+void ContactFinder::Impl::RimSupports(uint32_t a, uint32_t b, const Shape& cylinder, const std::vector<WorldFrame>& world,
+                                      const std::vector<LocalFrame>& locals,
+                                      std::vector<ContactPoint>* contacts) const {
+  const std::vector<Shape>& targets = shapes[b];
+  const double margin = std::max(options.margin, 0.0);
+  const Vec3 axis_body = cylinder.rotation.col(2);
+  for (size_t g = 0; g < targets.size(); ++g) {
+    const Shape& target = targets[g];
+    if (target.kind != Geometry::Kind::kBox) continue;
+    const LocalFrame& local = locals[g];
+    const Vec3 centre = local.rotation * cylinder.position + local.translation;  // in the box's frame
+    const double reach = std::hypot(cylinder.radius, cylinder.half_length);
+    if (!Contains(Grown(target.cull, reach), centre) || Standing(cylinder, target, local)) continue;
+    // Toward the box: against the normal of the box's surface nearest the centre.
+    Vec3 face;
+    collision::BoxDepth(target.half, centre, &face);
+    const Vec3 axis = local.rotation * axis_body;
+    const Vec3 across = -face - (-face).dot(axis) * axis;  // the down direction within the caps' planes
+    if (across.norm() < 1e-6) continue;  // standing (caught above; kept for the division)
+    const Vec3 down = across.normalized();
+    // The cylinder's line nearest the box, P(t) = base + t h axis for t in [-1, 1], clipped to the box's extent
+    // across the face normal: a rod lying over an edge touches where it crosses the edge, not at its caps.
+    const Vec3 base = centre + cylinder.radius * down;
+    double t0 = -1, t1 = 1;
+    int face_axis = 0;  // the face's axis (beyond an edge or a corner, the normal's largest component)
+    face.cwiseAbs().maxCoeff(&face_axis);
+    Vec3 normal = Vec3::Zero();
+    normal[face_axis] = face[face_axis] < 0 ? -1 : 1;
+    for (int j = 0; j < 3 && t0 <= t1; ++j) {
+      if (j == face_axis) continue;
+      const double slope = cylinder.half_length * axis[j];
+      if (std::abs(slope) < 1e-12) {
+        if (std::abs(base[j]) > target.half[j]) t1 = t0 - 1;  // parallel and beside the box
+        continue;
+      }
+      double lo = (-target.half[j] - base[j]) / slope, hi = (target.half[j] - base[j]) / slope;
+      if (lo > hi) std::swap(lo, hi);
+      t0 = std::max(t0, lo);
+      t1 = std::min(t1, hi);
+    }
+    if (t0 > t1) continue;
+    for (int cap = 0; cap < (t1 > t0 ? 2 : 1); ++cap) {
+      const Vec3 p = base + (cap == 0 ? t0 : t1) * cylinder.half_length * axis;
+      // Depth below the face (the clipped line lies over it; at its edge the box's own nearest face would be the
+      // side one, 0 deep).
+      const double depth = target.half[face_axis] - normal[face_axis] * p[face_axis];
+      if (!(depth > -margin)) continue;
+      ContactPoint& c = contacts->emplace_back();
+      c.body_a = a;
+      c.body_b = b;
+      c.feature = static_cast<uint64_t>(cylinder.index) << 32 | (kSupportFeature | (target.index << 1) | cap);
+      c.normal = local.world_rotation * normal;
+      // p back from the box's frame into a's body frame, then the world.
+      const Vec3 body_point = local.rotation.transpose() * (p - local.translation);
+      c.point = world[a].rotation * body_point + world[a].position;
+      c.depth = depth;
     }
   }
 }

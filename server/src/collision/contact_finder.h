@@ -4,6 +4,10 @@
 // one contact point. Primitives are tested with their exact signed distance; meshes with Embree (rtcPointQuery
 // for the closest point, a ray for inside/outside), on a BVH built once per mesh and reused for every pose.
 // Pairs are culled by world bounding boxes first; static–static pairs and links of the same robot are skipped.
+// Curved surfaces against primitives are the exception, so that they roll as they should: a sphere against a
+// primitive (box, sphere, cylinder) gets one exact contact at its deepest point (feature (geometry << 32) |
+// 0xffff0000 | target geometry) instead of the samples of either side; a cylinder against a box gets the deepest
+// point of each cap's rim (0xffff0000 | target geometry << 1 | cap) instead of its side and rim samples.
 #pragma once
 
 #include <cstdint>

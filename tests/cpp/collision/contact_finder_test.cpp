@@ -98,31 +98,36 @@ TEST(ContactFinder, OrderIsBodyABodyBFeature) {
   }
 }
 
+// A sphere on a box touches in one point: one exact support contact at the pole (not a patch of samples, on
+// neither side), so that it rolls as a sphere (issue 21).
 TEST(ContactFinder, SphereTwoMillimetresIntoTable) {
   const double r = 0.025;
   const SceneModel model = OnTable(SphereGeometry(r));
   const ContactFinder finder(model);
-  const auto contacts = Find(finder, {kTablePose, At(0, 0, r - 2e-3)});
+  const auto contacts = Find(finder, {kTablePose, At(0.0013, -0.0007, r - 2e-3)});
   const auto sphere_in_table = Between(contacts, 1, 0);
-  ASSERT_FALSE(sphere_in_table.empty());
-  // The lowest sample (the pole) is deepest; every other one is shallower by at least the sampling sag.
-  const ContactPoint* deepest = &sphere_in_table[0];
-  for (const ContactPoint& c : sphere_in_table) {
-    if (c.depth > deepest->depth) deepest = &c;
-    EXPECT_EQ(c.normal, Vec3::UnitZ());
-    EXPECT_GT(c.depth, 0);
-  }
-  EXPECT_NEAR(deepest->depth, 2e-3, kExact);
-  EXPECT_LT((deepest->point - Vec3(0, 0, -2e-3)).norm(), kExact);
-  // The table samples inside: the 3 x 3 lattice points within sqrt(r^2 - 23 mm^2) = 9.8 mm of the axis,
-  // the centre one 2 mm deep along -z (out of the sphere).
-  const auto table_in_sphere = Between(contacts, 0, 1);
-  ASSERT_EQ(table_in_sphere.size(), 9u);
-  for (const ContactPoint& c : table_in_sphere) {
-    const Vec3 centre(0, 0, r - 2e-3);
-    EXPECT_NEAR(c.depth, r - (c.point - centre).norm(), kExact);
-    EXPECT_LT((c.normal - (c.point - centre).normalized()).norm(), 1e-12);
-  }
+  ASSERT_EQ(sphere_in_table.size(), 1u);
+  const ContactPoint& c = sphere_in_table[0];
+  EXPECT_EQ(c.normal, Vec3::UnitZ());
+  EXPECT_NEAR(c.depth, 2e-3, kExact);
+  EXPECT_LT((c.point - Vec3(0.0013, -0.0007, -2e-3)).norm(), kExact);
+  EXPECT_EQ(c.feature, 0xffff0000u) << "geometry 0 of the sphere, support against the table's geometry 0";
+  EXPECT_TRUE(Between(contacts, 0, 1).empty()) << "the table's samples do not touch the sphere as well";
+  // Tilted and turned, the sphere still touches at its lowest point, as deep as the centre is below r.
+  const Quat turn(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+  const auto turned = Between(Find(finder, {kTablePose, At(0.01, 0.02, r - 1e-3, turn)}), 1, 0);
+  ASSERT_EQ(turned.size(), 1u);
+  EXPECT_NEAR(turned[0].depth, 1e-3, kExact);
+  EXPECT_LT((turned[0].point - Vec3(0.01, 0.02, -1e-3)).norm(), kExact);
+  // Off the table's edge, the contact is at the edge, along the line from it to the centre.
+  const double half = model.bodies[0].collision[0].box_size.x() / 2;
+  const Vec3 centre(half + 0.01, 0, 0.005);  // beyond the top edge, 1.1 cm from it
+  const auto edge = Between(Find(finder, {kTablePose, At(centre.x(), centre.y(), centre.z())}), 1, 0);
+  const double distance = std::hypot(0.01, 0.005);
+  ASSERT_EQ(edge.size(), 1u);
+  EXPECT_NEAR(edge[0].depth, r - distance, kExact);
+  EXPECT_LT((edge[0].normal - Vec3(0.01, 0, 0.005) / distance).norm(), 1e-12);
+  EXPECT_LT((edge[0].point - (centre - r * edge[0].normal)).norm(), kExact);
 }
 
 TEST(ContactFinder, CylinderCapOneMillimetreIntoTable) {
@@ -204,22 +209,54 @@ TEST(ContactFinder, MeshCubeMatchesBoxPrimitive) {
   ExpectSame(Between(Find(mesh_table, {kTablePose, kCubeSunk}), 1, 0), Between(expected, 1, 0), 1e-6);
 }
 
+// A cylinder lying on a box touches along its lowest line: the two ends of that line (clipped to the box's face)
+// are its contacts, exact, and neither its side samples nor the box's samples inside it count (issue 21).
+TEST(ContactFinder, CylinderOnItsSideTouchesAlongALine) {
+  const double r = 0.02, length = 0.06;
+  const SceneModel model = OnTable(CylinderGeometry(r, length));
+  const ContactFinder finder(model);
+  const Quat lying(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitX()));  // axis along y
+  const Quat rolled = lying * Quat(Eigen::AngleAxisd(0.3, Vec3::UnitZ()));  // turned about its own axis
+  for (const Quat& q : {lying, rolled}) {
+    const auto contacts = Find(finder, {kTablePose, At(0.1, 0.2, r - 1e-3, q)});
+    const auto cylinder_in_table = Between(contacts, 1, 0);
+    ASSERT_EQ(cylinder_in_table.size(), 2u);
+    for (const ContactPoint& c : cylinder_in_table) {
+      EXPECT_NEAR(c.depth, 1e-3, kExact);
+      EXPECT_EQ(c.normal, Vec3::UnitZ());
+      EXPECT_NEAR(c.point.x(), 0.1, kExact);
+      EXPECT_NEAR(c.point.z(), -1e-3, kExact);
+      EXPECT_NEAR(std::abs(c.point.y() - 0.2), length / 2, kExact);
+    }
+    EXPECT_TRUE(Between(contacts, 0, 1).empty());
+  }
+  // Across the table's edge (x = 0.5), half over it: the line is cut where it leaves the top.
+  const Quat across(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitY()));  // axis along x
+  const auto over_edge = Between(Find(finder, {kTablePose, At(0.5, 0, r - 1e-3, across)}), 1, 0);
+  ASSERT_EQ(over_edge.size(), 2u);
+  EXPECT_NEAR(std::min(over_edge[0].point.x(), over_edge[1].point.x()), 0.5 - length / 2, kExact);
+  EXPECT_NEAR(std::max(over_edge[0].point.x(), over_edge[1].point.x()), 0.5, kExact);
+  // Tilted 30° onto one cap's rim: one contact, at the rim's lowest point.
+  const Quat tilted(Eigen::AngleAxisd(std::numbers::pi / 6, Vec3::UnitX()));
+  const double low = -(length / 2) * std::cos(std::numbers::pi / 6) - r * std::sin(std::numbers::pi / 6);
+  const auto on_rim = Between(Find(finder, {kTablePose, At(0, 0, -low - 1e-3, tilted)}), 1, 0);
+  ASSERT_EQ(on_rim.size(), 1u);
+  EXPECT_NEAR(on_rim[0].depth, 1e-3, kExact);
+}
+
 TEST(ContactFinder, MeshSphereAgreesWithSphereWithinFacetError) {
   // 2 * 64 * 31 triangles: the chord sag r (1 - cos(pi / 32)) bounds how far the facets sit inside the sphere.
+  // The table's samples inside the mesh sphere are as deep, and pushed along the same normals, as the exact
+  // sphere's signed distance says (a primitive sphere itself meets the table in one support contact instead).
   const double r = 0.025, sag = r * (1 - std::cos(std::numbers::pi / 32));
-  const SceneModel sphere_model = OnTable(SphereGeometry(r));
-  const ContactFinder sphere(sphere_model);
   const SceneModel mesh_model = OnTable(MeshGeometry(SphereMesh(r, 64, 32)));
   const ContactFinder mesh(mesh_model);
-  const std::vector<Pose> poses{kTablePose, At(0, 0, r - 2e-3)};
-  const auto exact = Between(Find(sphere, poses), 0, 1);
-  const auto faceted = Between(Find(mesh, poses), 0, 1);
-  ASSERT_EQ(exact.size(), 9u);  // as in SphereTwoMillimetresIntoTable
-  ASSERT_EQ(faceted.size(), exact.size());
-  for (size_t i = 0; i < exact.size(); ++i) {
-    EXPECT_EQ(exact[i].feature, faceted[i].feature);
-    EXPECT_NEAR(exact[i].depth, faceted[i].depth, sag);
-    EXPECT_GT(exact[i].normal.dot(faceted[i].normal), std::cos(std::numbers::pi / 16));
+  const Vec3 centre(0, 0, r - 2e-3);
+  const auto faceted = Between(Find(mesh, {kTablePose, At(centre.x(), centre.y(), centre.z())}), 0, 1);
+  ASSERT_EQ(faceted.size(), 9u);  // the 3 x 3 lattice points within sqrt(r^2 - 23 mm^2) = 9.8 mm of the axis
+  for (const ContactPoint& c : faceted) {
+    EXPECT_NEAR(c.depth, r - (c.point - centre).norm(), sag);
+    EXPECT_GT(c.normal.dot((c.point - centre).normalized()), std::cos(std::numbers::pi / 16));
   }
 }
 

@@ -47,12 +47,14 @@ TEST(StabilitySweepTest, ExplicitIntegratorsAreStableAtSmallSteps) {
 
 TEST(StabilitySweepTest, UnstableRunsEndInTheDivergenceReportWithAFiniteState) {
   // Points of the sweep that diverge (explicit contacts, too large a step for the light body), and one that
-  // launches the slider without reaching the divergence speed.
+  // launches the slider without reaching the divergence speed. The tip is a sphere: since it meets the table and
+  // the object in one support contact rather than a patch of samples (issue 21), the runs at k = 1e5 and at 3 ms
+  // gain energy without reaching the divergence limits in their run, so these are stiffer or coarser.
   const RunSpec points[] = {
       Point(Scenario::kTipOnTable, Integrator::kSemiImplicitEuler, 1e-2, 0.05, 1e6),
-      Point(Scenario::kSlide, Integrator::kSemiImplicitEuler, 1e-3, 0.05, 1e4),
-      Point(Scenario::kTipOnObject, Integrator::kVelocityVerlet, 1e-2, 0.05, 1e5),
-      Point(Scenario::kTipOnObject, Integrator::kSemiImplicitEuler, 3e-3, 3.0, 1e6),
+      Point(Scenario::kTipOnObject, Integrator::kVelocityVerlet, 1e-2, 0.05, 1e6),
+      Point(Scenario::kTipOnObject, Integrator::kSemiImplicitEuler, 1e-2, 0.05, 1e6),
+      Point(Scenario::kTipOnObject, Integrator::kSemiImplicitEuler, 1e-2, 3.0, 1e7),
       Point(Scenario::kSlide, Integrator::kSemiImplicitEuler, 3e-3, 0.05, 1e5),
   };
   int diverged = 0;
@@ -72,7 +74,7 @@ TEST(StabilitySweepTest, UnstableRunsEndInTheDivergenceReportWithAFiniteState) {
     EXPECT_TRUE(message.find("velocity") != std::string::npos || message.find("position") != std::string::npos)
         << message;
   }
-  EXPECT_GE(diverged, 3);
+  EXPECT_GE(diverged, 4);
 }
 
 }  // namespace
