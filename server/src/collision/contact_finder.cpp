@@ -3,6 +3,7 @@
 #include "collision/contact_finder.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -60,6 +61,51 @@ bool StandsOn(const Vec3& half, const Vec3& centre, const Vec3& axis) {
   Vec3 face;
   collision::BoxDepth(half, centre, &face);
   return std::abs(axis.dot(face)) > kStandingCos;
+}
+
+// A box's sample presses into another box along the normal of a face that faces it: the nearest face alone would
+// turn a floor sample that has just slid under a block's leading edge (less deep behind that side face than under
+// the bottom) into a push against the motion, its damping driven by the full sliding speed: a catch that came more
+// often the smaller the step (issue 21: 13 % off the sliding acceleration at 0.25 ms). A face of the target
+// qualifies when its normal opposes the normal of one of the faces the sample lies on by more than 80°. The depth
+// stays the distance to the nearest face (collision::BoxDepthThrough), so a sample on the rim of two aligned
+// faces (a box on a box) touches with zero force, and its force grows smoothly as it moves inside.
+const double kFacingCos = std::cos(80 * std::numbers::pi / 180);
+
+// Per face of the own box (bit order of collision::BoxDepthThrough): the target box faces that oppose it, as a
+// mask. `rotation` maps the own body's frame into the target geometry's frame.
+std::array<uint8_t, 6> FacingFaces(const Shape& own, const Mat3& rotation) {
+  std::array<uint8_t, 6> masks{};
+  const Mat3 axes = rotation * own.rotation;  // own geometry axes in the target frame, as columns
+  for (int face = 0; face < 6; ++face) {
+    const Vec3 n = (face & 1 ? 1.0 : -1.0) * axes.col(face / 2);
+    for (int target = 0; target < 6; ++target) {
+      if ((target & 1 ? 1.0 : -1.0) * n[target / 2] < -kFacingCos) masks[face] |= uint8_t(1u << target);
+    }
+  }
+  return masks;
+}
+
+// The faces of a box that a sample (body frame) lies on, as a mask: one for a face sample, two or three on
+// edges and corners.
+unsigned FacesOf(const Shape& box, const Vec3& sample) {
+  const Vec3 p = box.rotation.transpose() * (sample - box.position);
+  const double tolerance = 1e-9 + 1e-7 * box.half.maxCoeff();
+  unsigned faces = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (p[axis] >= box.half[axis] - tolerance) faces |= 1u << (2 * axis + 1);
+    if (p[axis] <= -box.half[axis] + tolerance) faces |= 1u << (2 * axis);
+  }
+  return faces;
+}
+
+// The target faces a sample on `own_faces` may press through.
+unsigned Through(const std::array<uint8_t, 6>& facing, unsigned own_faces) {
+  unsigned allowed = 0;
+  for (int face = 0; face < 6; ++face) {
+    if (own_faces >> face & 1) allowed |= facing[face];
+  }
+  return allowed;
 }
 
 // The feature of a support contact: above every sample index of the sphere geometry, one per target geometry.
@@ -269,6 +315,7 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
 
   const collision::BodySamples& own = samples[a];
   std::vector<Support> supported(targets.size());  // how this block's geometry meets each target
+  std::vector<std::array<uint8_t, 6>> facing(targets.size());  // box on box: per target, per own face
   for (const collision::SampleBlock& block : own.blocks) {
     if (!block.bounds.Overlaps(query)) continue;
     const auto geometry = static_cast<uint32_t>(own.features[block.begin] >> 32);  // a block is one geometry's
@@ -281,8 +328,15 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
       }
     }
     const Shape* cylinder = kind == Geometry::Kind::kCylinder ? own_shape : nullptr;
+    const bool box_on_box = kind == Geometry::Kind::kBox && own_shape;
+    if (box_on_box) {
+      for (size_t g = 0; g < targets.size(); ++g) {
+        if (targets[g].kind == Geometry::Kind::kBox) facing[g] = FacingFaces(*own_shape, (*locals)[g].rotation);
+      }
+    }
     for (uint32_t k = block.begin; k < block.end; ++k) {
       const Vec3& s = own.points[k];
+      const unsigned own_faces = box_on_box ? FacesOf(*own_shape, s) : 0;
       // With several geometries, the one the sample is deepest in decides (ties: the first).
       double best_depth = -std::numeric_limits<double>::infinity();
       size_t best = targets.size();
@@ -297,7 +351,8 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
         Vec3 normal;
         switch (shape.kind) {
           case Geometry::Kind::kBox:
-            depth = collision::BoxDepth(shape.half, p, &normal);
+            depth = own_faces ? collision::BoxDepthThrough(shape.half, p, Through(facing[g], own_faces), &normal)
+                              : collision::BoxDepth(shape.half, p, &normal);
             break;
           case Geometry::Kind::kSphere:
             depth = collision::SphereDepth(shape.radius, p, &normal);

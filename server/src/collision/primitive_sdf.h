@@ -28,6 +28,28 @@ inline double BoxDepth(const Vec3& half, const Vec3& p, Vec3* normal) {
   return -distance;
 }
 
+// BoxDepth for a point inside the box, with the normal of the nearest face among `faces` (bit 2 axis + 1 for the
+// + face, 2 axis for the − face); the plain BoxDepth when the point is outside or no face is allowed. The depth
+// stays the distance to the nearest face of all, so it grows from zero as a point crosses any face: a point
+// entering through a face not in `faces` is pushed along an allowed normal, gently at first.
+inline double BoxDepthThrough(const Vec3& half, const Vec3& p, unsigned faces, Vec3* normal) {
+  const double plain = BoxDepth(half, p, normal);
+  if (plain <= 0 || faces == 0 || faces == 0x3f) return plain;
+  double best = INFINITY;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int positive = 0; positive < 2; ++positive) {
+      if (!(faces >> (2 * axis + positive) & 1)) continue;
+      const double depth = half[axis] - (positive ? p[axis] : -p[axis]);
+      if (depth < best) {
+        best = depth;
+        normal->setZero();
+        (*normal)[axis] = positive ? 1 : -1;
+      }
+    }
+  }
+  return plain;
+}
+
 // A sphere of `radius` centred on its frame.
 inline double SphereDepth(double radius, const Vec3& p, Vec3* normal) {
   const double distance = p.norm();

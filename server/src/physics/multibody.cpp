@@ -150,18 +150,20 @@ Eigen::MatrixXd Multibody::MassMatrix(const SceneState& state) const {
   return G_.transpose() * Mu * G_;
 }
 
-Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravity) const {
+Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravity,
+                                      const Eigen::VectorXd* velocities) const {
+  const Eigen::VectorXd v = velocities ? *velocities : Velocities(state);
   Eigen::VectorXd bu = Eigen::VectorXd::Zero(nu_);
   for (size_t b = 0; b < model_.bodies.size(); ++b) {
     const int o = free_offset_[b];
     if (o < 0) continue;
     const Mat3 R = state.body_poses[b].orientation.toRotationMatrix();
-    const Vec3 w = state.body_velocities[b].angular;
+    const Vec3 w = v.segment<3>(o + 3);
     bu.segment<3>(o) = -model_.bodies[b].inertial.mass * gravity;
     bu.segment<3>(o + 3) = w.cross(R * model_.bodies[b].inertial.inertia * R.transpose() * w);
   }
   // Recursive Newton–Euler with q̈ = 0 and the base accelerating at −g (which stands in for gravity).
-  const Eigen::VectorXd u = FullVelocities(Velocities(state));
+  const Eigen::VectorXd u = FullVelocities(v);
   Vec6 base_acceleration;
   base_acceleration = Stack(Vec3::Zero(), -gravity);
   std::vector<Vec6> V(nodes_.size()), A(nodes_.size()), F(nodes_.size()), S(nodes_.size());

@@ -38,8 +38,9 @@ class Multibody {
 
   // M(q), nv × nv, symmetric positive definite (block diagonal across free bodies and robots).
   Eigen::MatrixXd MassMatrix(const SceneState& state) const;
-  // b(q, v) with gravity g (m/s², world).
-  Eigen::VectorXd BiasForces(const SceneState& state, const Vec3& gravity) const;
+  // b(q, v) with gravity g (m/s², world); v from the state unless `velocities` is given.
+  Eigen::VectorXd BiasForces(const SceneState& state, const Vec3& gravity,
+                             const Eigen::VectorXd* velocities = nullptr) const;
   // W (6 × nv) such that W v = [ω; v_O], the body's angular velocity and the velocity of the body-fixed point at
   // the world origin (Featherstone's spatial velocity, world coordinates). A point p then moves at
   // v_O + ω × p. Zero for static bodies; a link's depends on every joint between the robot base and the link.

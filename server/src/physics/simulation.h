@@ -84,8 +84,9 @@ class Simulation {
   bool LimitCurrents(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h, SceneState* state,
                      Forces* forces);
   void RecordDriveOutputs(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h, SceneState* state) const;
+  // Δv over h from v; the bias forces at bias_velocity when given (else at v).
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
-                                      double h) const;
+                                      double h, const Eigen::VectorXd* bias_velocity = nullptr) const;
   void AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state);
   void UpdateSleep(SceneState* state, double h) const;
   ContactParams PairParams(uint32_t a, uint32_t b) const;

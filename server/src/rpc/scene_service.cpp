@@ -124,11 +124,18 @@ grpc::ServerUnaryReactor* SceneServiceImpl::SetBodyPoses(grpc::CallbackServerCon
   return RunUnary(context, "SetBodyPoses", pool_, [=, this] {
     auto scene = registry_->Get(request->scene_id());
     std::vector<std::pair<std::string, Pose>> poses;
+    std::vector<std::pair<std::string, BodyVelocity>> velocities;
     for (int i = 0; i < request->poses_size(); ++i) {
       const auto& entry = request->poses(i);
-      poses.emplace_back(entry.body_id(), PoseFromProto("poses[" + std::to_string(i) + "].pose", entry.pose()));
+      if (entry.has_pose() || !entry.has_velocity()) {
+        poses.emplace_back(entry.body_id(), PoseFromProto("poses[" + std::to_string(i) + "].pose", entry.pose()));
+      }
+      if (entry.has_velocity()) {
+        velocities.emplace_back(entry.body_id(), BodyVelocity{FromProto(entry.velocity().linear()),
+                                                              FromProto(entry.velocity().angular())});
+      }
     }
-    response->set_revision(scene->SetBodyPoses(poses));
+    response->set_revision(scene->SetBodyPoses(poses, velocities));
   });
 }
 
@@ -141,6 +148,10 @@ grpc::ServerUnaryReactor* SceneServiceImpl::GetBodyPoses(grpc::CallbackServerCon
       auto* entry = response->add_poses();
       entry->set_body_id(id);
       ToProto(state.body_poses[index], entry->mutable_pose());
+      if (model.bodies[index].motion == BodyMotion::kFree && index < state.body_velocities.size()) {
+        ToProto(state.body_velocities[index].linear, entry->mutable_velocity()->mutable_linear());
+        ToProto(state.body_velocities[index].angular, entry->mutable_velocity()->mutable_angular());
+      }
     };
     if (request->body_ids().empty()) {
       for (size_t i = 0; i < model.bodies.size(); ++i) add(model.bodies[i].id, i);
@@ -156,9 +167,12 @@ grpc::ServerUnaryReactor* SceneServiceImpl::SetJointPositions(grpc::CallbackServ
                                                  v1::SetJointPositionsResponse* response) {
   return RunUnary(context, "SetJointPositions", pool_, [=, this] {
     auto scene = registry_->Get(request->scene_id());
-    std::vector<std::pair<std::string, double>> positions;
-    for (const auto& entry : request->positions()) positions.emplace_back(entry.joint_id(), entry.position());
-    response->set_revision(scene->SetJointPositions(positions));
+    std::vector<std::pair<std::string, double>> positions, velocities;
+    for (const auto& entry : request->positions()) {
+      positions.emplace_back(entry.joint_id(), entry.position());
+      if (entry.has_velocity()) velocities.emplace_back(entry.joint_id(), entry.velocity());
+    }
+    response->set_revision(scene->SetJointPositions(positions, velocities));
   });
 }
 
@@ -172,6 +186,7 @@ grpc::ServerUnaryReactor* SceneServiceImpl::GetJointPositions(grpc::CallbackServ
       auto* entry = response->add_positions();
       entry->set_joint_id(id);
       entry->set_position(state.joint_positions[index]);
+      entry->set_velocity(index < state.joint_velocities.size() ? state.joint_velocities[index] : 0.0);
     };
     if (request->joint_ids().empty()) {
       for (size_t j = 0; j < model.joints.size(); ++j) add(model.joints[j].id, j);

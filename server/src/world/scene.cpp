@@ -301,9 +301,27 @@ size_t Scene::JointIndexLocked(const std::string& id) const {
   return joint->second;
 }
 
-uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses) {
+uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses,
+                             const std::vector<std::pair<std::string, BodyVelocity>>& velocities) {
   std::lock_guard<std::mutex> lock(mutex_);
   SceneState state = state_;
+  state.body_velocities.resize(model_->bodies.size());
+  for (const auto& [id, velocity] : velocities) {
+    const size_t index = BodyIndexLocked(id);
+    const BodySpec& body = model_->bodies[index];
+    if (body.motion != BodyMotion::kFree) {
+      throw Error(ErrorCode::kFailedPrecondition,
+                  "velocity: body " + Quoted(id) + (body.robot_id.empty() ? " is static" : " is part of a robot") +
+                      "; only free objects have a velocity of their own (robots move by their joints)");
+    }
+    CheckFinite("velocity[" + id + "].linear", velocity.linear);
+    CheckFinite("velocity[" + id + "].angular", velocity.angular);
+    state.body_velocities[index] = velocity;
+    if (index < state.sleeping.size()) {
+      state.sleeping[index] = false;
+      state.rest_time[index] = 0;
+    }
+  }
   std::set<std::string> moved_robots;
   for (const auto& [id, pose] : poses) {
     const size_t index = BodyIndexLocked(id);
@@ -334,10 +352,22 @@ uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& po
   return revision_;
 }
 
-uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, double>>& positions) {
+uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, double>>& positions,
+                                  const std::vector<std::pair<std::string, double>>& velocities) {
   std::lock_guard<std::mutex> lock(mutex_);
   SceneState state = state_;
+  state.joint_velocities.resize(model_->joints.size());
   std::set<std::string> moved_robots;
+  for (const auto& [id, velocity] : velocities) {
+    const JointSpec& joint = model_->joints[JointIndexLocked(id)];
+    CheckFinite("velocities[" + id + "].velocity", velocity);
+    if (joint.type == JointType::kFixed || IsFollower(joint)) {
+      ThrowInvalidArgument("joint_id: " + Quoted(id) + (IsFollower(joint) ? " mimics another joint; set the leader"
+                                                                           : " is a fixed joint and has no velocity"));
+    }
+    state.joint_velocities[model_->joint_index.at(id)] = velocity;
+    moved_robots.insert(joint.robot_id);
+  }
   for (const auto& [id, position] : positions) {
     const JointSpec& joint = model_->joints[JointIndexLocked(id)];
     CheckFinite("positions[" + id + "].position", position);
@@ -356,9 +386,9 @@ uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, doubl
     const JointSpec& joint = model_->joints[j];
     if (!moved_robots.count(joint.robot_id)) continue;
     if (IsFollower(joint)) {
-      state.joint_positions[j] =
-          joint.mimic->multiplier * state.joint_positions[model_->joint_index.at(joint.mimic->joint_id)] +
-          joint.mimic->offset;
+      const size_t leader = model_->joint_index.at(joint.mimic->joint_id);
+      state.joint_positions[j] = joint.mimic->multiplier * state.joint_positions[leader] + joint.mimic->offset;
+      state.joint_velocities[j] = joint.mimic->multiplier * state.joint_velocities[leader];
     }
     const bool limited = joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic;
     const double q = state.joint_positions[j];

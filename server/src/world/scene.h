@@ -84,10 +84,14 @@ class Scene {
   // Removes an object or a whole robot; returns the removed body ids.
   std::vector<std::string> Remove(const std::string& id, const SceneOp* op = nullptr);
 
-  // All or nothing. Ids: objects, robots (their base), robots' base bodies.
-  uint64_t SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses);
-  // All or nothing; limits checked; mimic joints follow their leader (setting a follower is an error).
-  uint64_t SetJointPositions(const std::vector<std::pair<std::string, double>>& positions);
+  // All or nothing. Ids: objects, robots (their base), robots' base bodies. Velocities (of the centre of mass
+  // and about it, world) only for free objects. A body moved or set moving wakes.
+  uint64_t SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses,
+                        const std::vector<std::pair<std::string, BodyVelocity>>& velocities = {});
+  // All or nothing; limits checked; mimic joints follow their leader (setting a follower is an error), in
+  // position and in velocity (rad/s or m/s).
+  uint64_t SetJointPositions(const std::vector<std::pair<std::string, double>>& positions,
+                             const std::vector<std::pair<std::string, double>>& velocities = {});
 
   // Runs `change` on the model and a copy of the state under the scene's lock; commits the copy (revision,
   // snapshot) when it returns, keeps the old state when it throws. For the simulation, which lives above world.

@@ -272,18 +272,23 @@ TEST(ContactFinder, RotatedCubeOnTable) {
     EXPECT_NEAR(c.depth, 1e-3, kExact);
     EXPECT_LT((c.normal - Vec3::UnitZ()).norm(), kExact);
   }
-  // Table samples: exactly those strictly inside the turned cube, each as deep as its nearest cube face.
+  // Table samples: exactly those strictly inside the turned cube, each as deep as its nearest cube face, pressing
+  // along the normal of the cube's bottom (the face that faces the table top) even where a side face is nearer.
   const Pose table_to_cube = cube.Inverse() * kTablePose;
-  size_t inside = 0;
+  size_t inside = 0, nearer_a_side = 0;
   for (const Vec3& s : finder.Samples(0)) {
     const Vec3 p = table_to_cube * s;
-    inside += (p.cwiseAbs().array() < 0.025).all();
+    const bool in = (p.cwiseAbs().array() < 0.025).all();
+    inside += in;
+    nearer_a_side += in && (Vec3::Constant(0.025) - p.cwiseAbs()).head<2>().minCoeff() < p.z() + 0.025;
   }
+  EXPECT_GT(nearer_a_side, 0u);  // the case the rule is for occurs here
   const auto table_in_cube = Between(contacts, 0, 1);
   EXPECT_EQ(table_in_cube.size(), inside);
   for (const ContactPoint& c : table_in_cube) {
     const Vec3 p = cube.Inverse() * c.point;
     EXPECT_NEAR(c.depth, (Vec3::Constant(0.025) - p.cwiseAbs()).minCoeff(), kExact);
+    EXPECT_LT((c.normal + Vec3::UnitZ()).norm(), kExact);
   }
 }
 

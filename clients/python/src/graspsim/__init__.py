@@ -20,14 +20,14 @@ from graspsim._motion import ArmMotion, ArmPath, PickAndPlaceResult
 from graspsim._perception import CompletedShape, SceneSegments
 from graspsim._robot_files import MissingFilesError
 from graspsim._recording import RecordingInfo, Replay
-from graspsim._pose import Pose, as_pose, quaternion_about_axis, quaternion_to_matrix
+from graspsim._pose import Pose, Velocity, as_pose, quaternion_about_axis, quaternion_to_matrix
 from graspsim._sensors import ForceTorqueState, GripperState, SensorStream, TactileFrame
 from graspsim._watch import SceneWatch, Snapshot
 from graspsim.viewer import viewer_url
 from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult, WorkCycleSummary
 from graspsim.v1 import common_pb2, scene_pb2, tactile_pb2
 
-__all__ = ["ArmMotion", "ArmPath", "PickAndPlaceResult", "Client", "CompletedShape", "SceneSegments", "ForceTorqueState", "GraspSetResult", "GraspsimError", "Cancelled", "InvalidArgument", "DeadlineExceeded", "NotFound", "AlreadyExists", "PermissionDenied", "ResourceExhausted", "FailedPrecondition", "Aborted", "OutOfRange", "Unimplemented", "Internal", "Unavailable", "DataLoss", "Unauthenticated", "GripperState", "MissingFilesError", "Pose", "PredictionResult", "RecordingInfo", "Replay", "SceneWatch", "SensorStream",
+__all__ = ["ArmMotion", "ArmPath", "PickAndPlaceResult", "Client", "CompletedShape", "SceneSegments", "ForceTorqueState", "GraspSetResult", "GraspsimError", "Cancelled", "InvalidArgument", "DeadlineExceeded", "NotFound", "AlreadyExists", "PermissionDenied", "ResourceExhausted", "FailedPrecondition", "Aborted", "OutOfRange", "Unimplemented", "Internal", "Unavailable", "DataLoss", "Unauthenticated", "GripperState", "MissingFilesError", "Pose", "Velocity", "PredictionResult", "RecordingInfo", "Replay", "SceneWatch", "SensorStream",
            "Snapshot", "TactileFrame", "WorkCycleFrame", "WorkCycleResult", "WorkCycleSummary", "as_pose",
            "common_pb2", "connect", "inertia", "meshes", "quaternion_about_axis", "quaternion_to_matrix",
            "scene_pb2", "tactile_pb2", "viewer", "viewer_url"]

@@ -2,9 +2,10 @@
 from __future__ import annotations
 
 import secrets
-from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence
+from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 import grpc
+import numpy as np
 
 from graspsim import _build, _robot_files
 from graspsim._auth import AuthMethods, PemLike, open_channel
@@ -14,7 +15,7 @@ from graspsim._ids import accept_scene_objects
 from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, target_proto
 from graspsim._motion import MotionMethods
 from graspsim._perception import PerceptionMethods
-from graspsim._pose import Pose, PoseLike, as_pose
+from graspsim._pose import Pose, PoseLike, Velocity, as_pose
 from graspsim._recording import RecordingMethods
 from graspsim._robot_files import FilePath, PackageRoots
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
@@ -252,17 +253,52 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id, body_ids=list(ids or []))
         return {p.body_id: Pose.from_proto(p.pose) for p in self._unary("GetBodyPoses", request).poses}
 
-    def set_joint_positions(self, scene_id: str, positions: Mapping[str, float]) -> int:
-        """Sets joint positions (rad or m) by joint id, all or none; mimic joints follow. Returns the revision."""
+    def set_body_velocities(self, scene_id: str, velocities: Mapping[str, Union[Velocity, Sequence[float]]]) -> int:
+        """Sets free objects' velocities by id, all or none: a Velocity or 6 values (vx, vy, vz m/s of the centre
+        of mass, wx, wy, wz rad/s), world frame. Poses stay. Returns the new scene revision."""
+        request = scene_pb2.SetBodyPosesRequest(scene_id=scene_id)
+        for body_id, velocity in velocities.items():
+            if not isinstance(velocity, Velocity):
+                values = np.asarray(velocity, dtype=np.float64).reshape(-1)
+                if values.shape != (6,):
+                    raise ValueError(f"velocities[{body_id!r}]: 6 values (linear m/s, angular rad/s), "
+                                     f"got {values.size}")
+                velocity = Velocity(values[:3], values[3:])
+            request.poses.add(body_id=body_id, velocity=velocity.to_proto())
+        return self._unary("SetBodyPoses", request).revision
+
+    def get_body_velocities(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, Velocity]:
+        """Free objects' velocities by id (world frame, centre of mass); every free object when ids is None.
+        Static bodies and robot links have none of their own and are left out."""
+        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id, body_ids=list(ids or []))
+        return {p.body_id: Velocity.from_proto(p.velocity)
+                for p in self._unary("GetBodyPoses", request).poses if p.HasField("velocity")}
+
+    def set_joint_positions(self, scene_id: str, positions: Mapping[str, float],
+                            velocities: Optional[Mapping[str, float]] = None) -> int:
+        """Sets joint positions (rad or m) by joint id, all or none; mimic joints follow. velocities (rad/s or m/s)
+        are set for the joints named there (each needs a position too); the others keep theirs. Returns the
+        revision."""
+        velocities = dict(velocities or {})
+        unknown = sorted(set(velocities) - set(positions))
+        if unknown:
+            raise ValueError(f"velocities: {unknown} have no position given")
         request = scene_pb2.SetJointPositionsRequest(scene_id=scene_id)
         for joint_id, value in positions.items():
-            request.positions.add(joint_id=joint_id, position=float(value))
+            entry = request.positions.add(joint_id=joint_id, position=float(value))
+            if joint_id in velocities:
+                entry.velocity = float(velocities[joint_id])
         return self._unary("SetJointPositions", request).revision
 
     def get_joint_positions(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, float]:
         """Joint positions (rad or m) by joint id (every joint when ids is None)."""
         request = scene_pb2.GetJointPositionsRequest(scene_id=scene_id, joint_ids=list(ids or []))
         return {p.joint_id: p.position for p in self._unary("GetJointPositions", request).positions}
+
+    def get_joint_velocities(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, float]:
+        """Joint velocities (rad/s or m/s) by joint id (every joint when ids is None)."""
+        request = scene_pb2.GetJointPositionsRequest(scene_id=scene_id, joint_ids=list(ids or []))
+        return {p.joint_id: p.velocity for p in self._unary("GetJointPositions", request).positions}
 
     # --- streams and simulation ---------------------------------------------------------------------------
     def watch_scene(self, scene_id: str, max_rate_hz: float = 0.0) -> SceneWatch:

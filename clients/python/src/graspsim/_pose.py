@@ -17,6 +17,31 @@ def _identity_quaternion() -> np.ndarray:
 
 
 @dataclass
+class Velocity:
+    """A free body's velocity: linear (3,) m/s of its centre of mass and angular (3,) rad/s, both world frame."""
+
+    linear: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    angular: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self):
+        self.linear = np.array(self.linear, dtype=np.float64).reshape(-1)
+        self.angular = np.array(self.angular, dtype=np.float64).reshape(-1)
+        if self.linear.shape != (3,) or self.angular.shape != (3,):
+            raise ValueError("Velocity needs 3 linear (m/s) and 3 angular (rad/s) values")
+
+    @classmethod
+    def from_proto(cls, message: common_pb2.Twist) -> Velocity:
+        return cls([message.linear.x, message.linear.y, message.linear.z],
+                   [message.angular.x, message.angular.y, message.angular.z])
+
+    def to_proto(self) -> common_pb2.Twist:
+        twist = common_pb2.Twist()
+        twist.linear.x, twist.linear.y, twist.linear.z = (float(v) for v in self.linear)
+        twist.angular.x, twist.angular.y, twist.angular.z = (float(v) for v in self.angular)
+        return twist
+
+
+@dataclass
 class Pose:
     """A rigid transform: position (3,) in m and orientation (4,) as a quaternion (w, x, y, z).
 
