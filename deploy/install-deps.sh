@@ -17,6 +17,7 @@ DEBIAN_PACKAGES=(
   libzstd-dev liblz4-dev zlib1g-dev  # MCAP recordings: chunk compression and CRCs (server/src/recording)
   libboost-dev  # Boost.Beast: the Foxglove WebSocket endpoint (server/src/live)
   nlohmann-json3-dev  # JSON of the Foxglove WebSocket protocol (server/src/live); Boost 1.74's JSON is not header-only
+  libmujoco-dev libbullet-dev  # the MuJoCo and Bullet engines behind server/src/physics/engine.h (issue 21)
   haproxy  # the fleet's gRPC load balancer, run on loopback by tests/python/test_fleet.py and tests/bench/run fleet
 )
 

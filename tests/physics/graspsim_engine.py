@@ -1,5 +1,6 @@
-"""graspsim as a textbook engine (scene_spec.Engine): the scene is built and stepped through the Python client on a
-running server, with the server's defaults except the time step (and velocity Verlet for smooth scenes)."""
+"""A scene on the graspsim server as a textbook engine (scene_spec.Engine): built and stepped through the Python client,
+with the server's defaults except the time step (and velocity Verlet for smooth scenes). engine= picks the
+server's physics engine (SimulationParams.engine: "graspsim", "mujoco"), the same API on each."""
 from __future__ import annotations
 
 import numpy as np
@@ -9,11 +10,10 @@ from scene_spec import BodyState, Scene
 
 
 class GraspsimEngine:
-    name = "graspsim"
-
-    def __init__(self, client: graspsim.Client, **params):
+    def __init__(self, client: graspsim.Client, engine: str = "graspsim", **params):
         self.client = client
-        self.params = params  # extra SimulationParams fields (e.g. integrator), by name
+        self.name = engine
+        self.params = dict(params, engine=engine)  # SimulationParams fields beside the time step, by name
         self.scene_id = ""
 
     def load(self, scene: Scene, dt: float) -> None:

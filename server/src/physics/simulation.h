@@ -19,6 +19,7 @@
 #include "collision/tactile_rays.h"
 #include "physics/actuators.h"
 #include "physics/contact_law.h"
+#include "physics/engine.h"
 #include "physics/multibody.h"
 #include "world/model.h"
 #include "world/state.h"
@@ -33,29 +34,23 @@ constexpr uint64_t PadFeature(uint32_t pad, uint32_t element) {
 // Checks a parameter set at the boundary; throws Error(kInvalidArgument) naming the field.
 void ValidateSimulationParams(const SimulationParams& params);
 
-struct StepStats {
-  size_t contacts = 0;      // contact points in the last sub-step
-  size_t awake_bodies = 0;  // free bodies integrated in the last sub-step
-};
-
-class Simulation {
+class Simulation : public PhysicsEngine {
  public:
   // Builds what the model needs once (degrees of freedom, surface samples, mesh BVHs); the parameters are the
   // model's (SceneModel::simulation).
   explicit Simulation(std::shared_ptr<const SceneModel> model);
 
-  const SceneModel& model() const { return *model_; }
-  // Sizes a state's velocity, sleep and bristle arrays for this model (new entries zero).
-  void PrepareState(SceneState* state) const;
+  const SceneModel& model() const override { return *model_; }
+  void PrepareState(SceneState* state) const override;
 
   // Advances `steps` steps. On divergence throws Error(kFailedPrecondition) naming the body or joint, the step
   // and the quantity, and leaves *state as it was before the call.
-  StepStats Step(SceneState* state, int steps);
+  StepStats Step(SceneState* state, int steps) override;
 
   // The contact points and their forces (on body_a, world, N) of the last sub-step. Tactile pad contacts are
   // among them: body_a the touching body, body_b the pad's link, feature = PadFeature(pad, element).
-  const std::vector<ContactPoint>& contacts() const { return contacts_; }
-  const std::vector<Vec3>& contact_forces() const { return forces_; }
+  const std::vector<ContactPoint>& contacts() const override { return contacts_; }
+  const std::vector<Vec3>& contact_forces() const override { return forces_; }
 
  private:
   // Generalised forces at one configuration; the linearised contacts only for the linearly implicit integrator.

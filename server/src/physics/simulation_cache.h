@@ -1,5 +1,5 @@
-// One Simulation per scene, rebuilt only when the scene's model changed: building one samples every surface and
-// builds the mesh BVHs, which a step must not repeat.
+// One physics engine per scene, rebuilt only when the scene's model changed: building one samples every surface
+// and builds the mesh BVHs (graspsim) or compiles the model (MuJoCo), which a step must not repeat.
 #pragma once
 
 #include <map>
@@ -7,7 +7,7 @@
 #include <mutex>
 #include <string>
 
-#include "physics/simulation.h"
+#include "physics/engine.h"
 
 namespace graspsim {
 
@@ -15,10 +15,10 @@ class SimulationCache {
  public:
   // The scene's simulation for exactly this model. Call under the scene's lock (Scene::Update): a simulation is
   // used by one caller at a time.
-  std::shared_ptr<Simulation> For(const std::string& scene_id, const std::shared_ptr<const SceneModel>& model) {
+  std::shared_ptr<PhysicsEngine> For(const std::string& scene_id, const std::shared_ptr<const SceneModel>& model) {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::shared_ptr<Simulation>& entry = simulations_[scene_id];
-    if (!entry || &entry->model() != model.get()) entry = std::make_shared<Simulation>(model);
+    std::shared_ptr<PhysicsEngine>& entry = simulations_[scene_id];
+    if (!entry || &entry->model() != model.get()) entry = MakePhysicsEngine(model);
     return entry;
   }
   void Forget(const std::string& scene_id) {
@@ -28,7 +28,7 @@ class SimulationCache {
 
  private:
   std::mutex mutex_;
-  std::map<std::string, std::shared_ptr<Simulation>> simulations_;
+  std::map<std::string, std::shared_ptr<PhysicsEngine>> simulations_;
 };
 
 }  // namespace graspsim

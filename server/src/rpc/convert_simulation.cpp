@@ -30,6 +30,13 @@ SimulationParams SimulationParamsFromProto(const std::string& field, const v1::S
     case v1::INTEGRATOR_UNSPECIFIED: break;
     default: ThrowInvalidArgument(field + ".integrator: " + std::to_string(p.integrator()) + " is not an integrator");
   }
+  switch (p.engine()) {
+    case v1::PHYSICS_ENGINE_UNSPECIFIED: break;
+    case v1::PHYSICS_ENGINE_GRASPSIM: out.engine = PhysicsEngineKind::kGraspsim; break;
+    case v1::PHYSICS_ENGINE_MUJOCO: out.engine = PhysicsEngineKind::kMujoco; break;
+    case v1::PHYSICS_ENGINE_BULLET: out.engine = PhysicsEngineKind::kBullet; break;
+    default: ThrowInvalidArgument(field + ".engine: " + std::to_string(p.engine()) + " is not an engine");
+  }
   if (p.has_gravity()) {
     out.gravity = FromProto(p.gravity());
     CheckFinite(field + ".gravity", out.gravity);
@@ -58,6 +65,11 @@ void ToProto(const SimulationParams& params, v1::SimulationParams* out) {
     case Integrator::kSemiImplicitEuler: out->set_integrator(v1::INTEGRATOR_SEMI_IMPLICIT_EULER); break;
     case Integrator::kLinearlyImplicitEuler: out->set_integrator(v1::INTEGRATOR_LINEARLY_IMPLICIT_EULER); break;
     case Integrator::kVelocityVerlet: out->set_integrator(v1::INTEGRATOR_VELOCITY_VERLET); break;
+  }
+  switch (params.engine) {
+    case PhysicsEngineKind::kGraspsim: out->set_engine(v1::PHYSICS_ENGINE_GRASPSIM); break;
+    case PhysicsEngineKind::kMujoco: out->set_engine(v1::PHYSICS_ENGINE_MUJOCO); break;
+    case PhysicsEngineKind::kBullet: out->set_engine(v1::PHYSICS_ENGINE_BULLET); break;
   }
   ToProto(params.gravity, out->mutable_gravity());
   auto* c = out->mutable_contact();

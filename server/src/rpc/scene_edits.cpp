@@ -139,6 +139,9 @@ void SetSimulationParamsFromRequest(Scene* scene, const v1::SetSimulationParamsR
                                     v1::SimulationParams* response) {
   const SimulationParams params = SimulationParamsFromProto("params", request.params(), SimulationParams());
   ValidateSimulationParams(params);
+  SceneModel next = *scene->View().model;  // the engine must simulate what the scene holds
+  next.simulation = params;
+  CheckEngineSupports(next);
   const SceneOp op = OpOf("SetSimulationParams", request);
   scene->SetSimulationParams(params, &op);
   if (response) ToProto(params, response);

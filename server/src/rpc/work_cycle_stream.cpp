@@ -169,7 +169,7 @@ void WorkCycleRun::Simulate() {
         // 1/60 s chunks of simulated time while they take less than kChunkWallTime together (a fast cycle at
         // 100 × real time would otherwise commit and hop threads 6000 times a second) and the frames fit half
         // the buffer. The frames do not depend on the chunking.
-        Simulation* simulation = simulations_->For(scene_->id(), model).get();
+        PhysicsEngine* simulation = simulations_->For(scene_->id(), model).get();
         const auto until = std::chrono::steady_clock::now() + kChunkWallTime;
         for (;;) {
           cycle_->Advance(simulation, state, StepsPerChunk(model->simulation), &frames);

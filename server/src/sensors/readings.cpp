@@ -90,7 +90,14 @@ GripperReading ReadGripper(const SceneModel& model, const SceneState& state, con
 }
 
 ForceTorqueReading ReadForceTorque(const SceneModel& model, const SceneState& state, size_t joint) {
-  static_cast<void>(model.joints.at(joint));  // a valid joint index
+  const JointSpec& spec = model.joints.at(joint);
+  // Joint wrenches come from graspsim's recursive Newton–Euler with its contact forces; another engine's step
+  // leaves them at zero, which would read as an unloaded sensor.
+  if (model.simulation.engine != PhysicsEngineKind::kGraspsim) {
+    throw Error(ErrorCode::kFailedPrecondition, "sensor '" + spec.id +
+                                                    "': force/torque sensors need the graspsim engine (the scene "
+                                                    "runs on another; SimulationParams.engine)");
+  }
   ForceTorqueReading reading;
   // The simulation sizes joint_wrenches only once it has stepped: a scene that never ran reads zero.
   if (joint < state.joint_wrenches.size()) {

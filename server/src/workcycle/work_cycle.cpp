@@ -79,7 +79,7 @@ double WorkCycle::Move::At(double time) const {
   return from + std::copysign(std::min(s, distance), to - from);
 }
 
-uint64_t WorkCycle::Advance(Simulation* simulation, SceneState* state, uint64_t max_steps,
+uint64_t WorkCycle::Advance(PhysicsEngine* simulation, SceneState* state, uint64_t max_steps,
                             std::vector<WorkCycleFrame>* frames) {
   if (&simulation->model() != model_.get()) {
     Fail("the scene's model changed during the work cycle (a body or robot was added or removed, or the "

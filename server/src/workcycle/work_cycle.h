@@ -78,7 +78,7 @@ class WorkCycle {
   // Error(kFailedPrecondition) when a stage cannot finish (something blocks the axis, the fingers close on
   // nothing) or the scene's model changed, and any simulation error; *state then holds the last completed step.
   // Chunking does not matter: any split of the same run gives bit-identical frames.
-  uint64_t Advance(Simulation* simulation, SceneState* state, uint64_t max_steps,
+  uint64_t Advance(PhysicsEngine* simulation, SceneState* state, uint64_t max_steps,
                    std::vector<WorkCycleFrame>* frames);
 
   bool done() const { return finished_; }

@@ -53,10 +53,14 @@ struct DcMotorState {
 
 enum class Integrator { kSemiImplicitEuler, kLinearlyImplicitEuler, kVelocityVerlet };
 
+// The physics engine a scene runs on (physics/engine.h): graspsim's own, MuJoCo or Bullet.
+enum class PhysicsEngineKind { kGraspsim, kMujoco, kBullet };
+
 struct SimulationParams {
   double time_step = 1e-3;                      // s, one step
   int substeps = 1;                             // integration steps per step (h = time_step / substeps)
   Integrator integrator = Integrator::kLinearlyImplicitEuler;
+  PhysicsEngineKind engine = PhysicsEngineKind::kGraspsim;
   Vec3 gravity = Vec3(0, 0, -9.81);             // m/s²
   ContactParams contact;                        // defaults for materials that leave a parameter at 0
   double sample_spacing = 0.005;                // m, between surface samples of primitives

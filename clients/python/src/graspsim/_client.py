@@ -328,12 +328,15 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
 
     def set_simulation_params(self, scene_id: str, **params) -> scene_pb2.SimulationParams:
         """Sets simulation parameters by SimulationParams field name (time_step s, substeps, integrator
-        "linearly_implicit_euler" | "semi_implicit_euler" | "velocity_verlet", gravity (3,) m/s², contact dict of
-        ContactDefaults fields, sample_spacing m, sleep_speed, sleep_time); fields not given keep their defaults."""
+        "linearly_implicit_euler" | "semi_implicit_euler" | "velocity_verlet", engine "graspsim" | "mujoco" |
+        "bullet" (docs/physics.md), gravity (3,) m/s², contact dict of ContactDefaults fields, sample_spacing m,
+        sleep_speed, sleep_time); fields not given keep their defaults."""
         message = scene_pb2.SimulationParams()
         for key, value in params.items():
             if key == "integrator":
                 message.integrator = scene_pb2.Integrator.Value("INTEGRATOR_" + str(value).upper())
+            elif key == "engine":
+                message.engine = scene_pb2.PhysicsEngine.Value("PHYSICS_ENGINE_" + str(value).upper())
             elif key == "gravity":
                 message.gravity.x, message.gravity.y, message.gravity.z = (float(v) for v in value)
             elif key == "contact":

@@ -1,0 +1,40 @@
+#include "physics/engine.h"
+
+#include "core/error.h"
+#include "physics/mujoco_engine.h"
+#include "physics/simulation.h"
+
+namespace graspsim {
+
+std::string EngineName(PhysicsEngineKind kind) {
+  switch (kind) {
+    case PhysicsEngineKind::kGraspsim: return "graspsim";
+    case PhysicsEngineKind::kMujoco: return "mujoco";
+    case PhysicsEngineKind::kBullet: return "bullet";
+  }
+  return "unknown";
+}
+
+void CheckEngineSupports(const SceneModel& model) {
+  const PhysicsEngineKind kind = model.simulation.engine;
+  if (kind == PhysicsEngineKind::kGraspsim) return;
+  if (kind == PhysicsEngineKind::kBullet) {
+    throw Error(ErrorCode::kUnimplemented, "engine: the Bullet backend is not built yet; use graspsim or mujoco");
+  }
+  // Tactile pads sense through graspsim's foam law at each sensing element; another engine's contacts are not
+  // at the elements.
+  if (!model.tactile_arrays.empty()) {
+    throw Error(ErrorCode::kFailedPrecondition,
+                "engine: " + EngineName(kind) + " does not simulate tactile pads (scene has " +
+                    std::to_string(model.tactile_arrays.size()) + ", first '" + model.tactile_arrays[0].id + "'" +
+                    "); use the graspsim engine");
+  }
+}
+
+std::shared_ptr<PhysicsEngine> MakePhysicsEngine(std::shared_ptr<const SceneModel> model) {
+  CheckEngineSupports(*model);
+  if (model->simulation.engine == PhysicsEngineKind::kMujoco) return MakeMujocoEngine(std::move(model));
+  return std::make_shared<Simulation>(std::move(model));
+}
+
+}  // namespace graspsim
