@@ -8,6 +8,9 @@
 - settle_rel_error, stribeck_max_rel_error, runtime_vs_error: graspsim_physics_bench (tests/stress/accuracy.h),
   the analytic tests of simulation_test.cpp at 5 time steps × 3 integrators.
 - stable_fraction: graspsim_stress --reduced (360 runs of the stability sweep, docs/physics-stability.md).
+- textbook_*, mujoco_within_1pct, bullet_within_1pct, energy_drift_pct_max, textbook (per case, engine and dt):
+  the closed-form cases of tests/physics/textbook.py on the server's three engines (tests/bench/physics_textbook.py),
+  with the error-against-run-time plot docs/physics-textbook.png.
 """
 import json
 import subprocess
@@ -16,6 +19,7 @@ import time
 import graspsim
 
 from _harness import REPO, Server, log
+from physics_textbook import textbook_figures
 
 BIN = REPO / "build" / "bin"
 TIMED_STEPS = 2000
@@ -110,6 +114,7 @@ def run():
             raise RuntimeError(f"{BIN / binary} not built: run 'make build'")
     with Server() as server, graspsim.connect(server.address) as client:
         figures = grasp(client)
+        figures.update(textbook_figures(client))
     figures.update(accuracy())
     figures.update(stability())
     return figures, server.exit_code

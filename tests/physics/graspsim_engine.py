@@ -42,6 +42,11 @@ class GraspsimEngine:
         self.params["gravity"] = tuple(gravity)
         self.client.set_simulation_params(self.scene_id, **self.params)
 
+    def push(self, robot: str, joint: str, force: float) -> None:
+        # The joint's default DC motor in voltage mode: standing still, force = ratio η k_t V / R, 5 N per volt
+        # (R 1 Ω, k_t 0.05 N m/A, ratio 100, η 1: world/simulation_params.h).
+        self.client.set_actuator(self.scene_id, f"{robot}/{joint}", "voltage", force / 5.0)
+
     def step(self, steps: int) -> None:
         self.client.step_simulation(self.scene_id, steps=steps)
 

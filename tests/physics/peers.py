@@ -133,6 +133,9 @@ class MujocoEngine:
     def set_gravity(self, gravity: Sequence[float]) -> None:
         self.model.opt.gravity[:] = gravity
 
+    def push(self, robot: str, joint: str, force: float) -> None:
+        raise NotImplementedError("joint drives: only the server's engines run the held-box case")
+
     def step(self, steps: int) -> None:
         for _ in range(steps):
             mujoco.mj_step(self.model, self.data)
@@ -224,6 +227,9 @@ class BulletEngine:
 
     def set_gravity(self, gravity: Sequence[float]) -> None:
         pybullet.setGravity(*gravity, physicsClientId=self.client)
+
+    def push(self, robot: str, joint: str, force: float) -> None:
+        raise NotImplementedError("joint drives: only the server's engines run the held-box case")
 
     def step(self, steps: int) -> None:
         for _ in range(steps):

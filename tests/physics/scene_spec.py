@@ -76,6 +76,9 @@ class Engine(Protocol):
     def set_gravity(self, gravity: Sequence[float]) -> None:
         """Changes gravity (m/s², world) from the next step on; bodies keep their state."""
 
+    def push(self, robot: str, joint: str, force: float) -> None:
+        """Drives a URDF joint of a robot with a constant force (N or N m) from the next step on."""
+
     def body(self, name: str) -> BodyState: ...
 
     def joint(self, robot: str, joint: str) -> Tuple[float, float]:

@@ -260,6 +260,71 @@ def stack_at_rest(factory, dt) -> Outcome:
     return Outcome(float(np.linalg.norm(end - start)) / BOX)
 
 
+def arch_at_rest(factory, dt) -> Outcome:
+    """Two 1 × 10 × 20 cm boards (0.2 kg) leaning 15° from vertical against each other on a floor with μ = 0.15:
+    a card-house arch. Each board rests on its foot's inner edge; by symmetry the apex pushes horizontally, with
+    H = W (h sin α − t cos α) / (2 h cos α) by moments about the foot, so the feet need μ ≥ H / W = 0.109: it
+    stands, friction at 73 % of its limit (at μ = 0.1 it falls: checked by hand, graspsim 0.12 holds, 0.1
+    falls). Error: a board's displacement from 0.5 s to 5 s, relative to its height."""
+    t, h, alpha, mu = 0.01, 0.2, math.radians(15), 0.15
+    # The foot's inner edge on the floor, the top inner edges meeting at x = 0.
+    xc = t / 2 * math.cos(alpha) + h / 2 * math.sin(alpha)
+    zc = t / 2 * math.sin(alpha) + h / 2 * math.cos(alpha)
+    boards = [Body(name, "box", (t, 0.1, h), mass=0.2, friction=(mu, mu),
+                   pose=(sign * xc, 0, zc, *_quat_about((0, 1, 0), -sign * alpha)))
+              for name, sign in (("left", -1), ("right", 1))]
+    floor = Body("floor", "box", (1, 1, 0.1), pose=(0, 0, -0.05, 1, 0, 0, 0), static=True, friction=(mu, mu))
+    engine = _load(factory, Scene(bodies=[floor, *boards]), dt)
+    try:
+        engine.step(int(round(0.5 / dt)))
+        start = engine.body("left").position.copy()
+        engine.step(int(round(4.5 / dt)))
+        end = engine.body("left").position
+    finally:
+        engine.close()
+    return Outcome(float(np.linalg.norm(end - start)) / h)
+
+
+VISE = (f'<robot name="vise">{BASE_LINK}'
+        + "".join(f'<link name="{side}"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" '
+                  f'ixy="0" ixz="0" iyz="0"/></inertial><collision><geometry><box size="0.02 0.06 0.4"/>'
+                  f'</geometry></collision></link>'
+                  f'<joint name="{side}_slide" type="prismatic"><origin xyz="{sign * 0.035} 0 0"/>'
+                  f'<parent link="base"/><child link="{side}"/><axis xyz="{-sign} 0 0"/>'
+                  f'<limit lower="-0.02" upper="0.02" effort="100" velocity="1"/></joint>'
+                  for side, sign in (("left", -1), ("right", 1)))
+        + "</robot>")
+
+
+def held_box(force_ratio: float) -> Callable:
+    def case(factory, dt) -> Outcome:
+        """A 5 cm, 0.1 kg box squeezed between two 40 cm tall pads, each pressed with F = ratio · m g / (2 μ_s).
+        Pads and box have the links' default friction, μ_s 0.6 and μ_d 0.4. Above ratio 1 it is held (error: its
+        drop over 0.25 s relative to free fall's g t² / 2); below, it slides down with a = g − 2 μ_d F / m (error:
+        relative, from a least-squares fit of z(t) over 0.25 s after 0.05 s, within the pads' height)."""
+        mass, mu_s, mu_d = 0.1, 0.6, 0.4
+        force = force_ratio * mass * G / (2 * mu_s)
+        vise = Robot("v", VISE, base_pose=(0, 0, 0.5, 1, 0, 0, 0))
+        box = Body("box", "box", (BOX, BOX, BOX), mass=mass, pose=(0, 0, 0.67, 1, 0, 0, 0), friction=(mu_s, mu_d))
+        # Gravity off while the pads close on the box.
+        engine = _load(factory, Scene(gravity=(0, 0, 0), bodies=[box], robots=[vise]), dt)
+        try:
+            for side in ("left", "right"):
+                engine.push("v", f"{side}_slide", force)
+            engine.step(int(round(0.2 / dt)))
+            engine.set_gravity((0, 0, -G))
+            engine.step(int(round(0.05 / dt)))
+            times, zs = _sample(engine, dt, 0.25, 0.005, lambda e: e.body("box").position[2])
+        finally:
+            engine.close()
+        zs = np.array(zs)
+        if force_ratio >= 1:
+            return Outcome(abs(zs[-1] - zs[0]) / (G / 2 * times[-1] ** 2))
+        expected = G - 2 * mu_d * force / mass
+        return Outcome(abs(-2 * np.polyfit(times, zs, 2)[0] - expected) / expected)
+    return case
+
+
 CASES: List[Case] = [
     Case("free_fall", free_fall, conservative=True),
     *[Case(f"slide_{t}deg_mu{m}", sliding(t, m, m)) for t, m in ((20, 0.1), (20, 0.3), (30, 0.1), (30, 0.3),
@@ -273,6 +338,9 @@ CASES: List[Case] = [
     Case("double_pendulum_energy", double_pendulum_energy, conservative=True),
     Case("torque_free_intermediate_axis", torque_free, conservative=True),
     Case("stack_of_5_at_rest", stack_at_rest),
+    Case("arch_of_2_boards_at_rest", arch_at_rest),
+    Case("held_box_at_1.2x_min_force", held_box(1.2)),
+    Case("held_box_slips_at_0.8x_min_force", held_box(0.8)),
 ]
 
 
