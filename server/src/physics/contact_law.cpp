@@ -125,6 +125,12 @@ ContactForce EvaluateContact(const ContactParams& params, double depth, const Ve
     out.slip_direction = slip * inverse_speed;
     const double stick = std::clamp(1 - relax * inverse_speed * z.dot(out.slip_direction), 0.0, 1.0);
     out.k_slip = tangential_stiffness * (1 - stick);
+    // F_t = −g(F_n) ŝ where it slides, g/F_n the effective μ: ∂F_t/∂δ = −(g/F_n) ŝ ∂F_n/∂δ = (g/F_n) k ŝ nᵀ.
+    if (out.normal_force > 0) {
+      const double coupling = (1 - stick) * g / out.normal_force;
+      out.k_slip_normal = coupling * params.stiffness;
+      out.d_slip_normal = coupling * params.damping;
+    }
   }
   return out;
 }

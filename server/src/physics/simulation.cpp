@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include "core/error.h"
 #include "core/format.h"
@@ -224,7 +224,8 @@ Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const E
       rhs[k] = -v[k];
     }
   }
-  return A.ldlt().solve(rhs);
+  // The friction–normal coupling (ContactForce::k_slip_normal) makes A non-symmetric: LU, not LDLT.
+  return A.partialPivLu().solve(rhs);
 }
 
 void Simulation::UpdateSleep(SceneState* state, double h) const {

@@ -58,6 +58,13 @@ void AddRankOne(const Vec3& point, const Vec3& direction, double beta, Mat6* A) 
   A->noalias() += (beta * w) * w.transpose();
 }
 
+// A += β w_u w_vᵀ: the image of the non-symmetric rank-one term β u vᵀ at point p.
+void AddRankOne(const Vec3& point, const Vec3& u, const Vec3& v, double beta, Mat6* A) {
+  if (beta == 0) return;
+  const Vec6 wu = Stack(point.cross(u), u), wv = Stack(point.cross(v), v);
+  A->noalias() += (beta * wu) * wv.transpose();
+}
+
 }  // namespace
 
 void Simulation::FindContacts(SceneState* state) {
@@ -171,8 +178,10 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
         AddRankOne(c.point, c.normal, along, &block);
       }
       AddRankOne(c.point, f.slip_direction, h * h * f.k_slip, &block);
+      AddRankOne(c.point, f.slip_direction, c.normal, h * f.d_slip_normal + h * h * f.k_slip_normal, &block);
       const Vec3 k_relative = f.k_iso * relative + f.k_normal * c.normal.dot(relative) * c.normal +
-                              f.k_slip * f.slip_direction.dot(relative) * f.slip_direction;
+                              (f.k_slip * f.slip_direction.dot(relative) + f.k_slip_normal * c.normal.dot(relative)) *
+                                  f.slip_direction;
       stiffness_twist.head<3>() += c.point.cross(k_relative);
       stiffness_twist.tail<3>() += k_relative;
     }
