@@ -1,6 +1,7 @@
 #include "physics/engine.h"
 
 #include "core/error.h"
+#include "physics/bullet_engine.h"
 #include "physics/mujoco_engine.h"
 #include "physics/simulation.h"
 
@@ -18,9 +19,6 @@ std::string EngineName(PhysicsEngineKind kind) {
 void CheckEngineSupports(const SceneModel& model) {
   const PhysicsEngineKind kind = model.simulation.engine;
   if (kind == PhysicsEngineKind::kGraspsim) return;
-  if (kind == PhysicsEngineKind::kBullet) {
-    throw Error(ErrorCode::kUnimplemented, "engine: the Bullet backend is not built yet; use graspsim or mujoco");
-  }
   // Tactile pads sense through graspsim's foam law at each sensing element; another engine's contacts are not
   // at the elements.
   if (!model.tactile_arrays.empty()) {
@@ -34,6 +32,7 @@ void CheckEngineSupports(const SceneModel& model) {
 std::shared_ptr<PhysicsEngine> MakePhysicsEngine(std::shared_ptr<const SceneModel> model) {
   CheckEngineSupports(*model);
   if (model->simulation.engine == PhysicsEngineKind::kMujoco) return MakeMujocoEngine(std::move(model));
+  if (model->simulation.engine == PhysicsEngineKind::kBullet) return MakeBulletEngine(std::move(model));
   return std::make_shared<Simulation>(std::move(model));
 }
 

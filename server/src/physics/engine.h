@@ -5,6 +5,8 @@
 //     multibody, three integrators; every capability (tactile pads, joint wrenches, sleeping, drives).
 //   - MuJoCo (physics/mujoco_engine.cpp, Debian's libmujoco 2.2.2): its soft constraints (default solref and
 //     solimp), elliptic friction cones, mesh geometry by its convex hull; drives by graspsim's motor model.
+//   - Bullet (physics/bullet_engine.cpp, Debian's libbullet 3.24, double precision): rigid contacts by sequential
+//     impulses, Featherstone btMultiBody robots, convex hulls of moving meshes; drives by graspsim's motor model.
 // A capability an engine lacks is refused with FAILED_PRECONDITION naming it (CheckEngineSupports).
 #pragma once
 
@@ -41,7 +43,7 @@ class PhysicsEngine {
 std::string EngineName(PhysicsEngineKind kind);
 
 // Throws Error(kFailedPrecondition) naming the first capability of `model` its engine (model.simulation.engine)
-// lacks, or kUnimplemented for an engine not built yet.
+// lacks.
 void CheckEngineSupports(const SceneModel& model);
 
 // The engine model.simulation.engine names, compiled for `model` (CheckEngineSupports first).
