@@ -1,5 +1,5 @@
 """A scene on the graspsim server as a textbook engine (scene_spec.Engine): built and stepped through the Python client,
-with the server's defaults except the time step (and velocity Verlet for smooth scenes). engine= picks the
+with the server's defaults except the time step (and Runge–Kutta 4 for smooth scenes). engine= picks the
 server's physics engine (SimulationParams.engine: "graspsim", "mujoco"), the same API on each."""
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ class GraspsimEngine:
         self.scene_id = c.create_scene("textbook").id
         params = dict(time_step=dt, gravity=scene.gravity)
         if scene.smooth:
-            params["integrator"] = "velocity_verlet"
+            params["integrator"] = "runge_kutta_4"
         self.params = {**params, **self.params}
         c.set_simulation_params(self.scene_id, **self.params)
         for robot in scene.robots:

@@ -51,8 +51,8 @@ class Scene:
     gravity: Tuple[float, float, float] = (0.0, 0.0, -9.81)
     bodies: Sequence[Body] = ()
     robots: Sequence[Robot] = ()
-    # No contact, no damping: the engine runs its integrator for smooth motion (graspsim: velocity Verlet; MuJoCo:
-    # RK4); otherwise its default.
+    # No contact, no damping: the engine runs its integrator for smooth motion (graspsim and MuJoCo: Runge–Kutta 4;
+    # Bullet has one); otherwise its default.
     smooth: bool = False
 
 

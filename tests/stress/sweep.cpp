@@ -181,6 +181,7 @@ const char* Name(Integrator integrator) {
     case Integrator::kSemiImplicitEuler: return "semi_implicit_euler";
     case Integrator::kLinearlyImplicitEuler: return "linearly_implicit_euler";
     case Integrator::kVelocityVerlet: return "velocity_verlet";
+    case Integrator::kRungeKutta4: return "runge_kutta_4";
   }
   return "?";
 }

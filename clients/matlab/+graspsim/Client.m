@@ -489,7 +489,8 @@ classdef Client < handle
       %     'TimeStep', s              the step of stepSimulation
       %     'Substeps', n              integration steps per step
       %     'Integrator', name         'linearly_implicit_euler' (default; stiff contacts stable at
-      %                                millisecond steps), 'semi_implicit_euler', 'velocity_verlet'
+      %                                millisecond steps), 'semi_implicit_euler', 'velocity_verlet',
+      %                                'runge_kutta_4'
       %     'Gravity', [x y z]         m/s^2 (default [0 0 -9.81]; [0 0 0] is no gravity)
       %     'Contact', struct(...)     default contact parameters of every body: stiffness (N/m per contact
       %                                point), damping (N s/m), bristleStiffness, bristleDamping (LuGre sigma0
@@ -545,7 +546,7 @@ classdef Client < handle
     function params = getSimulationParams(obj, sceneId)
       %GETSIMULATIONPARAMS params = c.getSimulationParams(sceneId): the scene's simulation parameters with
       %   the server's defaults filled in: timeStep (s), substeps, integrator ('linearly_implicit_euler',
-      %   'semi_implicit_euler', 'velocity_verlet'), gravity 1-by-3 (m/s^2), contact (stiffness, damping,
+      %   'semi_implicit_euler', 'velocity_verlet', 'runge_kutta_4'), gravity 1-by-3 (m/s^2), contact (stiffness, damping,
       %   bristleStiffness, bristleDamping, viscousFriction, stribeckVelocity), sampleSpacing (m), sleepSpeed
       %   (m/s), sleepTime (s). setSimulationParams takes this struct back.
       response = obj.sceneCall('GetSimulationParams', struct('scene_id', sceneId));
@@ -1036,9 +1037,9 @@ end
 end
 
 function name = integratorName(value)
-% The Integrator enum name of 'linearly_implicit_euler', 'semi_implicit_euler' or 'velocity_verlet' (any case,
-% with or without the INTEGRATOR_ prefix).
-known = {'linearly_implicit_euler', 'semi_implicit_euler', 'velocity_verlet'};
+% The Integrator enum name of 'linearly_implicit_euler', 'semi_implicit_euler', 'velocity_verlet' or
+% 'runge_kutta_4' (any case, with or without the INTEGRATOR_ prefix).
+known = {'linearly_implicit_euler', 'semi_implicit_euler', 'velocity_verlet', 'runge_kutta_4'};
 if ischar(value)
   value = lower(value);
   if strncmp(value, 'integrator_', 11)

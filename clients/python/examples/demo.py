@@ -16,8 +16,9 @@ beside its simulated twin with the surprise. Last, a KUKA KR 5 with the PG70 pic
 puts it 25 cm away, planned and executed in the dynamic simulation (examples/pick_and_place.py). And when the
 `pybullet` package is installed, a robot nobody here wrote: pybullet_data's Franka Panda loaded from its URDF by
 path (its meshes uploaded by the client), with the repairs the server made (docs/import.md), and arm paths
-planned for it around a post in one PlanArmPaths call, graspsim's planner beside OMPL's (docs/motion.md). And
-beyond one machine (docs/scaling.md): three servers started from --server-binary behind HAProxy, scenes routed by
+planned for it around a post in one PlanArmPaths call, graspsim's planner beside OMPL's (docs/motion.md). Then one
+scene on three physics engines (SimulationParams.engine: graspsim, MuJoCo, Bullet): a ball rolling down 20°
+against its closed form (docs/physics.md). And beyond one machine (docs/scaling.md): three servers started from --server-binary behind HAProxy, scenes routed by
 id, one killed and restarted, a fourth added and the scenes rebalanced (examples/fleet.py). Exits non-zero on
 any error.
 
@@ -25,6 +26,7 @@ any error.
 """
 import argparse
 import json
+import math
 import shutil
 import sys
 import tempfile
@@ -263,6 +265,28 @@ def load_public_robot(client) -> None:
     client.delete_scene(scene_id)
 
 
+def three_engines(client: graspsim.Client) -> None:
+    """One scene description on graspsim's engine, MuJoCo and Bullet (SimulationParams.engine): a ball rolling
+    down a 20° incline (gravity tilted over a level floor), against the closed form 5/7 g sin θ."""
+    theta, radius = math.radians(20), 0.05
+    expected = 5 / 7 * 9.81 * math.sin(theta)
+    print(f"\none scene, three physics engines: a ball rolling down 20°, closed form {expected:.4f} m/s²:")
+    for engine in ("graspsim", "mujoco", "bullet"):
+        scene_id = client.create_scene(f"rolling on {engine}").id
+        client.set_simulation_params(scene_id, engine=engine, gravity=(9.81 * math.sin(theta), 0,
+                                                                       -9.81 * math.cos(theta)))
+        client.add_object(scene_id, "floor", box=[20, 1, 0.1], pose=[0, 0, -0.05, 1, 0, 0, 0], is_static=True,
+                          friction=[1, 1])
+        client.add_object(scene_id, "ball", sphere=radius, mass=1.0, pose=[0, 0, radius, 1, 0, 0, 0],
+                          friction=[1, 1])
+        client.step_simulation(scene_id, duration=0.1)
+        v0 = client.get_body_velocities(scene_id, ["ball"])["ball"].linear[0]
+        client.step_simulation(scene_id, duration=1.0)
+        v1 = client.get_body_velocities(scene_id, ["ball"])["ball"].linear[0]
+        print(f"  {engine:<9} {v1 - v0:.4f} m/s² ({(v1 - v0 - expected) / expected * 100:+.3f} %)")
+        client.delete_scene(scene_id)
+
+
 def beyond_one_machine(server_binary: str) -> None:
     """A fleet of three servers behind HAProxy on this machine (examples/fleet.py), when haproxy and
     grpc-health-probe are installed (make go-tools); the servers are started from server_binary."""
@@ -304,6 +328,7 @@ def main(argv=None) -> int:
             hardware_gateway.demo(client, args.server)
             pick_and_place_completed(client, completed_scene)
             load_public_robot(client)
+            three_engines(client)
         beyond_one_machine(args.server_binary)
     except (graspsim.GraspsimError, OSError) as err:
         print(f"demo failed: {err}", file=sys.stderr)

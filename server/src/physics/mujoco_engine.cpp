@@ -12,8 +12,8 @@
 //   - friction: one coefficient per geom, the material's dynamic μ (MuJoCo takes the larger of two geoms');
 //     contact softness MuJoCo's defaults; elliptic friction cones (the pyramid's default limits diagonal slip to
 //     μ/√2);
-//   - integrators: linearly implicit Euler → MuJoCo's "implicit", semi-implicit Euler → "Euler", velocity
-//     Verlet (the smooth-motion integrator) → "RK4";
+//   - integrators: linearly implicit Euler → MuJoCo's "implicit", semi-implicit Euler → "Euler", Runge–Kutta 4
+//     and velocity Verlet (the smooth-motion integrators) → "RK4";
 //   - drives: graspsim's DC-motor model (physics/actuators.h) each sub-step; its force enters as an applied
 //     joint force and its damping (∂force/∂q̇) as the joint's damping, which MuJoCo's implicit integrator treats
 //     implicitly, as graspsim's solve does.
@@ -241,9 +241,8 @@ void MujocoEngine::Compile() {
     equality << "<joint joint1=\"j" << j << "\" joint2=\"j" << m.joint_index.at(joint.mimic->joint_id)
              << "\" polycoef=\"" << Numbers({joint.mimic->offset, joint.mimic->multiplier, 0, 0, 0}) << "\"/>";
   }
-  const char* integrator = p.integrator == Integrator::kSemiImplicitEuler ? "Euler"
-                           : p.integrator == Integrator::kVelocityVerlet  ? "RK4"
-                                                                          : "implicit";
+  const bool smooth = p.integrator == Integrator::kVelocityVerlet || p.integrator == Integrator::kRungeKutta4;
+  const char* integrator = p.integrator == Integrator::kSemiImplicitEuler ? "Euler" : smooth ? "RK4" : "implicit";
   std::ostringstream xml;
   xml << std::setprecision(17) << "<mujoco model=\"graspsim\"><compiler angle=\"radian\" inertiafromgeom=\"false\"/>"
       << "<option timestep=\"" << p.time_step / p.substeps << "\" gravity=\""

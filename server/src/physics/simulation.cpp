@@ -156,6 +156,8 @@ void Simulation::SubStep(SceneState* state, double h) {
     RecordJointWrenches(v_half, v_next, h / 2, state);  // the second half kick, at the new configuration
     AdvanceBristles(second, v_half, h, state);
     multibody_.SetVelocities(v_next, state);
+  } else if (params_.integrator == Integrator::kRungeKutta4) {
+    RungeKutta4(v, h, state);
   } else {
     // The bristles move with the step's new velocity, the one the implicit solve assumed for the displacement
     // h v (with the old one the bristle spring would lag the motion and pump energy into it). Drives whose
@@ -174,6 +176,42 @@ void Simulation::SubStep(SceneState* state, double h) {
   RecordPadForces(state);
   ClampJointLimits(state);
   UpdateSleep(state, h);
+}
+
+void Simulation::RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* state) {
+  // The classic fourth-order Runge–Kutta step on (q, v): stage k sits at q0 + c_k h v_{k−1} (on the configuration
+  // manifold, from the step's start, as MuJoCo's RK4 does) with velocity v0 + c_k Δv_{k−1}, c = (½, ½, 1); the step
+  // takes the weighted means (1, 2, 2, 1)/6 of the stages' velocities and velocity changes. Contacts are
+  // evaluated explicitly at every stage with the bristles of the step's start; the drives keep their
+  // start-of-step force (their damping, as in every integrator, inside each stage's solve). For smooth motion:
+  // stiff contacts need the linearly implicit step.
+  const Forces& first = forces_at_start_;
+  stage_start_ = *state;
+  Eigen::VectorXd v_prev = v, dv = SolveVelocityChange(*state, v, first, h, &v);
+  Eigen::VectorXd v_sum = v, dv_sum = dv;
+  for (int k = 1; k < 4; ++k) {
+    const double c = k < 3 ? 0.5 : 1.0, weight = k < 3 ? 2.0 : 1.0;
+    const Eigen::VectorXd v_k = v + c * dv;
+    *state = stage_start_;
+    multibody_.Integrate(v_prev, c * h, state);
+    FindContacts(state);
+    Forces& stage = forces_at_end_;
+    ContactForces(*state, v_k, h, &stage);
+    stage.actuators = first.actuators;
+    stage.actuator_damping = first.actuator_damping;
+    stage.actuator_stiffness = first.actuator_stiffness;
+    stage.tau += first.actuators;
+    dv = SolveVelocityChange(*state, v_k, stage, h, &v_k);
+    v_sum += weight * v_k;
+    dv_sum += weight * dv;
+    v_prev = v_k;
+  }
+  const Eigen::VectorXd v_next = v + dv_sum / 6;
+  *state = stage_start_;
+  multibody_.Integrate(v_sum / 6, h, state);
+  RecordJointWrenches(v, v_next, h, state);        // with the last stage's contacts, at the step's end
+  AdvanceBristles(forces_at_end_, v_next, h, state);
+  multibody_.SetVelocities(v_next, state);
 }
 
 void Simulation::RecordJointWrenches(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h,

@@ -5,9 +5,9 @@
 // collision library finds; the articulated dynamics are physics/multibody.h. The linearly implicit integrator
 // solves (M − h D − h² K) Δv = h (τ − b + f + h K v) with K, D the contact stiffness and damping mapped to
 // generalised coordinates (Baraff & Witkin 1998), so stiff contacts stay stable at millisecond steps; the
-// semi-implicit (symplectic) Euler integrator (first order) is the cheaper reference, and velocity Verlet
-// (second order, symplectic, exact under constant forces, two contact evaluations per step) the accurate one for
-// smooth motion. Static bodies never move; free
+// semi-implicit (symplectic) Euler integrator (first order) is the cheaper reference, velocity Verlet
+// (second order, symplectic, exact under constant forces, two contact evaluations per step) the energy-keeping one
+// for smooth motion, and classic Runge–Kutta (fourth order, four evaluations) the most accurate one for it. Static bodies never move; free
 // bodies at rest fall asleep and are skipped until something touches them.
 #pragma once
 
@@ -69,6 +69,7 @@ class Simulation : public PhysicsEngine {
 
   // The stages of one sub-step, in order.
   void SubStep(SceneState* state, double h);
+  void RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* state);
   void FindContacts(SceneState* state);
   void AddPadContacts(const SceneState& state);
   void RecordPadForces(SceneState* state) const;
@@ -102,6 +103,7 @@ class Simulation : public PhysicsEngine {
   std::vector<Vec3> forces_;
   // Buffers reused from step to step (a work cycle steps one step per call: allocations would dominate).
   SceneState backup_;                    // the state before Step, restored on divergence
+  SceneState stage_start_;               // RungeKutta4: the sub-step's start, each stage's origin
   Forces forces_at_start_, forces_at_end_;  // of a sub-step (the end's only for velocity Verlet)
   std::vector<std::pair<ContactKey, Vec3>> spare_bristles_;  // swapped with the state's each sub-step
   std::vector<Multibody::Vec6> twists_;  // per pair

@@ -27,6 +27,7 @@ SimulationParams SimulationParamsFromProto(const std::string& field, const v1::S
     case v1::INTEGRATOR_SEMI_IMPLICIT_EULER: out.integrator = Integrator::kSemiImplicitEuler; break;
     case v1::INTEGRATOR_LINEARLY_IMPLICIT_EULER: out.integrator = Integrator::kLinearlyImplicitEuler; break;
     case v1::INTEGRATOR_VELOCITY_VERLET: out.integrator = Integrator::kVelocityVerlet; break;
+    case v1::INTEGRATOR_RUNGE_KUTTA_4: out.integrator = Integrator::kRungeKutta4; break;
     case v1::INTEGRATOR_UNSPECIFIED: break;
     default: ThrowInvalidArgument(field + ".integrator: " + std::to_string(p.integrator()) + " is not an integrator");
   }
@@ -65,6 +66,7 @@ void ToProto(const SimulationParams& params, v1::SimulationParams* out) {
     case Integrator::kSemiImplicitEuler: out->set_integrator(v1::INTEGRATOR_SEMI_IMPLICIT_EULER); break;
     case Integrator::kLinearlyImplicitEuler: out->set_integrator(v1::INTEGRATOR_LINEARLY_IMPLICIT_EULER); break;
     case Integrator::kVelocityVerlet: out->set_integrator(v1::INTEGRATOR_VELOCITY_VERLET); break;
+    case Integrator::kRungeKutta4: out->set_integrator(v1::INTEGRATOR_RUNGE_KUTTA_4); break;
   }
   switch (params.engine) {
     case PhysicsEngineKind::kGraspsim: out->set_engine(v1::PHYSICS_ENGINE_GRASPSIM); break;

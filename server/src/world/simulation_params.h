@@ -51,7 +51,7 @@ struct DcMotorState {
   double velocity_error_integral = 0;  // joint units
 };
 
-enum class Integrator { kSemiImplicitEuler, kLinearlyImplicitEuler, kVelocityVerlet };
+enum class Integrator { kSemiImplicitEuler, kLinearlyImplicitEuler, kVelocityVerlet, kRungeKutta4 };
 
 // The physics engine a scene runs on (physics/engine.h): graspsim's own, MuJoCo or Bullet.
 enum class PhysicsEngineKind { kGraspsim, kMujoco, kBullet };

@@ -194,7 +194,8 @@ out = struct('time', number(field(msg, 'time', 0)), 'steps', number(field(msg, '
 end
 
 function out = simulationParams(msg)
-% timeStep (s), substeps, integrator ('linearly_implicit_euler', 'semi_implicit_euler', 'velocity_verlet';
+% timeStep (s), substeps, integrator ('linearly_implicit_euler', 'semi_implicit_euler', 'velocity_verlet',
+% 'runge_kutta_4';
 % 'unspecified' = the default), gravity 1-by-3 (m/s^2), contact (ContactDefaults), sampleSpacing (m),
 % sleepSpeed (m/s and rad/s), sleepTime (s).
 out = struct('timeStep', number(field(msg, 'time_step', 0)), 'substeps', number(field(msg, 'substeps', 0)), ...

@@ -328,7 +328,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
 
     def set_simulation_params(self, scene_id: str, **params) -> scene_pb2.SimulationParams:
         """Sets simulation parameters by SimulationParams field name (time_step s, substeps, integrator
-        "linearly_implicit_euler" | "semi_implicit_euler" | "velocity_verlet", engine "graspsim" | "mujoco" |
+        "linearly_implicit_euler" | "semi_implicit_euler" | "velocity_verlet" | "runge_kutta_4", engine "graspsim" | "mujoco" |
         "bullet" (docs/physics.md), gravity (3,) m/s², contact dict of ContactDefaults fields, sample_spacing m,
         sleep_speed, sleep_time); fields not given keep their defaults."""
         message = scene_pb2.SimulationParams()
