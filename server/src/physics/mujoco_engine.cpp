@@ -15,8 +15,8 @@
 //   - integrators: linearly implicit Euler → MuJoCo's "implicit", semi-implicit Euler → "Euler", Runge–Kutta 4
 //     and velocity Verlet (the smooth-motion integrators) → "RK4";
 //   - drives: graspsim's DC-motor model (physics/actuators.h) each sub-step; its force enters as an applied
-//     joint force and its damping (∂force/∂q̇) as the joint's damping, which MuJoCo's implicit integrator treats
-//     implicitly, as graspsim's solve does.
+//     joint force and its damping (∂force/∂q̇) as the joint's armature, h·(−∂force/∂q̇), which makes the step
+//     implicit in the drive under every integrator, as graspsim's solve is (Drive).
 // Not simulated (refused or left at zero, docs/physics.md): tactile pads (CheckEngineSupports), joint wrenches
 // (the force/torque sensor), sleeping.
 #include "physics/mujoco_engine.h"
@@ -97,9 +97,11 @@ class MujocoEngine : public PhysicsEngine {
         for (int sub = 0; sub < substeps; ++sub) {
           Drive(state);
           mj_step(mj_, data_);
+          RecordDrives(state);
           if (data_->warning[mjWARN_BADQACC].number != bad_before) {
-            Diverged(*state, "MuJoCo found a bad acceleration (qacc) at time " + FormatNumber(data_->time));
+            Diverged(state->step + 1, "MuJoCo found a bad acceleration (qacc) at time " + FormatNumber(data_->time));
           }
+          CheckSpeeds(state->step + 1);
         }
         ++state->step;
         state->time += model_->simulation.time_step;
@@ -127,13 +129,23 @@ class MujocoEngine : public PhysicsEngine {
   void CopyIn(const SceneState& state);
   void CopyOut(SceneState* state);
   void Drive(SceneState* state);
+  void RecordDrives(SceneState* state) const;
   void ReadContacts(SceneState* state);
+  void CheckSpeeds(uint64_t step) const;
   void CheckFinite(const SceneState& state) const;
-  [[noreturn]] void Diverged(const SceneState& state, const std::string& what) const {
-    throw Error(ErrorCode::kFailedPrecondition, "simulation (engine mujoco) diverged at step " +
-                                                    std::to_string(state.step + 1) + ": " + what +
-                                                    "; reduce time_step or raise substeps");
+  [[noreturn]] void Diverged(uint64_t step, const std::string& what) const {
+    throw Error(ErrorCode::kFailedPrecondition, "simulation (engine mujoco) diverged at step " + std::to_string(step) +
+                                                    ": " + what + "; reduce time_step or raise substeps");
   }
+
+  // The sub-step's drives: the joint, its velocity before the step and the motor's output (Drive).
+  struct DriveStep {
+    size_t joint = 0;
+    int dof = 0;
+    double velocity_before = 0;
+    ActuatorOutput output;
+  };
+  std::vector<DriveStep> drives_;
 
   std::shared_ptr<const SceneModel> model_;
   mjModel* mj_ = nullptr;
@@ -311,17 +323,42 @@ void MujocoEngine::CopyIn(const SceneState& state) {
 }
 
 void MujocoEngine::Drive(SceneState* state) {
+  // force(q̇⁺) = f + D (q̇⁺ − q̇), D = ∂force/∂q̇ ≤ 0: M a = f + D h a, i.e. (M − h D) a = f. So f is applied and
+  // −h D is the joint's armature: part of the mass matrix under every integrator and in the constraint solver
+  // (as a joint damping, RK4 and the constraint solver would see it explicitly: a stiff drive diverged under
+  // RK4, and a mimic follower of a stiffly driven light leader drifted by radians). Every joint is reset first:
+  // a drive switched off leaves the scene's actuators and must leave no force behind.
   const double h = mj_->opt.timestep;
+  mju_zero(data_->qfrc_applied, mj_->nv);
+  mju_zero(mj_->dof_armature, mj_->nv);
+  drives_.clear();
   for (auto& [j, actuator] : state->actuators) {
     if (joint_of_[j] < 0) continue;
     const int dof = mj_->jnt_dofadr[joint_of_[j]];
     const double q = data_->qpos[mj_->jnt_qposadr[joint_of_[j]]], q_dot = data_->qvel[dof];
     const ActuatorOutput out = StepDcMotor(actuator.motor, actuator.command, q, q_dot, h, &actuator.state);
-    actuator.joint_force = out.joint_force;
     actuator.voltage = out.voltage;
-    // force(q̇⁺) = f + D (q̇⁺ − q̇): the constant part applied, D q̇⁺ as MuJoCo's (implicit) joint damping −D.
-    mj_->dof_damping[dof] = -out.damping;
-    data_->qfrc_applied[dof] = out.joint_force - out.damping * q_dot;
+    mj_->dof_armature[dof] = -h * out.damping;
+    data_->qfrc_applied[dof] = out.joint_force;
+    drives_.push_back({j, dof, q_dot, out});
+  }
+}
+
+void MujocoEngine::RecordDrives(SceneState* state) const {
+  // What a drive reports is the force the step applied, f + D (q̇⁺ − q̇), as graspsim's engine reports it.
+  for (const DriveStep& drive : drives_) {
+    state->actuators.at(drive.joint).joint_force =
+        drive.output.joint_force + drive.output.damping * (data_->qvel[drive.dof] - drive.velocity_before);
+  }
+}
+
+void MujocoEngine::CheckSpeeds(uint64_t step) const {
+  const double limit = model_->simulation.divergence_speed;
+  for (int dof = 0; dof < mj_->nv; ++dof) {
+    if (std::abs(data_->qvel[dof]) < limit) continue;
+    const int body = body_of_[mj_->jnt_bodyid[mj_->dof_jntid[dof]]];
+    Diverged(step, "body '" + (body >= 0 ? model_->bodies[body].id : std::string("?")) + "' moves at " +
+                       FormatNumber(data_->qvel[dof]) + " (m/s or rad/s), faster than " + FormatNumber(limit));
   }
 }
 
@@ -384,12 +421,13 @@ void MujocoEngine::CheckFinite(const SceneState& state) const {
   for (size_t i = 0; i < model_->bodies.size(); ++i) {
     const BodyVelocity& v = state.body_velocities[i];
     if (!state.body_poses[i].position.allFinite() || !(v.linear.norm() < limit) || !(v.angular.norm() < limit)) {
-      Diverged(state, "body '" + model_->bodies[i].id + "' moves faster than " + FormatNumber(limit));
+      Diverged(state.step, "body '" + model_->bodies[i].id + "' moves faster than " + FormatNumber(limit));
     }
   }
   for (size_t j = 0; j < model_->joints.size(); ++j) {
     if (!std::isfinite(state.joint_positions[j]) || !(std::abs(state.joint_velocities[j]) < limit)) {
-      Diverged(state, "joint '" + model_->joints[j].id + "' velocity " + FormatNumber(state.joint_velocities[j]));
+      Diverged(state.step,
+               "joint '" + model_->joints[j].id + "' velocity " + FormatNumber(state.joint_velocities[j]));
     }
   }
 }

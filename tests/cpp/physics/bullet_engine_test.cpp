@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "physics/engine.h"
+#include "physics/engine_test_scenes.h"
 #include "physics/simulation.h"
 #include "test_bodies.h"
 #include "test_util.h"
@@ -19,83 +20,15 @@ constexpr double kG = 9.81;
 
 using test_objects::RobotJoint;
 using test_objects::UniformBox;
-
-BodySpec Sphere(const std::string& id, double radius, double mass) {
-  BodySpec body;
-  body.id = id;
-  body.motion = BodyMotion::kFree;
-  Geometry sphere;
-  sphere.kind = Geometry::Kind::kSphere;
-  sphere.radius = radius;
-  body.collision.push_back(sphere);
-  body.inertial.mass = mass;
-  body.inertial.inertia = Mat3::Identity() * (0.4 * mass * radius * radius);
-  return body;
-}
-
-BodySpec Link(const std::string& id, double mass, const Vec3& com, const Mat3& inertia) {
-  BodySpec body;
-  body.id = id;
-  body.robot_id = id.substr(0, id.find('/'));
-  body.motion = BodyMotion::kArticulated;
-  body.inertial.mass = mass;
-  body.inertial.center_of_mass = com;
-  body.inertial.inertia = inertia;
-  return body;
-}
-
-// A closed box mesh centred on its frame (12 triangles, counter-clockwise from outside).
-std::shared_ptr<const TriangleMesh> BoxMesh(const Vec3& size) {
-  auto mesh = std::make_shared<TriangleMesh>();
-  for (int i = 0; i < 8; ++i) {
-    mesh->vertices.emplace_back(Eigen::Vector3f((i & 1 ? 0.5f : -0.5f) * static_cast<float>(size.x()),
-                                                (i & 2 ? 0.5f : -0.5f) * static_cast<float>(size.y()),
-                                                (i & 4 ? 0.5f : -0.5f) * static_cast<float>(size.z())));
-  }
-  mesh->triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return mesh;
-}
-
-BodySpec MeshBody(BodySpec body) {
-  for (Geometry& g : body.collision) {
-    g.mesh = BoxMesh(g.box_size);
-    g.kind = Geometry::Kind::kMesh;
-  }
-  return body;
-}
-
-struct World {
-  std::shared_ptr<SceneModel> model = std::make_shared<SceneModel>();
-  SceneState state;
-
-  World() { model->simulation.engine = PhysicsEngineKind::kBullet; }
-  size_t Add(BodySpec body, const Pose& pose) {
-    model->bodies.push_back(std::move(body));
-    state.body_poses.push_back(pose);
-    return model->bodies.size() - 1;
-  }
-  // A robot of the bodies and joints added since `first_body` / `first_joint` (topological order).
-  void AddRobot(const std::string& id, size_t first_body, size_t first_joint) {
-    RobotSpec robot{id, "test", model->bodies[first_body].id, {}, {}, {}};
-    for (size_t i = first_body; i < model->bodies.size(); ++i) robot.body_ids.push_back(model->bodies[i].id);
-    for (size_t j = first_joint; j < model->joints.size(); ++j) robot.joint_ids.push_back(model->joints[j].id);
-    model->robots.push_back(robot);
-  }
-  std::shared_ptr<PhysicsEngine> Start() {
-    model->Reindex();
-    state.joint_positions.resize(model->joints.size(), 0);
-    for (size_t r = 0; r < model->robots.size(); ++r) UpdateRobotLinkPoses(*model, r, &state);
-    std::shared_ptr<PhysicsEngine> engine = MakePhysicsEngine(model);
-    engine->PrepareState(&state);
-    return engine;
-  }
-};
+using test_engines::Link;
+using test_engines::MeshBody;
+using test_engines::Sphere;
+using test_engines::World;
 
 TEST(BulletEngineTest, FreeFallIsSemiImplicitEuler) {
   // Bullet's one integrator: v += g h, then x += v h, so z_n = z0 − g h² n(n+1)/2 to rounding, and after 1 s the
   // drop is g t²/2 to within g h t/2 (0.1 % at 1 ms).
-  World world;
+  World world(PhysicsEngineKind::kBullet);
   world.model->simulation.integrator = Integrator::kVelocityVerlet;  // ignored: Bullet has one integrator
   world.Add(Sphere("ball", 0.05, 1.0), Pose{Vec3(0, 0, 10), Quat::Identity()});
   auto engine = world.Start();
@@ -111,7 +44,7 @@ TEST(BulletEngineTest, FreeFallIsSemiImplicitEuler) {
 }
 
 TEST(BulletEngineTest, BoxRestsOnAStaticBoxAndItsContactsCarryItsWeight) {
-  World world;
+  World world(PhysicsEngineKind::kBullet);
   const size_t floor = world.Add(UniformBox("floor", Vec3(1, 1, 0.1), 1, BodyMotion::kStatic),
                                  Pose{Vec3(0, 0, -0.05), Quat::Identity()});
   const size_t box = world.Add(UniformBox("box", Vec3(0.1, 0.1, 0.1), 0.5), Pose{Vec3(0, 0, 0.05), Quat::Identity()});
@@ -142,7 +75,7 @@ TEST(BulletEngineTest, BoxRestsOnAStaticBoxAndItsContactsCarryItsWeight) {
 TEST(BulletEngineTest, MeshBoxRestsOnAStaticMeshSlab) {
   // A moving mesh collides as its convex hull (grown by its 0.1 mm margin), a static one as its triangles: placed
   // on the slab, the box stays put.
-  World world;
+  World world(PhysicsEngineKind::kBullet);
   world.Add(MeshBody(UniformBox("slab", Vec3(2, 2, 0.2), 1, BodyMotion::kStatic)),
             Pose{Vec3(0, 0, -0.1), Quat::Identity()});
   const size_t box = world.Add(MeshBody(UniformBox("box", Vec3(0.1, 0.06, 0.04), 0.3)),
@@ -160,7 +93,7 @@ TEST(BulletEngineTest, MeshBoxRestsOnAStaticMeshSlab) {
 TEST(BulletEngineTest, RobotLinksCollideWithStaticObjects) {
   // A 40 cm bar on a y hinge 10 cm above a static floor, released level: it swings down until its far lower edge
   // lands on the floor and stays there.
-  World world;
+  World world(PhysicsEngineKind::kBullet);
   world.Add(UniformBox("floor", Vec3(2, 2, 0.1), 1, BodyMotion::kStatic), Pose{Vec3(0, 0, -0.05), Quat::Identity()});
   const size_t base = world.Add(Link("arm/base", 1, Vec3::Zero(), Mat3::Identity() * 1e-3),
                                 Pose{Vec3(0, 0, 0.1), Quat::Identity()});
@@ -189,7 +122,7 @@ TEST(BulletEngineTest, PendulumPeriodMatchesTheClosedForm) {
   // A 1 kg bob (sphere inertia, r = 2 cm) 1 m below a y hinge, released at 60°: T = 4 √(I / (m g L)) K(sin 30°),
   // I = I_c + m L², from the θ = 0 crossings over 10 s (interpolated).
   const double m = 1, length = 1, radius = 0.02, theta0 = M_PI / 3;
-  World world;
+  World world(PhysicsEngineKind::kBullet);
   world.Add(Link("p/base", 1, Vec3::Zero(), Mat3::Identity() * 1e-3), Pose{Vec3(0, 0, 3), Quat::Identity()});
   world.Add(Link("p/bob", m, Vec3(0, 0, -length), Mat3::Identity() * 0.4 * m * radius * radius), Pose());
   world.model->joints.push_back(RobotJoint("p/hinge", JointType::kRevolute, "p/base", "p/bob", Pose(), Vec3::UnitY()));
@@ -223,8 +156,7 @@ TEST(BulletEngineTest, PendulumPeriodMatchesTheClosedForm) {
 // frame is turned onto its principal axes): a revolute shoulder, a prismatic slide, a fixed flange, a continuous
 // wrist, on a rotated base.
 World Arm(PhysicsEngineKind engine) {
-  World world;
-  world.model->simulation.engine = engine;
+  World world(engine);
   Mat3 upper_inertia, hand_inertia;
   upper_inertia << 0.03, 0.004, -0.002, 0.004, 0.02, 0.003, -0.002, 0.003, 0.01;
   hand_inertia << 0.004, -0.0005, 0.0008, -0.0005, 0.003, 0.0002, 0.0008, 0.0002, 0.002;
@@ -295,7 +227,7 @@ TEST(BulletEngineTest, MimicJointFollowsItsLeader) {
   // Two fingers on vertical slides, the second mimicking the first (−1, offset 1 cm); gravity pulls both down,
   // so the pair can only move by the first going down while the second goes up: it stays in balance — and an
   // initial velocity of the leader carries the follower along mirrored.
-  World world;
+  World world(PhysicsEngineKind::kBullet);
   world.model->simulation.gravity = Vec3(0, 0, -kG);
   world.Add(Link("g/base", 1, Vec3::Zero(), Mat3::Identity() * 1e-3), Pose{Vec3(0, 0, 1), Quat::Identity()});
   world.Add(Link("g/left", 0.1, Vec3::Zero(), Mat3::Identity() * 1e-5), Pose());
@@ -318,7 +250,7 @@ TEST(BulletEngineTest, MimicJointFollowsItsLeader) {
 }
 
 TEST(BulletEngineTest, DivergenceIsReportedAndLeavesTheStateAsItWas) {
-  World world;
+  World world(PhysicsEngineKind::kBullet);
   world.model->simulation.divergence_speed = 1;  // m/s: a fall of 0.11 s exceeds it
   world.Add(Sphere("ball", 0.05, 1.0), Pose{Vec3(0, 0, 10), Quat::Identity()});
   auto engine = world.Start();
@@ -335,7 +267,7 @@ TEST(BulletEngineTest, DivergenceIsReportedAndLeavesTheStateAsItWas) {
 }
 
 TEST(BulletEngineTest, TactilePadsAreRefused) {
-  World world;
+  World world(PhysicsEngineKind::kBullet);
   world.Add(Link("p/base", 1, Vec3::Zero(), Mat3::Identity() * 1e-3), Pose());
   world.AddRobot("p", 0, 0);
   TactileArraySpec pad;

@@ -1,0 +1,92 @@
+// Scenes built in code for the engine backend suites (physics/bullet_engine_test.cpp, physics/mujoco_engine_test.cpp):
+// bodies, links, box meshes and a World that collects them and starts an engine of a given kind.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "physics/engine.h"
+#include "world/model.h"
+#include "world/state.h"
+
+namespace graspsim::test_engines {
+
+// A free sphere of uniform density: inertia 2/5 m r² about each axis.
+inline BodySpec Sphere(const std::string& id, double radius, double mass) {
+  BodySpec body;
+  body.id = id;
+  body.motion = BodyMotion::kFree;
+  Geometry sphere;
+  sphere.kind = Geometry::Kind::kSphere;
+  sphere.radius = radius;
+  body.collision.push_back(sphere);
+  body.inertial.mass = mass;
+  body.inertial.inertia = Mat3::Identity() * (0.4 * mass * radius * radius);
+  return body;
+}
+
+// A robot link "<robot>/<name>" without geometry: mass, centre of mass and inertia about it (link frame).
+inline BodySpec Link(const std::string& id, double mass, const Vec3& com, const Mat3& inertia) {
+  BodySpec body;
+  body.id = id;
+  body.robot_id = id.substr(0, id.find('/'));
+  body.motion = BodyMotion::kArticulated;
+  body.inertial.mass = mass;
+  body.inertial.center_of_mass = com;
+  body.inertial.inertia = inertia;
+  return body;
+}
+
+// A closed box mesh centred on its frame (12 triangles, counter-clockwise from outside).
+inline std::shared_ptr<const TriangleMesh> BoxMesh(const Vec3& size) {
+  auto mesh = std::make_shared<TriangleMesh>();
+  for (int i = 0; i < 8; ++i) {
+    mesh->vertices.emplace_back(Eigen::Vector3f((i & 1 ? 0.5f : -0.5f) * static_cast<float>(size.x()),
+                                                (i & 2 ? 0.5f : -0.5f) * static_cast<float>(size.y()),
+                                                (i & 4 ? 0.5f : -0.5f) * static_cast<float>(size.z())));
+  }
+  mesh->triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
+
+// `body` with each of its boxes turned into the same box as a triangle mesh.
+inline BodySpec MeshBody(BodySpec body) {
+  for (Geometry& g : body.collision) {
+    g.mesh = BoxMesh(g.box_size);
+    g.kind = Geometry::Kind::kMesh;
+  }
+  return body;
+}
+
+// A scene model and its state, built body by body, run on the engine `kind`.
+struct World {
+  std::shared_ptr<SceneModel> model = std::make_shared<SceneModel>();
+  SceneState state;
+
+  explicit World(PhysicsEngineKind kind) { model->simulation.engine = kind; }
+  size_t Add(BodySpec body, const Pose& pose) {
+    model->bodies.push_back(std::move(body));
+    state.body_poses.push_back(pose);
+    return model->bodies.size() - 1;
+  }
+  // A robot of the bodies and joints added since `first_body` / `first_joint` (topological order).
+  void AddRobot(const std::string& id, size_t first_body, size_t first_joint) {
+    RobotSpec robot{id, "test", model->bodies[first_body].id, {}, {}, {}};
+    for (size_t i = first_body; i < model->bodies.size(); ++i) robot.body_ids.push_back(model->bodies[i].id);
+    for (size_t j = first_joint; j < model->joints.size(); ++j) robot.joint_ids.push_back(model->joints[j].id);
+    model->robots.push_back(robot);
+  }
+  // Indexes the model, places the links by forward kinematics and compiles the engine (state prepared for it).
+  std::shared_ptr<PhysicsEngine> Start() {
+    model->Reindex();
+    state.joint_positions.resize(model->joints.size(), 0);
+    for (size_t r = 0; r < model->robots.size(); ++r) UpdateRobotLinkPoses(*model, r, &state);
+    std::shared_ptr<PhysicsEngine> engine = MakePhysicsEngine(model);
+    engine->PrepareState(&state);
+    return engine;
+  }
+};
+
+}  // namespace graspsim::test_engines
