@@ -219,7 +219,7 @@ void MujocoEngine::Compile() {
   const SimulationParams& p = m.simulation;
   std::ostringstream world;
   world << std::setprecision(17);
-  // Every body is written with the pose it has at compile time' zero state; CopyIn places it from the state.
+  // Free and mocap bodies are written at the origin, links at their joints' zero: CopyIn places them all.
   std::map<size_t, std::vector<size_t>> children;  // robot links: parent body → joints to children
   for (size_t j = 0; j < m.joints.size(); ++j) children[m.joint_bodies[j][0]].push_back(j);
   std::ostringstream excludes;
