@@ -16,8 +16,7 @@ std::string EngineName(PhysicsEngineKind kind) {
   return "unknown";
 }
 
-void CheckEngineSupports(const SceneModel& model) {
-  const PhysicsEngineKind kind = model.simulation.engine;
+void CheckEngineSupports(const SceneModel& model, PhysicsEngineKind kind) {
   if (kind == PhysicsEngineKind::kGraspsim) return;
   // Tactile pads sense through graspsim's foam law at each sensing element; another engine's contacts are not
   // at the elements.
@@ -29,8 +28,17 @@ void CheckEngineSupports(const SceneModel& model) {
   }
 }
 
+void PrepareStateWithoutExtras(const SceneModel& model, SceneState* state) {
+  state->body_velocities.resize(model.bodies.size());
+  state->joint_velocities.resize(model.joints.size(), 0);
+  state->sleeping.assign(model.bodies.size(), false);
+  state->rest_time.resize(model.bodies.size(), 0);
+  state->joint_wrenches.resize(model.joints.size(), {Vec3::Zero(), Vec3::Zero()});
+  state->pad_forces.clear();
+}
+
 std::shared_ptr<PhysicsEngine> MakePhysicsEngine(std::shared_ptr<const SceneModel> model) {
-  CheckEngineSupports(*model);
+  CheckEngineSupports(*model, model->simulation.engine);
   if (model->simulation.engine == PhysicsEngineKind::kMujoco) return MakeMujocoEngine(std::move(model));
   if (model->simulation.engine == PhysicsEngineKind::kBullet) return MakeBulletEngine(std::move(model));
   return std::make_shared<Simulation>(std::move(model));

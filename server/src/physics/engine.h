@@ -42,9 +42,12 @@ class PhysicsEngine {
 // "graspsim", "mujoco", "bullet".
 std::string EngineName(PhysicsEngineKind kind);
 
-// Throws Error(kFailedPrecondition) naming the first capability of `model` its engine (model.simulation.engine)
-// lacks.
-void CheckEngineSupports(const SceneModel& model);
+// Throws Error(kFailedPrecondition) naming the first capability of `model` that engine `kind` lacks.
+void CheckEngineSupports(const SceneModel& model, PhysicsEngineKind kind);
+
+// Sizes a state for an engine that keeps no sleep, pad or joint-wrench state of its own (MuJoCo, Bullet): those
+// read as awake, empty and zero.
+void PrepareStateWithoutExtras(const SceneModel& model, SceneState* state);
 
 // The engine model.simulation.engine names, compiled for `model` (CheckEngineSupports first).
 std::shared_ptr<PhysicsEngine> MakePhysicsEngine(std::shared_ptr<const SceneModel> model);

@@ -78,12 +78,7 @@ class MujocoEngine : public PhysicsEngine {
   const SceneModel& model() const override { return *model_; }
 
   void PrepareState(SceneState* state) const override {
-    state->body_velocities.resize(model_->bodies.size());
-    state->joint_velocities.resize(model_->joints.size(), 0);
-    state->sleeping.assign(model_->bodies.size(), false);
-    state->rest_time.resize(model_->bodies.size(), 0);
-    state->joint_wrenches.resize(model_->joints.size(), {Vec3::Zero(), Vec3::Zero()});
-    state->pad_forces.clear();
+    PrepareStateWithoutExtras(*model_, state);
   }
 
   StepStats Step(SceneState* state, int steps) override {

@@ -141,10 +141,7 @@ void Simulation::SubStep(SceneState* state, double h) {
     FindContacts(state);
     Forces& second = forces_at_end_;
     ContactForces(*state, v_half, h, &second);
-    second.actuators = forces.actuators;
-    second.actuator_damping = forces.actuator_damping;
-    second.actuator_stiffness = forces.actuator_stiffness;
-    second.tau += forces.actuators;
+    HoldDrives(forces, &second);
     // The bias forces (Coriolis, centrifugal, gyroscopic) depend on the velocity: taken at v_half, the second
     // kick makes the step first order (issue 21: a double pendulum gained 1.9 % energy in 10 s at 1 ms, a box
     // spun near its middle axis lost 0.5 % of its angular momentum). A fixed point takes them at the step's end
@@ -178,6 +175,15 @@ void Simulation::SubStep(SceneState* state, double h) {
   UpdateSleep(state, h);
 }
 
+void Simulation::HoldDrives(const Forces& first, Forces* later) {
+  // A later evaluation in the sub-step keeps the drives' first force and linearisation: the motors' electrical
+  // state advances once per sub-step (ActuatorForces).
+  later->actuators = first.actuators;
+  later->actuator_damping = first.actuator_damping;
+  later->actuator_stiffness = first.actuator_stiffness;
+  later->tau += first.actuators;
+}
+
 void Simulation::RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* state) {
   // The classic fourth-order Runge–Kutta step on (q, v): stage k sits at q0 + c_k h v_{k−1} (on the configuration
   // manifold, from the step's start, as MuJoCo's RK4 does) with velocity v0 + c_k Δv_{k−1}, c = (½, ½, 1); the step
@@ -197,10 +203,7 @@ void Simulation::RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* sta
     FindContacts(state);
     Forces& stage = forces_at_end_;
     ContactForces(*state, v_k, h, &stage);
-    stage.actuators = first.actuators;
-    stage.actuator_damping = first.actuator_damping;
-    stage.actuator_stiffness = first.actuator_stiffness;
-    stage.tau += first.actuators;
+    HoldDrives(first, &stage);
     dv = SolveVelocityChange(*state, v_k, stage, h, &v_k);
     v_sum += weight * v_k;
     dv_sum += weight * dv;

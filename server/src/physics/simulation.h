@@ -70,6 +70,7 @@ class Simulation : public PhysicsEngine {
   // The stages of one sub-step, in order.
   void SubStep(SceneState* state, double h);
   void RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* state);
+  static void HoldDrives(const Forces& first, Forces* later);
   void FindContacts(SceneState* state);
   void AddPadContacts(const SceneState& state);
   void RecordPadForces(SceneState* state) const;

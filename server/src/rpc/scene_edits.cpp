@@ -139,9 +139,7 @@ void SetSimulationParamsFromRequest(Scene* scene, const v1::SetSimulationParamsR
                                     v1::SimulationParams* response) {
   const SimulationParams params = SimulationParamsFromProto("params", request.params(), SimulationParams());
   ValidateSimulationParams(params);
-  SceneModel next = *scene->View().model;  // the engine must simulate what the scene holds
-  next.simulation = params;
-  CheckEngineSupports(next);
+  CheckEngineSupports(*scene->View().model, params.engine);  // the engine must simulate what the scene holds
   const SceneOp op = OpOf("SetSimulationParams", request);
   scene->SetSimulationParams(params, &op);
   if (response) ToProto(params, response);
