@@ -58,15 +58,26 @@ struct Pad {
   Aabb foam;                   // pad frame: every element's segment
 };
 
+// A segment direction d with its componentwise inverse: a pad's elements mostly share their normal, so the slab
+// test's divisions are done once per normal, not once per element.
+struct Direction {
+  Vec3 d = Vec3::Zero(), inverse = Vec3::Zero();
+  void Set(const Vec3& direction) {
+    d = direction;
+    for (int k = 0; k < 3; ++k) inverse[k] = d[k] == 0 ? 0.0 : 1 / d[k];
+  }
+};
+
 // Does the segment o + t d, 0 <= t <= length, meet the box? (slab test) *entry: the smallest such t.
-bool SegmentMeetsBox(const Vec3& o, const Vec3& d, double length, const Aabb& box, double* entry = nullptr) {
+bool SegmentMeetsBox(const Vec3& o, const Direction& direction, double length, const Aabb& box,
+                     double* entry = nullptr) {
   double lo = 0, hi = length;
   for (int k = 0; k < 3; ++k) {
-    if (d[k] == 0) {
+    if (direction.d[k] == 0) {
       if (o[k] < box.lo[k] || o[k] > box.hi[k]) return false;
       continue;
     }
-    double t0 = (box.lo[k] - o[k]) / d[k], t1 = (box.hi[k] - o[k]) / d[k];
+    double t0 = (box.lo[k] - o[k]) * direction.inverse[k], t1 = (box.hi[k] - o[k]) * direction.inverse[k];
     if (t0 > t1) std::swap(t0, t1);
     lo = std::max(lo, t0);
     hi = std::min(hi, t1);
@@ -185,12 +196,17 @@ void TactileRayCaster::Impl::CastAtBox(const Pad& pad, const Target& target, con
   // The same answers as the Embree path: a base inside the box is fully compressed (t = 0); otherwise the
   // segment's entry into the box, if it lies within the foam.
   const Mat3 rotation = to_box.orientation.toRotationMatrix();
+  Direction direction;
+  const Vec3* normal = nullptr;  // the pad-frame normal `direction` was made from
   for (uint32_t e = 0; e < pad.elements.size(); ++e) {
     const Vec3 o = rotation * pad.elements[e].position + to_box.position;
-    const Vec3 d = rotation * pad.elements[e].normal;
+    if (normal == nullptr || pad.elements[e].normal != *normal) {
+      normal = &pad.elements[e].normal;
+      direction.Set(rotation * *normal);
+    }
     const bool inside = Contains(target.box_extent, o);
     double entry = 0;  // ≥ 0: the depth is at most the thickness
-    if (!inside && !SegmentMeetsBox(o, d, pad.thickness, target.box_extent, &entry)) continue;
+    if (!inside && !SegmentMeetsBox(o, direction, pad.thickness, target.box_extent, &entry)) continue;
     ++ray_count;
     const double depth = inside ? pad.thickness : pad.thickness - entry;
     if (depth > 0) KeepDeepest(e, depth, inside ? 0.0 : entry, b);
@@ -356,12 +372,18 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
       const Pose to_body = body_poses[b].Inverse() * pad_world;
       const Mat3 rotation = to_body.orientation.toRotationMatrix();
       const float segment_end = std::nextafter(static_cast<float>(pad.thickness), kInfinity);
+      Direction direction;
+      const Vec3* normal = nullptr;  // the pad-frame normal `direction` was made from
       uint32_t count = 0;
       for (uint32_t e = 0; e < n; ++e) {
         const Vec3 o = rotation * pad.elements[e].position + to_body.position;
-        const Vec3 d = rotation * pad.elements[e].normal;
+        if (normal == nullptr || pad.elements[e].normal != *normal) {
+          normal = &pad.elements[e].normal;
+          direction.Set(rotation * *normal);
+        }
+        const Vec3& d = direction.d;
         // A segment that misses the body's box can neither enter it nor start inside it: no ray.
-        if (!SegmentMeetsBox(o, d, pad.thickness, target.bounds)) continue;
+        if (!SegmentMeetsBox(o, direction, pad.thickness, target.bounds)) continue;
         const bool inside = Contains(target.bounds, o);
         m.from_inside[count] = inside;
         RTCRayHit& rh = m.rays[count++];

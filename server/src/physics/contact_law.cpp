@@ -24,12 +24,15 @@ double StaticLimit(const ContactParams& params, double normal_force) {
   return n * std::max(params.dynamic_friction, params.static_friction);
 }
 
-// z in the tangent plane of `normal`, no longer than `limit` (a bristle cannot store more than the static
-// friction).
-Vec3 ProjectBristle(const Vec3& normal, const Vec3& bristle, double limit) {
+// z in the tangent plane of `normal`, no longer than static_force / σ0 (a bristle cannot store more than the
+// static friction). Compared squared and scaled by σ0 so the common case, a bristle within its limit, takes no
+// division or square root.
+Vec3 ProjectBristle(const Vec3& normal, const Vec3& bristle, double static_force, double sigma0) {
   Vec3 z = bristle - bristle.dot(normal) * normal;
   const double length2 = z.squaredNorm();
-  if (length2 > limit * limit) z *= limit / std::sqrt(length2);  // limit ≥ 0; length > 0 here
+  if (length2 * sigma0 * sigma0 > static_force * static_force) {
+    z *= static_force / (sigma0 * std::sqrt(length2));  // static_force ≥ 0; length > 0 here
+  }
   return z;
 }
 
@@ -49,25 +52,22 @@ struct ExpMinusOne {
   }
 };
 
-// exp(−v²/v_s²), the Stribeck hump; v_s ≤ 0 would be a drop of zero width: 1 at rest only.
-double Hump(const ContactParams& params, double slip_speed) {
+// exp(−v²/v_s²), the Stribeck hump, from the squared slip speed (so the division need not wait for a square
+// root); v_s ≤ 0 would be a drop of zero width: 1 at rest only.
+double Hump(const ContactParams& params, double slip_speed2) {
   const double vs = params.stribeck_velocity;
-  return vs > 0 ? 1 + ExpMinusOne(-(slip_speed * slip_speed) / (vs * vs)).value : (slip_speed == 0 ? 1.0 : 0.0);
+  return vs > 0 ? 1 + ExpMinusOne(-slip_speed2 / (vs * vs)).value : (slip_speed2 == 0 ? 1.0 : 0.0);
 }
 
-double Stribeck(const ContactParams& params, double normal_force, double hump) {
-  const double n = std::abs(normal_force);
-  return n * params.dynamic_friction + n * (params.static_friction - params.dynamic_friction) * hump;
+// g / |F_n|: the friction coefficient in effect at this point of the Stribeck curve.
+double EffectiveFriction(const ContactParams& params, double hump) {
+  return params.dynamic_friction + (params.static_friction - params.dynamic_friction) * hump;
 }
 
-}  // namespace
-
-double StribeckLimit(const ContactParams& params, double normal_force, double slip_speed) {
-  return Stribeck(params, normal_force, Hump(params, std::abs(slip_speed)));
-}
-
-ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
-                             const Vec3& bristle, double dt) {
+// The law at one point; inlined into the batch loop, which is what lets consecutive contacts' divisions and
+// square roots overlap.
+[[gnu::always_inline]] inline ContactForce Law(const ContactParams& params, double depth, const Vec3& normal,
+                                               const Vec3& relative_velocity, const Vec3& bristle, double dt) {
   ContactForce out;
   out.normal = normal;
   if (!(depth > 0)) return out;  // not touching (or a NaN depth): no force at all
@@ -86,16 +86,17 @@ ContactForce EvaluateContact(const ContactParams& params, double depth, const Ve
   if (!params.HasFriction()) return out;
 
   const Vec3 slip = relative_velocity - normal_speed * normal;
-  const double speed = slip.norm();
-  const double hump = Hump(params, speed);
-  const double g = Stribeck(params, out.normal_force, hump);
+  const double speed2 = slip.squaredNorm(), speed = std::sqrt(speed2);
+  const double hump = Hump(params, speed2);
+  const double mu = EffectiveFriction(params, hump), g = out.normal_force * mu;
   // g = 0: nothing presses the surfaces together, so nothing can carry friction. ż is reported as 0 rather
   // than the −∞ · z of the formula; AdvanceBristle drops the deflection.
   if (!(g > 0)) return out;
 
   const double sigma0 = params.bristle_stiffness;
-  const Vec3 z = ProjectBristle(normal, bristle, StaticLimit(params, out.normal_force) / sigma0);
-  const double relax = sigma0 * speed / g;  // −a of the bristle equation ż = v + a z
+  const Vec3 z = ProjectBristle(normal, bristle, StaticLimit(params, out.normal_force), sigma0);
+  const double relax_per_speed = sigma0 / g;      // −a/|v| of the bristle equation ż = v + a z
+  const double relax = relax_per_speed * speed;
   const Vec3 z_rate = slip - relax * z;
   out.bristle_rate = z_rate;
   const double sigma1 = params.stribeck_velocity > 0 ? params.bristle_damping * hump : 0.0;
@@ -121,42 +122,75 @@ ContactForce EvaluateContact(const ContactParams& params, double depth, const Ve
   out.k_iso = -tangential_stiffness;
   out.k_normal += tangential_stiffness;
   if (speed > 0) {
-    const double inverse_speed = 1 / speed;
-    out.slip_direction = slip * inverse_speed;
-    const double stick = std::clamp(1 - relax * inverse_speed * z.dot(out.slip_direction), 0.0, 1.0);
+    out.slip_direction = slip * (1 / speed);
+    const double stick = std::clamp(1 - relax_per_speed * z.dot(out.slip_direction), 0.0, 1.0);
     out.k_slip = tangential_stiffness * (1 - stick);
-    // F_t = −g(F_n) ŝ where it slides, g/F_n the effective μ: ∂F_t/∂δ = −(g/F_n) ŝ ∂F_n/∂δ = (g/F_n) k ŝ nᵀ.
-    if (out.normal_force > 0) {
-      const double coupling = (1 - stick) * g / out.normal_force;
-      out.k_slip_normal = coupling * params.stiffness;
-      out.d_slip_normal = coupling * params.damping;
-    }
+    // F_t = −g(F_n) ŝ where it slides, g/F_n = μ the effective coefficient: ∂F_t/∂δ = −μ ŝ ∂F_n/∂δ = μ k ŝ nᵀ
+    // (F_n > 0 here, since g > 0).
+    const double coupling = (1 - stick) * mu;
+    out.k_slip_normal = coupling * params.stiffness;
+    out.d_slip_normal = coupling * params.damping;
   }
   return out;
 }
 
-Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
-                    const Vec3& bristle, double dt) {
+[[gnu::always_inline]] inline Vec3 Advance(const ContactParams& params, double normal_force, const Vec3& normal,
+                                            const Vec3& slip_velocity, const Vec3& bristle, double dt) {
   if (!params.HasFriction()) return Vec3::Zero();
   const Vec3 slip = slip_velocity - slip_velocity.dot(normal) * normal;
-  const double speed = slip.norm();
-  const double g = StribeckLimit(params, normal_force, speed);
+  const double speed2 = slip.squaredNorm();
+  const double g = std::abs(normal_force) * EffectiveFriction(params, Hump(params, speed2));
   if (!(g > 0)) return Vec3::Zero();  // no normal force: the bristles let go (a → −∞ in the update below)
   const double sigma0 = params.bristle_stiffness;
-  const double cap = StaticLimit(params, normal_force) / sigma0;
-  const Vec3 z = ProjectBristle(normal, bristle, cap);
-  if (speed == 0 || !(dt > 0)) return z;
+  const Vec3 z = ProjectBristle(normal, bristle, StaticLimit(params, normal_force), sigma0);
+  if (speed2 == 0 || !(dt > 0)) return z;
 
   // ż = v + a z with v and a = −σ0|v|/g constant over the step: z⁺ = e^{a dt} z + (e^{a dt} − 1)/a · v
   //    = e^{a dt} z + (1 − e^{a dt}) z_ss,  z_ss = g/σ0 · v/|v|,
   // a convex combination of z and the steady state, so no dt can overshoot (explicit Euler's factor 1 + a dt
   // leaves [−1, 1] once dt > 2g/(σ0|v|)). expm1 keeps (e^{a dt} − 1)/a accurate when a dt → 0; a dt = −∞
   // (g underflowing) gives z⁺ = 0, the relaxed bristle.
-  const double x = -sigma0 * speed / g * dt;  // a dt
-  const ExpMinusOne grown(x);                   // e^{a dt} − 1, and over a dt
+  const double x = -sigma0 * std::sqrt(speed2) / g * dt;  // a dt
+  const ExpMinusOne grown(x);                              // e^{a dt} − 1, and over a dt
   // No projection afterwards: a convex combination of a capped z and z_ss (|z_ss| = g/σ0 ≤ the cap), both in the
   // tangent plane, stays capped and tangent up to rounding, and the next evaluation projects anyway.
   return (1 + grown.value) * z + (dt * grown.over_x) * slip;
+}
+
+}  // namespace
+
+double StribeckLimit(const ContactParams& params, double normal_force, double slip_speed) {
+  return std::abs(normal_force) * EffectiveFriction(params, Hump(params, slip_speed * slip_speed));
+}
+
+ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
+                             const Vec3& bristle, double dt) {
+  return Law(params, depth, normal, relative_velocity, bristle, dt);
+}
+
+void EvaluateContacts(std::span<const ContactParams> params, std::span<const ContactSample> samples, double dt,
+                      std::vector<ContactForce>* out) {
+  out->resize(samples.size());
+  ContactForce* forces = out->data();
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const ContactSample& s = samples[i];
+    forces[i] = Law(params[i], s.depth, s.normal, s.relative_velocity, s.bristle, dt);
+  }
+}
+
+Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
+                    const Vec3& bristle, double dt) {
+  return Advance(params, normal_force, normal, slip_velocity, bristle, dt);
+}
+
+void AdvanceBristles(std::span<const ContactParams> params, std::span<const BristleSample> samples, double dt,
+                     std::vector<Vec3>* out) {
+  out->resize(samples.size());
+  Vec3* bristles = out->data();
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const BristleSample& s = samples[i];
+    bristles[i] = Advance(params[i], s.normal_force, s.normal, s.slip_velocity, s.bristle, dt);
+  }
 }
 
 ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b) {

@@ -14,6 +14,9 @@
 // |F_t| = g(v) + c_t |v|: the Stribeck curve. z lives in the tangent plane (world frame).
 #pragma once
 
+#include <span>
+#include <vector>
+
 #include "core/math.h"
 #include "world/simulation_params.h"
 
@@ -53,11 +56,34 @@ double StribeckLimit(const ContactParams& params, double normal_force, double sl
 ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
                              const Vec3& bristle, double dt = 0);
 
+// One contact point's inputs to the law, for the batch form.
+struct ContactSample {
+  double depth = 0;
+  Vec3 normal = Vec3::Zero(), relative_velocity = Vec3::Zero(), bristle = Vec3::Zero();
+};
+
+// EvaluateContact at every sample (params[i] for samples[i]), into *out resized to match: the same arithmetic in
+// one tight loop, so the divisions and square roots of consecutive contacts overlap instead of each contact
+// waiting for the last one's.
+void EvaluateContacts(std::span<const ContactParams> params, std::span<const ContactSample> samples, double dt,
+                      std::vector<ContactForce>* out);
+
 // The bristle deflection after dt with the slip velocity held constant over the step, integrated exactly:
 // z⁺ = e^{aΔt} z + (e^{aΔt} - 1)/a · v_t with a = -σ0|v_t|/g (and z⁺ = z + Δt v_t when a = 0). Stable for any
 // dt. The result is projected onto the tangent plane of `normal`.
 Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
                     const Vec3& bristle, double dt);
+
+// One contact point's inputs to the bristle update, for the batch form.
+struct BristleSample {
+  double normal_force = 0;
+  Vec3 normal = Vec3::Zero(), slip_velocity = Vec3::Zero(), bristle = Vec3::Zero();
+};
+
+// AdvanceBristle at every sample (params[i] for samples[i]) into *out resized to match, in one tight loop as
+// EvaluateContacts.
+void AdvanceBristles(std::span<const ContactParams> params, std::span<const BristleSample> samples, double dt,
+                     std::vector<Vec3>* out);
 
 // Combines two bodies' materials into the parameters of their contact (documented in the implementation).
 ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b);

@@ -58,11 +58,13 @@ void AddRankOne(const Vec3& point, const Vec3& direction, double beta, Mat6* A) 
   A->noalias() += (beta * w) * w.transpose();
 }
 
-// A += β w_u w_vᵀ: the image of the non-symmetric rank-one term β u vᵀ at point p.
-void AddRankOne(const Vec3& point, const Vec3& u, const Vec3& v, double beta, Mat6* A) {
-  if (beta == 0) return;
-  const Vec6 wu = Stack(point.cross(u), u), wv = Stack(point.cross(v), v);
-  A->noalias() += (beta * wu) * wv.transpose();
+// A += w_s (β_s w_s + β_n w_n)ᵀ: the images of the slip terms β_s ŝ ŝᵀ and (non-symmetric) β_n ŝ nᵀ at point p,
+// as one rank-one update.
+void AddSlipTerms(const Vec3& point, const Vec3& slip, const Vec3& normal, double beta_slip, double beta_normal,
+                  Mat6* A) {
+  if (beta_slip == 0 && beta_normal == 0) return;
+  const Vec6 ws = Stack(point.cross(slip), slip), wn = Stack(point.cross(normal), normal);
+  A->noalias() += ws * (beta_slip * ws + beta_normal * wn).transpose();
 }
 
 }  // namespace
@@ -139,19 +141,35 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   forces->bristle.resize(n);
   forces->pair_jacobians.clear();
   forces_.resize(n);
-  // Pair by pair: each contact's force becomes a wrench about the world origin, [p × f; f]; its linearisation
-  // (h D + h² K, in the scalar form of ContactForce) becomes the 6 × 6 block Eᵀ (h D + h² K) E with
-  // E(p) = [−[p]×, 1], summed as moments where terms share their shape and as rank-one updates otherwise; only
-  // the pair's sums meet the nv-sized Jacobian (nv² work per pair instead of per contact).
+  // Three passes. First the pairs' relative Jacobians and each contact's relative velocity and bristle; then the
+  // law at every contact in one batch (physics/contact_law.h); then pair by pair each contact's force becomes a
+  // wrench about the world origin, [p × f; f], and its linearisation (h D + h² K, in the scalar form of
+  // ContactForce) the 6 × 6 block Eᵀ (h D + h² K) E with E(p) = [−[p]×, 1], summed as moments where terms share
+  // their shape and as rank-one updates otherwise; only the pair's sums meet the nv-sized Jacobian (nv² work per
+  // pair instead of per contact).
+  samples_.resize(n);
+  twists_.clear();
   size_t cursor = 0;  // into state.bristles, which is in the contacts' order
   for (size_t begin = 0; begin < n;) {
     const uint32_t a = contacts_[begin].body_a, b = contacts_[begin].body_b;
-    size_t end = begin;
-    while (end < n && contacts_[end].body_a == a && contacts_[end].body_b == b) ++end;
     const size_t pair = forces->pair_jacobians.size();
-    const Multibody::SpatialJacobian& W = forces->pair_jacobians.emplace_back(
-        multibody_.BodyJacobian(state, a) - multibody_.BodyJacobian(state, b));
-    const Vec6 twist = W * v;
+    const Vec6& twist = twists_.emplace_back(
+        forces->pair_jacobians.emplace_back(multibody_.BodyJacobian(state, a) - multibody_.BodyJacobian(state, b)) * v);
+    size_t end = begin;
+    for (; end < n && contacts_[end].body_a == a && contacts_[end].body_b == b; ++end) {
+      const ContactPoint& c = contacts_[end];
+      const Vec3 z = forces->bristle[end] = BristleAt(state.bristles, ContactKey{a, b, c.feature}, &cursor);
+      samples_[end] = {c.depth, c.normal, twist.tail<3>() + twist.head<3>().cross(c.point), z};
+      forces->contact_pair[end] = pair;
+    }
+    begin = end;
+  }
+  EvaluateContacts(contact_params_, samples_, h, &laws_);
+  for (size_t begin = 0; begin < n;) {
+    const size_t pair = forces->contact_pair[begin];
+    size_t end = begin;
+    while (end < n && forces->contact_pair[end] == pair) ++end;
+    const Multibody::SpatialJacobian& W = forces->pair_jacobians[pair];
     Vec3 force_sum = Vec3::Zero(), moment_sum = Vec3::Zero();
     Mat6 block = Mat6::Zero();
     Vec6 stiffness_twist = Vec6::Zero();  // Σ Eᵀ K (E twist), for h² K v
@@ -161,11 +179,8 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     const Vec3 shared_normal = contacts_[begin].normal;
     for (size_t i = begin; i < end; ++i) {
       const ContactPoint& c = contacts_[i];
-      const Vec3 z = forces->bristle[i] = BristleAt(state.bristles, ContactKey{a, b, c.feature}, &cursor);
-      const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
-      const ContactForce f = EvaluateContact(contact_params_[i], c.depth, c.normal, relative, z, h);
+      const ContactForce& f = laws_[i];
       forces->normal_force[i] = f.normal_force;
-      forces->contact_pair[i] = pair;
       forces_[i] = f.force;
       force_sum += f.force;
       moment_sum += c.point.cross(f.force);
@@ -177,8 +192,9 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
       } else {
         AddRankOne(c.point, c.normal, along, &block);
       }
-      AddRankOne(c.point, f.slip_direction, h * h * f.k_slip, &block);
-      AddRankOne(c.point, f.slip_direction, c.normal, h * f.d_slip_normal + h * h * f.k_slip_normal, &block);
+      AddSlipTerms(c.point, f.slip_direction, c.normal, h * h * f.k_slip,
+                   h * f.d_slip_normal + h * h * f.k_slip_normal, &block);
+      const Vec3& relative = samples_[i].relative_velocity;
       const Vec3 k_relative = f.k_iso * relative + f.k_normal * c.normal.dot(relative) * c.normal +
                               (f.k_slip * f.slip_direction.dot(relative) + f.k_slip_normal * c.normal.dot(relative)) *
                                   f.slip_direction;
@@ -186,34 +202,35 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
       stiffness_twist.tail<3>() += k_relative;
     }
     forces->tau.noalias() += W.transpose() * Stack(moment_sum, force_sum);
-    if (!linearize) {
-      begin = end;
-      continue;
+    if (linearize) {
+      isotropic.AddIsotropicTo(&block);
+      along_normal.AddAlongTo(shared_normal, &block);
+      forces->contact_matrix.noalias() += W.transpose() * (block * W);
+      forces->contact_rhs.noalias() += (h * h) * (W.transpose() * stiffness_twist);
     }
-    isotropic.AddIsotropicTo(&block);
-    along_normal.AddAlongTo(shared_normal, &block);
-    forces->contact_matrix.noalias() += W.transpose() * (block * W);
-    forces->contact_rhs.noalias() += (h * h) * (W.transpose() * stiffness_twist);
     begin = end;
   }
 }
 
 void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) {
-  // The exact LuGre update, with the slip velocity the friction force was evaluated with. Contacts that ended
-  // drop their bristle state; frictionless contacts never get one. Built in the contacts' (sorted) order into
-  // the previous step's buffer.
-  std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
-  bristles.clear();
+  // The exact LuGre update, with the slip velocity the friction force was evaluated with, in one batch
+  // (physics/contact_law.h). Contacts that ended drop their bristle state; frictionless contacts never get one.
+  // Built in the contacts' (sorted) order into the previous step's buffer.
   twists_.clear();
   for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists_.push_back(W * v);
+  bristle_samples_.resize(contacts_.size());
   for (size_t i = 0; i < contacts_.size(); ++i) {
     const ContactPoint& c = contacts_[i];
-    const ContactParams& params = contact_params_[i];
-    if (!params.HasFriction()) continue;
     const Vec6& twist = twists_[forces.contact_pair[i]];
-    const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
-    bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature},
-                          AdvanceBristle(params, forces.normal_force[i], c.normal, relative, forces.bristle[i], h));
+    bristle_samples_[i] = {forces.normal_force[i], c.normal, twist.tail<3>() + twist.head<3>().cross(c.point),
+                           forces.bristle[i]};
+  }
+  graspsim::AdvanceBristles(contact_params_, bristle_samples_, h, &advanced_);
+  std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
+  bristles.clear();
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    const ContactPoint& c = contacts_[i];
+    if (contact_params_[i].HasFriction()) bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature}, advanced_[i]);
   }
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   if (!std::is_sorted(bristles.begin(), bristles.end(), by_key)) std::sort(bristles.begin(), bristles.end(), by_key);
