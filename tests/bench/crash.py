@@ -26,6 +26,7 @@ import time
 from pathlib import Path
 
 import graspsim
+from graspsim import meshes
 
 from _harness import SERVER_BIN, log
 
@@ -50,20 +51,20 @@ ARM_URDF = """<?xml version="1.0"?>
     <limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
 </robot>
 """
-PG70_LINKS = 0  # links of the built-in PG70, learnt once from the server (run())
+PG70_LINKS = 0  # links of the built-in PG70, learnt once from the server (learn_pg70())
 
 
 class ServerProcess:
     """graspsim-server on a free port and a given data directory; killed with SIGKILL, stopped with SIGTERM."""
 
-    def __init__(self, data_dir: str, log_path: Path):
+    def __init__(self, data_dir: str, log_path: Path, env=None):
         self.log_path = log_path
         offset = log_path.stat().st_size if log_path.exists() else 0
         started = time.perf_counter()
         with open(log_path, "ab") as out:
             self.process = subprocess.Popen([str(SERVER_BIN), "--listen=127.0.0.1:0", "--http-listen=off",
                                              f"--data-dir={data_dir}", "--log-level=info"],
-                                            stdout=out, stderr=subprocess.STDOUT)
+                                            stdout=out, stderr=subprocess.STDOUT, env=env)
         deadline = time.monotonic() + START_TIMEOUT_S
         while True:
             text = log_path.read_bytes()[offset:].decode(errors="replace")
@@ -234,6 +235,56 @@ class Worker(threading.Thread):
         self.acked(scene, "delete")
 
 
+class GraspPlanner(threading.Thread):
+    """Plans one grasp set (the PG70 on a box of a new size, ~1 s) while the workers write: grasp sets have a store
+    of their own (server/src/grasp/store.cpp), counted apart (grasp_sets_lost)."""
+
+    def __init__(self, address: str, rng: random.Random, grasp_sets: list, stats: dict):
+        super().__init__(daemon=True)
+        self.address, self.size, self.grasp_sets, self.stats = address, round(rng.uniform(0.04, 0.06), 6), grasp_sets, stats
+        self.stop_flag = False
+
+    def run(self):
+        try:
+            with graspsim.connect(self.address, call_timeout=60) as client:
+                set_id = client.plan_grasps("schunk_pg70", mesh=meshes.box_mesh((self.size, 0.05, 0.06)),
+                                            spacing=0.03, progress=False).set_id
+            self.grasp_sets.append(set_id)
+            self.stats["grasp_set"] = self.stats.get("grasp_set", 0) + 1
+        except Exception:  # noqa: BLE001 (the server died first: never acknowledged)
+            pass
+
+
+class Load:
+    """One iteration's clients: THREADS workers, each on its own scenes, and one grasp set planned meanwhile."""
+
+    def __init__(self, address: str, rng: random.Random, scenes: list, grasp_sets: list, stats: dict):
+        self.threads = [Worker(i, address, random.Random(rng.getrandbits(64)), scenes[i], stats)
+                        for i in range(THREADS)]
+        self.threads.append(GraspPlanner(address, rng, grasp_sets, stats))
+        for thread in self.threads:
+            thread.start()
+
+    def stop(self):  # once the server is dead
+        for thread in self.threads:
+            thread.stop_flag = True
+        for thread in self.threads:
+            thread.join(60)
+
+
+def check(client, scenes: list, grasp_sets: list, counts: dict) -> None:
+    """verify() for each thread's scenes; then every acknowledged grasp set must be there (a lost one is counted
+    once in grasp_sets_lost and forgotten)."""
+    for thread_scenes in scenes:
+        verify(client, thread_scenes, counts)
+    for set_id in list(grasp_sets):
+        try:
+            client.get_grasp_set(set_id)
+        except graspsim.NotFound:
+            counts["grasp_sets_lost"] = counts.get("grasp_sets_lost", 0) + 1
+            grasp_sets.remove(set_id)
+
+
 def verify(client, scenes, counts) -> None:
     """Compares the restarted server with what the threads know; counts lost and partial writes; then takes
     what the server shows as the new acknowledged state (an in-flight write that landed is now simply there)."""
@@ -247,6 +298,9 @@ def verify(client, scenes, counts) -> None:
         counts["partial_visible"] += 1
         log(f"PARTIAL: {what}")
 
+    def unacknowledged():  # the write in flight landed: allowed, counted to show the cut can fall after a commit
+        counts["unacknowledged_seen"] = counts.get("unacknowledged_seen", 0) + 1
+
     for scene in scenes:
         pending_kind, detail = scene.pending or (None, None)
         scene.pending = None
@@ -257,6 +311,7 @@ def verify(client, scenes, counts) -> None:
             scene.deleted = not ids
             if not ids:
                 continue
+            unacknowledged()
         if scene.deleted:
             if scene.id in by_id:
                 lost(f"{scene.id} deleted, but back after the restart")
@@ -264,6 +319,7 @@ def verify(client, scenes, counts) -> None:
         if scene.id not in by_id:
             if pending_kind == "delete":
                 scene.deleted = True
+                unacknowledged()
             else:
                 lost(f"{scene.id} ({scene.name}) is gone")
                 scene.deleted = True
@@ -284,6 +340,7 @@ def verify(client, scenes, counts) -> None:
                 continue
             if pending_kind == "upload" and detail == (path, entry):
                 scene.files[path] = entry
+                unacknowledged()
             else:
                 partial(f"{scene.id}: file {path} {entry} was never sent whole")
         # Objects and robots.
@@ -291,10 +348,14 @@ def verify(client, scenes, counts) -> None:
         robots = {r.id: r for r in view.robots}
         objects = {b for b in bodies if "/" not in b}
         for name in scene.objects - objects:
-            if not (pending_kind == "remove" and detail == name):
+            if pending_kind == "remove" and detail == name:
+                unacknowledged()
+            else:
                 lost(f"{scene.id}: object {name} is gone")
         for name in objects - scene.objects:
-            if not (pending_kind == "object" and detail == name):
+            if pending_kind == "object" and detail == name:
+                unacknowledged()
+            else:
                 partial(f"{scene.id}: object {name} was never added")
         scene.objects = objects
         for name, links in list(scene.robots.items()):
@@ -307,6 +368,7 @@ def verify(client, scenes, counts) -> None:
                 if pending_kind == "robot" and detail[0] == name:
                     expected = detail[1]
                     scene.robots[name] = expected
+                    unacknowledged()
                 else:
                     partial(f"{scene.id}: robot {name} was never added")
                     continue
@@ -324,6 +386,8 @@ def verify(client, scenes, counts) -> None:
                 allowed.add(detail)
             if x1 not in allowed:
                 lost(f"{scene.id}: p1.x {x1}, acknowledged {scene.pose_x}")
+            elif x1 != (scene.pose_x or 0.0):
+                unacknowledged()
             scene.pose_x = x1
         if scene.kind == "edit" and "arm2" in robots:
             joints = client.get_joint_positions(scene.id, ["arm2/j1", "arm2/j2"])
@@ -335,6 +399,8 @@ def verify(client, scenes, counts) -> None:
                 allowed.add(detail)
             if q1 not in allowed:
                 lost(f"{scene.id}: j1 {q1}, acknowledged {scene.joint_q}")
+            elif q1 != (scene.joint_q or 0.0):
+                unacknowledged()
             scene.joint_q = q1
         if scene.kind == "sim":
             t = view.summary.time
@@ -343,14 +409,25 @@ def verify(client, scenes, counts) -> None:
                 lost(f"{scene.id}: time {t} s, acknowledged {scene.time} s")
             elif t > upper:
                 partial(f"{scene.id}: time {t} s beyond the acknowledged {scene.time} s + the run in flight")
+            elif t > scene.time + 1e-9:
+                unacknowledged()
             scene.time = t
+
+
+def learn_pg70(client) -> None:
+    """The number of links of the built-in PG70, which the robot checks expect (asked once)."""
+    global PG70_LINKS
+    if not PG70_LINKS:
+        probe = client.create_scene("probe").id
+        PG70_LINKS = len(client.add_robot(probe, "g", builtin="schunk_pg70").bodies)
+        client.delete_scene(probe)
 
 
 def crash_iterations(iterations: int, seed: int, group: int = GROUP) -> dict:
     """Runs the crash test; returns its figures. Used by run() and by tests/python/test_durability.py."""
-    global PG70_LINKS
     rng = random.Random(seed)
-    counts = {"acknowledged_lost": 0, "partial_visible": 0, "scenes_checked": 0}
+    counts = {"acknowledged_lost": 0, "partial_visible": 0, "scenes_checked": 0, "unacknowledged_seen": 0,
+              "grasp_sets_lost": 0}
     writes = {}
     restart_s, restore_ms, delays = [], [], []
     log_path = Path(tempfile.mkstemp(prefix="graspsim-crash-", suffix=".log")[1])
@@ -364,27 +441,18 @@ def crash_iterations(iterations: int, seed: int, group: int = GROUP) -> dict:
                     shutil.rmtree(data_dir, ignore_errors=True)
                 data_dir = tempfile.mkdtemp(prefix="graspsim-crash-data-")
                 server = ServerProcess(data_dir, log_path)
-                if not PG70_LINKS:
-                    probe = server.client.create_scene("probe").id
-                    PG70_LINKS = len(server.client.add_robot(probe, "g", builtin="schunk_pg70").bodies)
-                    server.client.delete_scene(probe)
-                scenes = [[] for _ in range(THREADS)]
-            workers = [Worker(i, server.address, random.Random(rng.getrandbits(64)), scenes[i], writes)
-                       for i in range(THREADS)]
-            for worker in workers:
-                worker.start()
+                learn_pg70(server.client)
+                scenes, grasp_sets = [[] for _ in range(THREADS)], []
+            load = Load(server.address, rng, scenes, grasp_sets, writes)
             delay = rng.uniform(*KILL_DELAY_S)
             delays.append(delay)
             time.sleep(delay)
             server.kill()
-            for worker in workers:
-                worker.stop_flag = True
-                worker.join(60)
+            load.stop()
             server = ServerProcess(data_dir, log_path)
             restart_s.append(server.start_s)
             restore_ms.append(server.restore_ms)
-            for thread_scenes in scenes:
-                verify(server.client, thread_scenes, counts)
+            check(server.client, scenes, grasp_sets, counts)
             log(f"iteration {iteration + 1}/{iterations}: killed after {delay:.2f} s, restart {server.start_s:.2f} s,"
                 f" {server.scenes_restored} scenes; lost {counts['acknowledged_lost']},"
                 f" partial {counts['partial_visible']}")
@@ -400,6 +468,7 @@ def crash_iterations(iterations: int, seed: int, group: int = GROUP) -> dict:
     restart_s.sort()
     return {"iterations": iterations, "seed": seed, "threads": THREADS, "acknowledged_lost": counts["acknowledged_lost"],
             "partial_visible": counts["partial_visible"], "scenes_checked": counts["scenes_checked"],
+            "unacknowledged_seen": counts["unacknowledged_seen"], "grasp_sets_lost": counts["grasp_sets_lost"],
             "acknowledged_writes": dict(sorted(writes.items())),
             "restart_s_p50": round(restart_s[len(restart_s) // 2], 3), "restart_s_max": round(restart_s[-1], 3),
             "restore_ms_max": round(max(restore_ms), 1),
@@ -407,4 +476,5 @@ def crash_iterations(iterations: int, seed: int, group: int = GROUP) -> dict:
 
 
 def run():
-    return crash_iterations(ITERATIONS, SEED), 0
+    import power_cut  # tests/bench/power_cut.py: the same workload and checks, with power cuts instead of kill -9
+    return {**crash_iterations(ITERATIONS, SEED), **power_cut.power_cut_iterations(power_cut.ITERATIONS, SEED)}, 0
