@@ -14,8 +14,8 @@
 namespace graspsim::rpc {
 namespace {
 
-// Steps per committed chunk: a snapshot every 1/60 s of simulated time, and the scene's lock released between
-// chunks so that readers and viewers are served during a long run.
+// Steps per committed chunk: a snapshot every 1/60 s of simulated time, and the scene's writers' lock released
+// between chunks so that other edits are served during a long run (readers never wait for a chunk: world/scene.h).
 uint64_t StepsPerChunk(const SimulationParams& params) {
   return std::max<uint64_t>(1, static_cast<uint64_t>(std::lround((1.0 / 60) / params.time_step)));
 }

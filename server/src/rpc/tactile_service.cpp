@@ -63,7 +63,7 @@ grpc::ServerWriteReactor<v1::SensorReading>* TactileServiceImpl::Stream(Context*
   std::shared_ptr<Scene> scene;
   std::vector<std::string> ids;
   // The request's shape is checked here; the ids against the scene's model on the pool (reading the model takes
-  // the scene's lock, which a simulation step holds), before the first reading is written.
+  // the scene's readers' lock, which a committing writer holds), before the first reading is written.
   const grpc::Status status = Handle("TactileService/Stream", *context, [&] {
     const double rate = request->rate_hz();
     if (!std::isfinite(rate) || rate <= 0) {

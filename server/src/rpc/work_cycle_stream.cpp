@@ -24,8 +24,8 @@ constexpr auto kChunkWallTime = std::chrono::milliseconds(4);
 // How much wall time of a long cycle a crash may lose at most.
 constexpr auto kCheckpointInterval = std::chrono::seconds(1);
 
-// As StepSimulation: the cycle advances in chunks of 1/60 s of simulated time, and the scene's lock is released
-// and the state committed between updates (at least every kChunkWallTime), so viewers (WatchScene) see the cycle
+// As StepSimulation: the cycle advances in chunks of 1/60 s of simulated time, and the scene's writers' lock is
+// released and the state committed between updates (at least every kChunkWallTime), so viewers (WatchScene) see the cycle
 // and other requests are served.
 uint64_t StepsPerChunk(const SimulationParams& params) {
   return std::max<uint64_t>(1, static_cast<uint64_t>(std::lround((1.0 / 60) / params.time_step)));

@@ -48,13 +48,13 @@ bool Scene::TryRead(const ReadFn& read) const {
 }
 
 void Scene::AttachJournal(SceneJournal* journal) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   journal_ = journal;
   journaled_revision_ = revision_;
 }
 
 void Scene::RestoreState(SceneState state, uint64_t revision) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   const SceneModel& model = *model_;
   const size_t bodies = model.bodies.size(), joints = model.joints.size();
   if (state.body_poses.size() != bodies || state.body_velocities.size() != bodies ||
@@ -66,32 +66,32 @@ void Scene::RestoreState(SceneState state, uint64_t revision) {
                                           std::to_string(state.joint_positions.size()) + " joints, the model " +
                                           std::to_string(bodies) + " and " + std::to_string(joints));
   }
+  std::lock_guard<std::mutex> visible(mutex_);
   state_ = std::move(state);
   revision_ = revision;
   PublishLocked();
 }
 
 void Scene::Checkpoint() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   if (!journal_ || journaled_revision_ == revision_) return;
   journal_->SceneChanged(id_, nullptr, state_, revision_);
   journaled_revision_ = revision_;
 }
 
-void Scene::JournalLocked(const SceneOp* op, const SceneState& state, bool changes_model) {
-  if (journal_) {
-    // A model edit the journal cannot replay would leave a log and a state that disagree on the next start.
-    if (changes_model && !op) {
-      throw Error(ErrorCode::kInternal, "scene " + Quoted(id_) + ": a model edit without its op");
-    }
-    journal_->SceneChanged(id_, op, state, revision_ + 1);
-    journaled_revision_ = revision_ + 1;
-  }
-  if (op) {
-    auto edits = std::make_shared<SceneEdits>(*edits_);  // copies pointers, not requests
-    edits->push_back(std::make_shared<const SceneOp>(*op));
-    edits_ = std::move(edits);
-  }
+void Scene::Journal(const SceneOp* op, const SceneState& state, bool changes_model) {
+  if (!journal_) return;
+  // A model edit the journal cannot replay would leave a log and a state that disagree on the next start.
+  if (changes_model && !op) throw Error(ErrorCode::kInternal, "scene " + Quoted(id_) + ": a model edit without its op");
+  journal_->SceneChanged(id_, op, state, revision_ + 1);
+  journaled_revision_ = revision_ + 1;
+}
+
+void Scene::AppendEditLocked(const SceneOp* op) {
+  if (!op) return;
+  auto edits = std::make_shared<SceneEdits>(*edits_);  // copies pointers, not requests
+  edits->push_back(std::make_shared<const SceneOp>(*op));
+  edits_ = std::move(edits);
 }
 
 std::shared_ptr<const SceneSnapshot> Scene::DetailedSnapshot() const {
@@ -111,7 +111,7 @@ std::map<std::string, StoredFile> Scene::Files() const {
 
 void Scene::PutFile(const std::string& path, std::shared_ptr<const std::string> bytes, const std::string& sha256,
                     const SceneOp* op) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   const auto existing = files_.find(path);
   const uint64_t replaced = existing == files_.end() ? 0 : existing->second.bytes->size();
   const uint64_t total = file_bytes_ - replaced + bytes->size();
@@ -119,13 +119,15 @@ void Scene::PutFile(const std::string& path, std::shared_ptr<const std::string> 
     ThrowResourceExhausted("upload " + Quoted(path) + ": the scene's files would take " + std::to_string(total) +
                            " bytes, above the limit of " + std::to_string(limits_.max_scene_file_bytes));
   }
-  JournalLocked(op, state_, true);
+  Journal(op, state_, true);
+  std::lock_guard<std::mutex> visible(mutex_);
+  AppendEditLocked(op);
   file_bytes_ = total;
   files_[path] = {std::move(bytes), sha256};
   ++revision_;  // files are part of the scene (GetScene lists them), but move nothing: no snapshot
 }
 
-void Scene::CheckIdFreeLocked(const std::string& field, const std::string& id) const {
+void Scene::CheckIdFree(const std::string& field, const std::string& id) const {
   if (model_->body_index.count(id) || model_->robot_index.count(id) || model_->joint_index.count(id) ||
       model_->tactile_index.count(id)) {
     throw Error(ErrorCode::kAlreadyExists, field + ": " + Quoted(id) + " already exists in scene " + Quoted(id_));
@@ -133,8 +135,8 @@ void Scene::CheckIdFreeLocked(const std::string& field, const std::string& id) c
 }
 
 BodySpec Scene::AddObject(BodySpec body, const Pose& pose, const SceneOp* op) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  CheckIdFreeLocked("name", body.id);
+  std::lock_guard<std::mutex> writing(write_mutex_);
+  CheckIdFree("name", body.id);
   if (model_->bodies.size() + 1 > limits_.max_bodies_per_scene) {
     ThrowResourceExhausted("name " + Quoted(body.id) + ": scene " + Quoted(id_) + " already has " +
                            std::to_string(model_->bodies.size()) + " bodies, the limit is " +
@@ -146,18 +148,19 @@ BodySpec Scene::AddObject(BodySpec body, const Pose& pose, const SceneOp* op) {
   SceneState state = state_;
   state.body_poses.push_back(pose);
   SizeDynamicState(*model, &state);
-  JournalLocked(op, state, true);
+  Journal(op, state, true);
+  std::lock_guard<std::mutex> visible(mutex_);
   model_ = std::move(model);
   state_ = std::move(state);
-  CommitLocked();
+  CommitLocked(op);
   return body;
 }
 
 AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, const RobotDescription& description,
                            const Pose& base_pose, const SceneOp* op) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   const std::string prefix = name + "/";
-  CheckIdFreeLocked("name", name);
+  CheckIdFree("name", name);
   if (model_->bodies.size() + description.links.size() > limits_.max_bodies_per_scene) {
     ThrowResourceExhausted("name " + Quoted(name) + ": adding " + std::to_string(description.links.size()) +
                            " links to scene " + Quoted(id_) + " with " + std::to_string(model_->bodies.size()) +
@@ -171,7 +174,7 @@ AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, c
     link.id = prefix + link.id;
     link.robot_id = name;
     link.motion = BodyMotion::kArticulated;
-    CheckIdFreeLocked("name", link.id);
+    CheckIdFree("name", link.id);
     added.robot.body_ids.push_back(link.id);
     added.bodies.push_back(std::move(link));
   }
@@ -181,14 +184,14 @@ AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, c
     joint.parent_body = prefix + joint.parent_body;
     joint.child_body = prefix + joint.child_body;
     if (joint.mimic) joint.mimic->joint_id = prefix + joint.mimic->joint_id;
-    CheckIdFreeLocked("name", joint.id);
+    CheckIdFree("name", joint.id);
     added.robot.joint_ids.push_back(joint.id);
     added.joints.push_back(std::move(joint));
   }
   for (TactileArraySpec pad : description.tactile_arrays) {
     pad.id = prefix + pad.id;
     pad.body_id = prefix + pad.body_id;
-    CheckIdFreeLocked("name", pad.id);
+    CheckIdFree("name", pad.id);
     added.robot.tactile_array_ids.push_back(pad.id);
     added.tactile_arrays.push_back(std::move(pad));
   }
@@ -209,15 +212,16 @@ AddedRobot Scene::AddRobot(const std::string& name, const std::string& source, c
   }
   UpdateRobotLinkPoses(*model, model->robots.size() - 1, &state);
   SizeDynamicState(*model, &state);
-  JournalLocked(op, state, true);
+  Journal(op, state, true);
+  std::lock_guard<std::mutex> visible(mutex_);
   model_ = std::move(model);
   state_ = std::move(state);
-  CommitLocked();
+  CommitLocked(op);
   return added;
 }
 
 std::vector<std::string> Scene::Remove(const std::string& id, const SceneOp* op) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   std::set<std::string> bodies, joints, pads;
   if (auto robot = model_->robot_index.find(id); robot != model_->robot_index.end()) {
     const RobotSpec& spec = model_->robots[robot->second];
@@ -277,14 +281,15 @@ std::vector<std::string> Scene::Remove(const std::string& id, const SceneOp* op)
     if (robot.id != id) model->robots.push_back(robot);
   }
   model->Reindex();
-  JournalLocked(op, state, true);
+  Journal(op, state, true);
+  std::lock_guard<std::mutex> visible(mutex_);
   model_ = std::move(model);
   state_ = std::move(state);
-  CommitLocked();
+  CommitLocked(op);
   return {bodies.begin(), bodies.end()};
 }
 
-size_t Scene::BodyIndexLocked(const std::string& id) const {
+size_t Scene::BodyIndex(const std::string& id) const {
   if (auto robot = model_->robot_index.find(id); robot != model_->robot_index.end()) {
     return model_->body_index.at(model_->robots[robot->second].base_body);
   }
@@ -293,7 +298,7 @@ size_t Scene::BodyIndexLocked(const std::string& id) const {
   return body->second;
 }
 
-size_t Scene::JointIndexLocked(const std::string& id) const {
+size_t Scene::JointIndex(const std::string& id) const {
   auto joint = model_->joint_index.find(id);
   if (joint == model_->joint_index.end()) {
     ThrowNotFound("joint_id: no joint " + Quoted(id) + " in scene " + Quoted(id_));
@@ -303,11 +308,11 @@ size_t Scene::JointIndexLocked(const std::string& id) const {
 
 uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& poses,
                              const std::vector<std::pair<std::string, BodyVelocity>>& velocities) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   SceneState state = state_;
   state.body_velocities.resize(model_->bodies.size());
   for (const auto& [id, velocity] : velocities) {
-    const size_t index = BodyIndexLocked(id);
+    const size_t index = BodyIndex(id);
     const BodySpec& body = model_->bodies[index];
     if (body.motion != BodyMotion::kFree) {
       throw Error(ErrorCode::kFailedPrecondition,
@@ -324,7 +329,7 @@ uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& po
   }
   std::set<std::string> moved_robots;
   for (const auto& [id, pose] : poses) {
-    const size_t index = BodyIndexLocked(id);
+    const size_t index = BodyIndex(id);
     const BodySpec& body = model_->bodies[index];
     if (!body.robot_id.empty()) {
       const RobotSpec& robot = model_->robots[model_->robot_index.at(body.robot_id)];
@@ -346,20 +351,21 @@ uint64_t Scene::SetBodyPoses(const std::vector<std::pair<std::string, Pose>>& po
     UpdateRobotLinkPoses(*model_, model_->robot_index.at(robot), &state);
   }
   state.contacts.clear();  // they were where the bodies no longer are; the next step finds the new ones
-  JournalLocked(nullptr, state);
+  Journal(nullptr, state);
+  std::lock_guard<std::mutex> visible(mutex_);
   state_ = std::move(state);
-  CommitLocked();
+  CommitLocked(nullptr);
   return revision_;
 }
 
 uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, double>>& positions,
                                   const std::vector<std::pair<std::string, double>>& velocities) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   SceneState state = state_;
   state.joint_velocities.resize(model_->joints.size());
   std::set<std::string> moved_robots;
   for (const auto& [id, velocity] : velocities) {
-    const JointSpec& joint = model_->joints[JointIndexLocked(id)];
+    const JointSpec& joint = model_->joints[JointIndex(id)];
     CheckFinite("velocities[" + id + "].velocity", velocity);
     if (joint.type == JointType::kFixed || IsFollower(joint)) {
       ThrowInvalidArgument("joint_id: " + Quoted(id) + (IsFollower(joint) ? " mimics another joint; set the leader"
@@ -369,7 +375,7 @@ uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, doubl
     moved_robots.insert(joint.robot_id);
   }
   for (const auto& [id, position] : positions) {
-    const JointSpec& joint = model_->joints[JointIndexLocked(id)];
+    const JointSpec& joint = model_->joints[JointIndex(id)];
     CheckFinite("positions[" + id + "].position", position);
     if (joint.type == JointType::kFixed) {
       ThrowInvalidArgument("joint_id: " + Quoted(id) + " is a fixed joint and has no position");
@@ -402,33 +408,37 @@ uint64_t Scene::SetJointPositions(const std::vector<std::pair<std::string, doubl
     UpdateRobotLinkPoses(*model_, model_->robot_index.at(robot), &state);
   }
   state.contacts.clear();  // they were where the bodies no longer are; the next step finds the new ones
-  JournalLocked(nullptr, state);
+  Journal(nullptr, state);
+  std::lock_guard<std::mutex> visible(mutex_);
   state_ = std::move(state);
-  CommitLocked();
+  CommitLocked(nullptr);
   return revision_;
 }
 
 uint64_t Scene::Update(const StateChange& change, bool journal) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   SceneState state = state_;
   change(model_, &state);
-  if (journal) JournalLocked(nullptr, state);
+  if (journal) Journal(nullptr, state);
+  std::lock_guard<std::mutex> visible(mutex_);
   state_ = std::move(state);
-  CommitLocked();
+  CommitLocked(nullptr);
   return revision_;
 }
 
 uint64_t Scene::SetSimulationParams(const SimulationParams& params, const SceneOp* op) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> writing(write_mutex_);
   auto model = std::make_shared<SceneModel>(*model_);
   model->simulation = params;
-  JournalLocked(op, state_, true);
+  Journal(op, state_, true);
+  std::lock_guard<std::mutex> visible(mutex_);
   model_ = std::move(model);
-  CommitLocked();
+  CommitLocked(op);
   return revision_;
 }
 
-void Scene::CommitLocked() {
+void Scene::CommitLocked(const SceneOp* op) {
+  AppendEditLocked(op);
   ++revision_;
   PublishLocked();
 }
@@ -446,6 +456,7 @@ void Scene::PublishDuringUpdate(const SceneState& state) {
   const double since = state.time - last_detail_time_;
   if (since >= 0 && since < hub_.detail_interval() - 1e-9) return;
   last_detail_time_ = state.time;
+  std::lock_guard<std::mutex> lock(mutex_);  // the snapshot caches are shared with the readers
   hub_.Publish(SnapshotLocked(state, revision_ + 1, true, true));
 }
 

@@ -1,6 +1,9 @@
-// One scene: its model, its state, its uploaded files and its watchers, behind one lock. Every edit is
-// validated against a copy and swapped in whole, so a rejected edit changes nothing. Slow work (parsing
-// URDF and meshes) happens before the edit, outside the lock, so it never blocks other requests.
+// One scene: its model, its state, its uploaded files and its watchers. Every edit is validated against a copy
+// and swapped in whole, so a rejected edit changes nothing. Two locks: writers take write_mutex_, which orders
+// them and is held from validation through the journal write (and a simulation chunk) to the swap; the swap
+// itself and every reader take mutex_, held only as long as a copy or a short read. So a reader never waits
+// for the journal's fsync or for physics, and still sees only what is stored. Slow work (parsing URDF and
+// meshes) happens before the edit, outside both, so it never blocks other requests.
 #pragma once
 
 #include <cstdint>
@@ -48,13 +51,13 @@ class Scene {
 
   const std::string& id() const { return id_; }
   SceneView View() const;
-  // A short read in place, under the scene's lock: `read` sees the model, the state and the revision without
+  // A short read in place, under the readers' lock: `read` sees the model, the state and the revision without
   // the copy a View makes (the state's contacts, bristles and pad forces are hundreds of entries while a hand
   // holds something). `read` must be quick and must not call back into the scene; what it throws propagates.
   using ReadFn = std::function<void(const SceneModel& model, const SceneState& state, uint64_t revision)>;
   void Read(const ReadFn& read) const;
-  // The same without waiting: false (and `read` not called) while a writer holds the scene, e.g. during the
-  // journal's commit. For short reads answered on gRPC's own threads, which must never wait.
+  // The same without waiting: false (and `read` not called) while another reader or a writer's swap holds the
+  // readers' lock. For short reads answered on gRPC's own threads, which must never wait.
   bool TryRead(const ReadFn& read) const;
   uint64_t revision() const;
   SnapshotHub& snapshots() { return hub_; }
@@ -93,12 +96,13 @@ class Scene {
   uint64_t SetJointPositions(const std::vector<std::pair<std::string, double>>& positions,
                              const std::vector<std::pair<std::string, double>>& velocities = {});
 
-  // Runs `change` on the model and a copy of the state under the scene's lock; commits the copy (revision,
-  // snapshot) when it returns, keeps the old state when it throws. For the simulation, which lives above world.
+  // Runs `change` on the model and a copy of the state under the writers' lock (readers meanwhile see the state
+  // before it); commits the copy (revision, snapshot) when it returns, keeps the old state when it throws. For
+  // the simulation, which lives above world.
   using StateChange = std::function<void(const std::shared_ptr<const SceneModel>& model, SceneState* state)>;
   // `journal` false: the change is journaled by a later Checkpoint (simulation chunks), not now.
   uint64_t Update(const StateChange& change, bool journal = true);
-  // From inside an Update's change only (it holds the scene's lock): publishes `state`, not yet committed, as a
+  // From inside an Update's change only (it holds the writers' lock): publishes `state`, not yet committed, as a
   // frame to the watchers that want detail (recordings, live feeds), so that a long update that runs many
   // chunks (the work cycle) is recorded chunk by chunk. Nothing when no watcher wants detail.
   void PublishDuringUpdate(const SceneState& state);
@@ -112,21 +116,25 @@ class Scene {
   void CloseWatchers(const std::string& reason) { hub_.Close(reason); }
 
  private:
-  // Caller holds mutex_. Writes the edit (op, the state after it) to the journal before it is swapped in; throws
-  // when the journal cannot, and then the caller has changed nothing yet.
-  void JournalLocked(const SceneOp* op, const SceneState& state, bool changes_model = false);
-  // Caller holds mutex_. Bumps the revision and publishes a snapshot to the watchers.
-  void CommitLocked();
+  // Caller holds write_mutex_. Writes the edit (op, the state after it) to the journal before it is swapped in;
+  // throws when the journal cannot, and then the caller has changed nothing yet.
+  void Journal(const SceneOp* op, const SceneState& state, bool changes_model = false);
+  // Caller holds both locks. Records op among the edits, bumps the revision and publishes a snapshot.
+  void CommitLocked(const SceneOp* op);
+  void AppendEditLocked(const SceneOp* op);
   void PublishLocked();
+  // Caller holds mutex_ (the id lists it caches are shared by readers and writers).
   std::shared_ptr<SceneSnapshot> SnapshotLocked(const SceneState& state, uint64_t revision, bool detail,
                                                bool publish) const;
-  size_t BodyIndexLocked(const std::string& id) const;
-  size_t JointIndexLocked(const std::string& id) const;
-  void CheckIdFreeLocked(const std::string& field, const std::string& id) const;
+  // Caller holds write_mutex_.
+  size_t BodyIndex(const std::string& id) const;
+  size_t JointIndex(const std::string& id) const;
+  void CheckIdFree(const std::string& field, const std::string& id) const;
 
   const std::string id_, name_;
   const Limits limits_;
-  mutable std::mutex mutex_;
+  std::mutex write_mutex_;     // orders the writers (see the class comment); taken before mutex_
+  mutable std::mutex mutex_;  // the readers' lock: what they read changes only under it
   std::shared_ptr<const SceneModel> model_;
   SceneState state_;
   std::map<std::string, StoredFile> files_;
