@@ -1,6 +1,7 @@
 // Closest points and inside tests on Embree BVHs of closed triangle meshes (see mesh_query.h).
 #include "collision/mesh_query.h"
 
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <limits>
@@ -13,6 +14,8 @@ namespace graspsim::collision {
 namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr float kUnknown = -1;  // a clearance cell not worked out yet
+constexpr int kGridCellsLongest = 48;  // clearance cells along the mesh's longest side
 
 // The parity ray leaves away from the mesh's centre, so that from a point outside a compact mesh it usually
 // crosses nothing and from inside crosses once: one or two casts instead of three. The fixed skew added to it
@@ -31,16 +34,6 @@ Vec3 RayDirection(const Vec3& p, const Vec3& centre) {
   throw Error(ErrorCode::kInternal,
               std::string("embree: ") + what + " failed (error " + std::to_string(rtcGetDeviceError(device)) + ")");
 }
-
-// Search state of one closest-point query, passed to Embree's callback through userPtr.
-struct ClosestSearch {
-  const TriangleMesh* mesh;
-  const std::vector<Vec3>* normals;
-  Vec3 p;
-  double best_d2;  // starts at the query radius squared: nothing farther counts
-  uint32_t best_triangle = std::numeric_limits<uint32_t>::max();
-  Vec3 best_point = Vec3::Zero();
-};
 
 bool VisitTriangle(RTCPointQueryFunctionArguments* args) {
   auto* search = static_cast<ClosestSearch*>(args->userPtr);
@@ -117,6 +110,12 @@ MeshBvh::MeshBvh(RTCDevice device, std::shared_ptr<const TriangleMesh> shared) :
   }
   // The ray starts at p rounded to float and Embree intersects in float: a few float ulps of the coordinates.
   near_surface_ = 8 * FLT_EPSILON * std::max(extent, 1e-3);
+  // The clearance grid covers the bounding box (a point outside it needs no grid: the caller's bounds cull it).
+  cell_size_ = std::max((hi - lo).maxCoeff() / kGridCellsLongest, 1e-4);
+  grid_origin_ = lo;
+  grid_cells_ = ((hi - lo) / cell_size_).array().ceil().cast<int>().cwiseMax(1);
+  clearance_ = std::make_unique<std::atomic<float>[]>(static_cast<size_t>(grid_cells_.prod()));
+  for (int64_t i = 0; i < grid_cells_.prod(); ++i) clearance_[i].store(kUnknown, std::memory_order_relaxed);
 
   RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   if (geometry == nullptr) ThrowEmbree(device, "rtcNewGeometry");
@@ -149,10 +148,10 @@ MeshBvh::MeshBvh(RTCDevice device, std::shared_ptr<const TriangleMesh> shared) :
 
 MeshBvh::~MeshBvh() { rtcReleaseScene(scene_); }
 
-bool MeshBvh::Depth(const Vec3& p, double margin, double* depth, Vec3* normal) const {
-  // Inside or outside: count the surface crossings of a ray from p. Each cast returns the nearest hit beyond
-  // tnear; restarting just past it walks through all crossings (two triangles hit at the same t, the ray
-  // passing through their shared edge, count once).
+int MeshBvh::Crossings(const Vec3& p, float* first_hit) const {
+  // Count the surface crossings of a ray from p. Each cast returns the nearest hit beyond tnear; restarting just
+  // past it walks through all crossings (two triangles hit at the same t, the ray passing through their shared
+  // edge, count once).
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit ray_hit;
@@ -170,32 +169,71 @@ bool MeshBvh::Depth(const Vec3& p, double margin, double* depth, Vec3* normal) c
   ray.id = 0;
   ray.flags = 0;
   int crossings = 0;
-  float first_hit = kInfinity;
+  *first_hit = kInfinity;
   for (;;) {
     ray.tfar = kInfinity;
     ray_hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     ray_hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene_, &context, &ray_hit);
     if (ray_hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-    if (crossings++ == 0) first_hit = ray.tfar;
+    if (crossings++ == 0) *first_hit = ray.tfar;
     ray.tnear = std::nextafter(ray.tfar, kInfinity);
   }
-  bool inside = crossings % 2 == 1;
-  if (!inside && margin <= 0) return false;
+  return crossings;
+}
 
-  // Closest surface point. Inside, the first crossing bounds the distance; outside only `margin` matters.
-  // The slack covers p's rounding to float for the query centre.
-  const float radius = static_cast<float>((inside ? first_hit * (1 + 1e-6) : margin) + near_surface_);
+// The closest surface point within `radius` of p (best_triangle unset when none).
+ClosestSearch MeshBvh::Closest(const Vec3& p, float radius) const {
   RTCPointQuery query;
-  query.x = ray.org_x;
-  query.y = ray.org_y;
-  query.z = ray.org_z;
+  query.x = static_cast<float>(p.x());
+  query.y = static_cast<float>(p.y());
+  query.z = static_cast<float>(p.z());
   query.time = 0;
   query.radius = radius;
   RTCPointQueryContext query_context;
   rtcInitPointQueryContext(&query_context);
   ClosestSearch search{mesh_.get(), &normals_, p, static_cast<double>(radius) * radius};
   rtcPointQuery(scene_, &query, &query_context, VisitTriangle, &search);
+  return search;
+}
+
+double MeshBvh::Clearance(const Vec3& p) const {
+  // A cell of the grid whose centre lies outside, farther from the surface than the cell's half-diagonal, lies
+  // outside whole, each of its points at least (that distance − the half-diagonal) from the surface: such a
+  // point can be answered "outside, that far at least" without a ray. Worked out on a cell's first query (the
+  // same answer whichever thread writes it) and kept, so the cells around a body's resting place cost one query
+  // each, once. kUnknown: not yet; ≤ 0: no bound (inside, or near the surface).
+  const Eigen::Vector3i cell = ((p - grid_origin_) / cell_size_).array().floor().cast<int>();
+  if ((cell.array() < 0).any() || (cell.array() >= grid_cells_.array()).any()) return 0;
+  std::atomic<float>& slot = clearance_[(cell.z() * grid_cells_.y() + cell.y()) * grid_cells_.x() + cell.x()];
+  float known = slot.load(std::memory_order_relaxed);
+  if (known != kUnknown) return known;
+  const Vec3 centre = grid_origin_ + (cell.cast<double>() + Vec3::Constant(0.5)) * cell_size_;
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * cell_size_, reach = 4 * half_diagonal;
+  float first_hit = 0;
+  if (Crossings(centre, &first_hit) % 2 == 1) {
+    known = 0;
+  } else {
+    const ClosestSearch search = Closest(centre, static_cast<float>(reach));
+    const double distance = search.best_triangle == std::numeric_limits<uint32_t>::max() ? reach
+                                                                                           : std::sqrt(search.best_d2);
+    // Parity is trusted only away from the surface (float noise): the bound must also clear near_surface_.
+    known = static_cast<float>(std::max(0.0, distance - half_diagonal - near_surface_));
+  }
+  slot.store(known, std::memory_order_relaxed);
+  return known;
+}
+
+bool MeshBvh::Depth(const Vec3& p, double margin, double* depth, Vec3* normal) const {
+  if (Clearance(p) > std::max(margin, near_surface_)) return false;  // outside, beyond the margin
+  float first_hit = kInfinity;
+  bool inside = Crossings(p, &first_hit) % 2 == 1;
+  if (!inside && margin <= 0) return false;
+
+  // Closest surface point. Inside, the first crossing bounds the distance; outside only `margin` matters.
+  // The slack covers p's rounding to float for the query centre.
+  const float radius = static_cast<float>((inside ? first_hit * (1 + 1e-6) : margin) + near_surface_);
+  const ClosestSearch search = Closest(p, radius);
   if (search.best_triangle == std::numeric_limits<uint32_t>::max()) return false;
 
   const double distance = std::sqrt(search.best_d2);

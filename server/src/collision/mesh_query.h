@@ -4,6 +4,9 @@
 
 #include <embree3/rtcore.h>
 
+#include <atomic>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -29,6 +32,16 @@ class EmbreeDevice {
   RTCDevice device_ = nullptr;
 };
 
+// Search state of one closest-point query, passed to Embree's callback through userPtr.
+struct ClosestSearch {
+  const TriangleMesh* mesh;
+  const std::vector<Vec3>* normals;
+  Vec3 p;
+  double best_d2;  // starts at the query radius squared: nothing farther counts
+  uint32_t best_triangle = std::numeric_limits<uint32_t>::max();
+  Vec3 best_point = Vec3::Zero();
+};
+
 class MeshBvh {
  public:
   // Copies the mesh into Embree buffers (Embree pads them for its vector loads) and builds the BVH; keeps a
@@ -45,11 +58,20 @@ class MeshBvh {
   bool Depth(const Vec3& p, double margin, double* depth, Vec3* normal) const;
 
  private:
+  int Crossings(const Vec3& p, float* first_hit) const;
+  ClosestSearch Closest(const Vec3& p, float radius) const;
+  // A lower bound on p's distance outside the surface from p's cell of a grid over the bounding box (0: none).
+  double Clearance(const Vec3& p) const;
+
   RTCScene scene_ = nullptr;
   std::shared_ptr<const TriangleMesh> mesh_;
   std::vector<Vec3> normals_;                // unit face normals; zero for degenerate triangles
   Vec3 centre_ = Vec3::Zero();               // of the bounding box: parity rays point away from it
   double near_surface_ = 0;                  // m: below this, float rounding can flip a ray's parity
+  Vec3 grid_origin_ = Vec3::Zero();          // the clearance grid: its corner, cell edge (m) and cells per axis
+  double cell_size_ = 1;
+  Eigen::Vector3i grid_cells_ = Eigen::Vector3i::Ones();
+  std::unique_ptr<std::atomic<float>[]> clearance_;  // per cell, filled on first use (Clearance)
 };
 
 }  // namespace graspsim::collision

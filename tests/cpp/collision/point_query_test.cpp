@@ -1,6 +1,7 @@
 // The collision library's private point queries against hand-computed answers: primitive signed distances,
 // Ericson's closest point on a triangle, and the Embree mesh query (parity, closest point, near-surface sign).
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -104,6 +105,48 @@ TEST(ContactMeshQuery, SphereMeshDepthMatchesSphereWithinFacetError) {
     }
   }
   EXPECT_GT(inside, 1000);
+}
+
+// The clearance grid (a cell's lower bound on the distance outside the surface) may only skip work: every answer,
+// on a cell's first query and on later ones, equals brute force over all triangles (the mesh is convex, so
+// inside means behind every face's plane).
+TEST(ContactMeshQuery, ClearanceGridChangesNoAnswer) {
+  const double r = 0.05;
+  const auto mesh = SphereMesh(r, 16, 8);
+  EmbreeDevice device;
+  const MeshBvh bvh(device.get(), mesh);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> coordinate(-1.1 * r, 1.1 * r);
+  std::vector<Vec3> points(20000);
+  for (Vec3& p : points) p = Vec3(coordinate(rng), coordinate(rng), coordinate(rng));
+  int hits = 0, checked = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (const Vec3& p : points) {
+      double distance = std::numeric_limits<double>::infinity(), behind = -distance;
+      for (const auto& t : mesh->triangles) {
+        const Vec3 a = mesh->vertices[t[0]].cast<double>(), b = mesh->vertices[t[1]].cast<double>(),
+                   c = mesh->vertices[t[2]].cast<double>();
+        const Vec3 normal = (b - a).cross(c - a);
+        if (normal.norm() == 0) continue;
+        distance = std::min(distance, (p - ClosestPointOnTriangle(p, a, b, c)).norm());
+        behind = std::max(behind, normal.normalized().dot(p - a));
+      }
+      if (distance < 1e-9) continue;  // on the surface, float noise decides the side
+      const bool inside = behind < 0;
+      for (const double margin : {0.0, 5e-4, 3e-3}) {
+        double depth = 0;
+        Vec3 n;
+        const bool hit = bvh.Depth(p, margin, &depth, &n);
+        ++checked;
+        ASSERT_EQ(hit, inside || distance < margin) << p.transpose() << " margin " << margin << " pass " << pass;
+        if (hit) {
+          ++hits;
+          EXPECT_NEAR(depth, inside ? distance : -distance, 1e-12);
+        }
+      }
+    }
+  }
+  EXPECT_GT(hits, checked / 4);
 }
 
 TEST(ContactMeshQuery, TwoCubesInOneMeshCountCrossingsNotHits) {
