@@ -104,9 +104,21 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
     if (graspsim_method_ && methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_MESSAGE)) {
       OnResponse(methods);
     }
-    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS) && !refused_ &&
-        method_ == "/graspsim.v1.SceneService/DeleteScene" && methods->GetSendStatus().ok() && options_.tokens) {
-      authorizer_->ForgetScene(scene_id_);
+    // gRPC's own services (reflection) never ask for the verdict, and an interceptor cannot end a call: a refused
+    // caller's requests to them arrive empty (reflection answers an empty request with an error, not a listing)
+    // and the call ends with the refusal whatever the service sent. The status is the safety net for graspsim's
+    // handlers too, which answer the refusal themselves (rpc/call.h).
+    if (refused_ && method_.starts_with("/grpc.reflection.") &&
+        methods->QueryInterceptionHookPoint(InterceptionHookPoints::POST_RECV_MESSAGE)) {
+      if (void* message = methods->GetRecvMessage()) static_cast<google::protobuf::Message*>(message)->Clear();
+    }
+    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS)) {
+      if (refused_) {
+        methods->ModifySendStatus(refusal_);
+      } else if (method_ == "/graspsim.v1.SceneService/DeleteScene" && methods->GetSendStatus().ok() &&
+                 options_.tokens) {
+        authorizer_->ForgetScene(scene_id_);
+      }
     }
     methods->Proceed();
   }
@@ -177,6 +189,7 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
 
   void Refuse(const grpc::Status& status) {
     refused_ = true;
+    refusal_ = status;
     Log(LogLevel::kInfo, "refused", {{"method", method_}, {"code", std::to_string(status.error_code())},
                                      {"message", status.error_message()}, {"peer", context_->peer()}});
     std::lock_guard lock(calls_mutex);
@@ -199,6 +212,7 @@ class AuthInterceptor : public grpc::experimental::Interceptor {
   Authorizer* authorizer_;
   InterceptorOptions options_;
   const MethodRule* rule_ = nullptr;
+  grpc::Status refusal_;  // the status a refused call ends with
   bool graspsim_method_ = false, keep_state_ = false, hardware_command_ = false, stored_ = false, refused_ = false,
        request_checked_ = false;
   Identity who_;

@@ -11,6 +11,7 @@
 #include "auth/grpc_auth.h"
 #include "core/error.h"
 #include "core/worker_pool.h"
+#include "rpc/failed_call.h"
 
 namespace graspsim::rpc {
 
@@ -51,6 +52,24 @@ grpc::ServerUnaryReactor* RunUnary(grpc::CallbackServerContext* context, const c
     reactor->Finish(Handle(method, *context, body));
   });
   return reactor;
+}
+
+// Every server stream starts through one of these two, so none can skip the auth check: a call the auth interceptor
+// refused (auth/grpc_auth.h) ends with its refusal before any stream exists. With `prepare` (the request's checks,
+// run as a handler: an Error becomes the call's status) a rejected request ends likewise; otherwise `start` makes
+// the stream.
+template <typename Response, typename Start>
+grpc::ServerWriteReactor<Response>* StartStream(grpc::CallbackServerContext* context, Start&& start) {
+  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<Response>(*refused);
+  return start();
+}
+
+template <typename Response, typename Prepare, typename Start>
+grpc::ServerWriteReactor<Response>* StartStream(const char* method, grpc::CallbackServerContext* context,
+                                                Prepare&& prepare, Start&& start) {
+  const grpc::Status status = Handle(method, *context, std::forward<Prepare>(prepare));
+  if (!status.ok()) return new FailedWriter<Response>(status);
+  return start();
 }
 
 // A unary call that is a short read of a scene. `try_body` runs on gRPC's thread and returns false, having

@@ -17,6 +17,11 @@ grpc::Status StatusOf(const gateway::CommandResult& result) {
 }  // namespace
 
 grpc::ServerBidiReactor<v1::GatewayMessage, v1::GatewayCommand>* GatewayServiceImpl::Connect(Context* context) {
+  // Refused before the stream opens a hub session: a caller who sends nothing must not hold one (it did,
+  // tests/python/test_auth_every_method.py).
+  if (auto refused = auth::RefusedCall(*context)) {
+    return new FailedBidi<v1::GatewayMessage, v1::GatewayCommand>(*refused);
+  }
   return StartGatewayStream(context, hub_);
 }
 
@@ -73,7 +78,8 @@ grpc::ServerUnaryReactor* GatewayServiceImpl::EmergencyStop(Context* context, co
 
 grpc::ServerWriteReactor<v1::PredictionSample>* GatewayServiceImpl::PredictAction(
     Context* context, const v1::PredictActionRequest* request) {
-  return StartPredictAction(context, request, hub_, registry_, pool_, recordings_);
+  return StartStream<v1::PredictionSample>(
+      context, [&] { return StartPredictAction(context, request, hub_, registry_, pool_, recordings_); });
 }
 
 }  // namespace graspsim::rpc

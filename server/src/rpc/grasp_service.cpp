@@ -188,8 +188,8 @@ void ToProto(const grasp::GraspSet& set, const grasp::StoredGraspSet& meta, bool
 
 grpc::ServerWriteReactor<v1::PlanGraspsProgress>* GraspServiceImpl::PlanGrasps(Context* context,
                                                                                const v1::PlanGraspsRequest* request) {
-  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::PlanGraspsProgress>(*refused);
-  return StartPlanGraspsStream(*request, registry_, store_, pool_, context);
+  return StartStream<v1::PlanGraspsProgress>(
+      context, [&] { return StartPlanGraspsStream(*request, registry_, store_, pool_, context); });
 }
 
 grpc::ServerUnaryReactor* GraspServiceImpl::GetGraspSet(Context* context, const v1::GetGraspSetRequest* request,
@@ -239,8 +239,8 @@ grpc::ServerUnaryReactor* GraspServiceImpl::PlanArmPaths(Context* context, const
 
 grpc::ServerWriteReactor<v1::PickAndPlaceProgress>* GraspServiceImpl::PickAndPlace(Context* context,
                                                                                    const v1::PickAndPlaceRequest* request) {
-  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::PickAndPlaceProgress>(*refused);
-  return StartPickAndPlaceStream(*request, registry_, store_, pool_, context);
+  return StartStream<v1::PickAndPlaceProgress>(
+      context, [&] { return StartPickAndPlaceStream(*request, registry_, store_, pool_, context); });
 }
 
 }  // namespace graspsim::rpc

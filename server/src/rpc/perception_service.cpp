@@ -146,12 +146,13 @@ void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* regis
 
 grpc::ServerWriteReactor<v1::CompleteShapeProgress>* PerceptionServiceImpl::CompleteShape(
     Context* context, const v1::CompleteShapeRequest* request) {
-  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<v1::CompleteShapeProgress>(*refused);
-  auto* reactor = new RunReactor<v1::CompleteShapeProgress, CompletionRun>(context, kCompleteShape);
-  pool_->Post([request, registry = registry_, overlays = overlays_, recordings = recordings_, run = reactor->run()] {
-    RunCompletion(*request, registry, overlays, recordings, run);
+  return StartStream<v1::CompleteShapeProgress>(context, [&] {
+    auto* reactor = new RunReactor<v1::CompleteShapeProgress, CompletionRun>(context, kCompleteShape);
+    pool_->Post([request, registry = registry_, overlays = overlays_, recordings = recordings_, run = reactor->run()] {
+      RunCompletion(*request, registry, overlays, recordings, run);
+    });
+    return reactor;
   });
-  return reactor;
 }
 
 grpc::ServerUnaryReactor* PerceptionServiceImpl::SegmentScene(Context* context, const v1::SegmentSceneRequest* request,

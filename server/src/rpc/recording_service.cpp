@@ -283,10 +283,9 @@ grpc::ServerUnaryReactor* RecordingServiceImpl::ListRecordings(Context* context,
 grpc::ServerWriteReactor<v1::RecordingChunk>* RecordingServiceImpl::DownloadRecording(
     Context* context, const v1::DownloadRecordingRequest* request) {
   std::string path;
-  const grpc::Status status = Handle("RecordingService/DownloadRecording", *context,
-                                     [&] { path = PathOf("name", request->name()); });
-  if (!status.ok()) return new FailedWriter<v1::RecordingChunk>(status);
-  return new FileDownload(path);
+  return StartStream<v1::RecordingChunk>(
+      "RecordingService/DownloadRecording", context, [&] { path = PathOf("name", request->name()); },
+      [&] { return new FileDownload(path); });
 }
 
 }  // namespace graspsim::rpc

@@ -72,7 +72,7 @@ grpc::ServerUnaryReactor* SceneServiceImpl::DeleteScene(grpc::CallbackServerCont
 
 grpc::ServerWriteReactor<v1::SceneArchiveChunk>* SceneServiceImpl::ExportScene(Context* context,
                                                                              const v1::ExportSceneRequest* request) {
-  return StartExport(context, request, registry_, pool_);
+  return StartStream<v1::SceneArchiveChunk>(context, [&] { return StartExport(context, request, registry_, pool_); });
 }
 
 grpc::ServerReadReactor<v1::SceneArchiveChunk>* SceneServiceImpl::ImportScene(Context* context, v1::Scene* response) {
@@ -204,16 +204,17 @@ grpc::ServerWriteReactor<v1::SceneSnapshot>* SceneServiceImpl::WatchScene(grpc::
                                                                           const v1::WatchSceneRequest* request) {
   std::shared_ptr<Scene> scene;
   double rate = watch_max_rate_hz_;
-  const grpc::Status status = Handle("WatchScene", *context, [&] {
-    const double requested = request->max_rate_hz();
-    if (!std::isfinite(requested) || requested < 0) {
-      ThrowInvalidArgument("max_rate_hz: " + std::to_string(requested) + " must be a finite number >= 0");
-    }
-    if (requested > 0) rate = std::min(requested, watch_max_rate_hz_);
-    scene = registry_->Get(request->scene_id());
-  });
-  if (!status.ok()) return FailedWatch(status);
-  return StartWatch(std::move(scene), std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate)));
+  return StartStream<v1::SceneSnapshot>(
+      "WatchScene", context,
+      [&] {
+        const double requested = request->max_rate_hz();
+        if (!std::isfinite(requested) || requested < 0) {
+          ThrowInvalidArgument("max_rate_hz: " + std::to_string(requested) + " must be a finite number >= 0");
+        }
+        if (requested > 0) rate = std::min(requested, watch_max_rate_hz_);
+        scene = registry_->Get(request->scene_id());
+      },
+      [&] { return StartWatch(std::move(scene), std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate))); });
 }
 
 }  // namespace graspsim::rpc

@@ -44,8 +44,4 @@ grpc::ServerWriteReactor<v1::SceneSnapshot>* StartWatch(std::shared_ptr<Scene> s
   return reactor;
 }
 
-grpc::ServerWriteReactor<v1::SceneSnapshot>* FailedWatch(const grpc::Status& status) {
-  return new FailedWriter<v1::SceneSnapshot>(status);
-}
-
 }  // namespace graspsim::rpc

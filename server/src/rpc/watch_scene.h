@@ -18,7 +18,5 @@ void ToProto(const SceneSnapshot& snapshot, v1::SceneSnapshot* out);
 grpc::ServerWriteReactor<v1::SceneSnapshot>* StartWatch(std::shared_ptr<Scene> scene,
                                                         std::chrono::nanoseconds min_interval);
 
-// A stream that ends at once with `status` (a rejected request).
-grpc::ServerWriteReactor<v1::SceneSnapshot>* FailedWatch(const grpc::Status& status);
 
 }  // namespace graspsim::rpc
