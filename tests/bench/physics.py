@@ -11,8 +11,8 @@
 - textbook_*, mujoco_within_1pct, bullet_within_1pct, energy_drift_pct_max, textbook (per case, engine and dt):
   the closed-form cases of tests/physics/textbook.py on the server's three engines (tests/bench/physics_textbook.py),
   with the error-against-run-time plot docs/physics-textbook.png.
-Wall-clock figures (steps_per_s, the textbook run times) move with the machine's other load: load_avg_1m gives the
-1-minute load average at the start and at the end; the errors are deterministic and do not.
+Wall-clock figures (steps_per_s, the textbook run times) move with the machine's other load: bench.py adds
+load_avg_1m (start, end); the errors are deterministic and do not.
 """
 import json
 import subprocess
@@ -20,7 +20,7 @@ import time
 
 import graspsim
 
-from _harness import REPO, Server, load_avg_1m, log
+from _harness import REPO, Server, log
 from physics_textbook import textbook_figures
 
 BIN = REPO / "build" / "bin"
@@ -114,11 +114,9 @@ def run():
     for binary in ("graspsim_physics_bench", "graspsim_stress"):
         if not (BIN / binary).exists():
             raise RuntimeError(f"{BIN / binary} not built: run 'make build'")
-    load_start = load_avg_1m()
     with Server() as server, graspsim.connect(server.address) as client:
         figures = grasp(client)
         figures.update(textbook_figures(client))
     figures.update(accuracy())
     figures.update(stability())
-    figures["load_avg_1m"] = [load_start, load_avg_1m()]
     return figures, server.exit_code
