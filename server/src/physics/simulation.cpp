@@ -107,6 +107,9 @@ StepStats Simulation::Step(SceneState* state, int steps) {
   try {
     for (int s = 0; s < steps; ++s) {
       for (int sub = 0; sub < params_.substeps; ++sub) {
+        // What the sensors read (joint wrenches, pad forces) is recorded by the call's last sub-step only: every
+        // earlier one would be overwritten unread.
+        record_readings_ = s == steps - 1 && sub == params_.substeps - 1;
         SubStep(state, h);
         CheckFinite(*state);
       }
@@ -150,7 +153,8 @@ void Simulation::SubStep(SceneState* state, double h) {
     for (int pass = 0; pass < kVerletBiasPasses; ++pass) {
       v_next = v_half + SolveVelocityChange(*state, v_half, second, h / 2, &v_next);
     }
-    RecordJointWrenches(v_half, v_next, h / 2, state);  // the second half kick, at the new configuration
+    // The second half kick, at the new configuration.
+    if (record_readings_) RecordJointWrenches(v_half, v_next, h / 2, state);
     AdvanceBristles(second, v_half, h, state);
     multibody_.SetVelocities(v_next, state);
   } else if (params_.integrator == Integrator::kRungeKutta4) {
@@ -165,12 +169,13 @@ void Simulation::SubStep(SceneState* state, double h) {
       v_next = v + SolveVelocityChange(*state, v, forces, h);
     }
     RecordDriveOutputs(v, v_next, h, state);
-    RecordJointWrenches(v, v_next, h, state);  // at the configuration the forces were evaluated at
+    // At the configuration the forces were evaluated at.
+    if (record_readings_) RecordJointWrenches(v, v_next, h, state);
     AdvanceBristles(forces, v_next, h, state);
     multibody_.SetVelocities(v_next, state);
     multibody_.Integrate(v_next, h, state);
   }
-  RecordPadForces(state);
+  if (record_readings_) RecordPadForces(state);
   ClampJointLimits(state);
   UpdateSleep(state, h);
 }
@@ -212,7 +217,8 @@ void Simulation::RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* sta
   const Eigen::VectorXd v_next = v + dv_sum / 6;
   *state = stage_start_;
   multibody_.Integrate(v_sum / 6, h, state);
-  RecordJointWrenches(v, v_next, h, state);        // with the last stage's contacts, at the step's end
+  // With the last stage's contacts, at the step's end.
+  if (record_readings_) RecordJointWrenches(v, v_next, h, state);
   AdvanceBristles(forces_at_end_, v_next, h, state);
   multibody_.SetVelocities(v_next, state);
 }

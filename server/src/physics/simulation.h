@@ -106,6 +106,7 @@ class Simulation : public PhysicsEngine {
   SceneState backup_;                    // the state before Step, restored on divergence
   SceneState stage_start_;               // RungeKutta4: the sub-step's start, each stage's origin
   Forces forces_at_start_, forces_at_end_;  // of a sub-step (the end's only for velocity Verlet)
+  bool record_readings_ = true;             // this sub-step records what sensors read (Step's last one)
   std::vector<std::pair<ContactKey, Vec3>> spare_bristles_;  // swapped with the state's each sub-step
   std::vector<Multibody::Vec6> twists_;  // per pair
   std::vector<ContactSample> samples_;   // per contact: the law's inputs (ContactForces)
