@@ -169,10 +169,12 @@ void WorkCycleRun::Simulate() {
         // 1/60 s chunks of simulated time while they take less than kChunkWallTime together (a fast cycle at
         // 100 × real time would otherwise commit and hop threads 6000 times a second) and the frames fit half
         // the buffer. The frames do not depend on the chunking.
-        PhysicsEngine* simulation = simulations_->For(scene_->id(), model).get();
+        // Held, not borrowed: a DeleteScene meanwhile drops the cache's entry (a cancelled cycle's scene deleted at
+        // once freed the engine under this loop: a crash).
+        const std::shared_ptr<PhysicsEngine> simulation = simulations_->For(scene_->id(), model);
         const auto until = std::chrono::steady_clock::now() + kChunkWallTime;
         for (;;) {
-          cycle_->Advance(simulation, state, StepsPerChunk(model->simulation), &frames);
+          cycle_->Advance(simulation.get(), state, StepsPerChunk(model->simulation), &frames);
           if (cycle_->done() || frames.size() >= kMaxBuffered / 2 || std::chrono::steady_clock::now() >= until) break;
           scene_->PublishDuringUpdate(*state);  // a recording gets every chunk, not only the committed ones
         }
