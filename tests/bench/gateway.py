@@ -15,7 +15,7 @@ import statistics
 import time
 
 import graspsim
-from graspsim.gateway_rig import GatewayRig
+from graspsim.testing.gateway_rig import GatewayRig
 
 from _harness import Server, log, ms_stats
 

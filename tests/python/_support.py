@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import graspsim
-from graspsim import meshes, partial_view
+from graspsim import meshes
+from graspsim.testing import partial_view
 from graspsim.v1 import scene_pb2
 
 IA = grpc.StatusCode.INVALID_ARGUMENT

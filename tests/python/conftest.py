@@ -17,6 +17,11 @@ from grpc_health.v1 import health_pb2, health_pb2_grpc
 
 import graspsim
 
+# No progress bars in the tests' output (the client's long calls show them by default): tqdm >= 4.66 reads this
+# when it is first imported, later than here (graspsim imports it only for a bar); the examples and Ray workers the
+# tests start inherit it.
+os.environ.setdefault("TQDM_DISABLE", "1")
+
 REPO_ROOT = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 30.0
 STOP_TIMEOUT_S = 30.0

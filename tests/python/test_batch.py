@@ -19,9 +19,9 @@ os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
 import ray  # noqa: E402
 import trimesh
 
-from graspsim import partial_view
 from graspsim.batch import (ServerActor, TaskError, complete_shapes, map_scenes, mesh_sha256, plan_grasp_database,
                             read_dataset)
+from graspsim.testing import partial_view
 
 from _support import VIEW_INTRINSICS, cylinder_view
 from conftest import server_binary

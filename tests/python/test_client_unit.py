@@ -385,3 +385,13 @@ def test_base_client_does_not_import_matplotlib():
     import sys
     code = "import sys, graspsim; sys.exit('matplotlib' in sys.modules)"
     assert subprocess.run([sys.executable, "-c", code]).returncode == 0
+
+
+@pytest.mark.parametrize("name", ["gateway_rig", "partial_view"])
+def test_moved_test_rigs_keep_their_old_names_for_a_release(name, monkeypatch):
+    import importlib
+    import sys
+    monkeypatch.delitem(sys.modules, f"graspsim.{name}", raising=False)  # imported afresh: the warning again
+    with pytest.warns(DeprecationWarning, match=f"graspsim.testing.{name}"):
+        old = importlib.import_module(f"graspsim.{name}")
+    assert old is importlib.import_module(f"graspsim.testing.{name}")

@@ -11,7 +11,7 @@ import grpc
 import pytest
 
 import graspsim
-from graspsim.gateway_rig import GatewayRig
+from graspsim.testing.gateway_rig import GatewayRig
 from _support import expect_error, wait_stopped
 from conftest import server_binary
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import graspsim
-from graspsim import partial_view
+from graspsim.testing import partial_view
 from graspsim.v1 import perception_pb2
 
 from _support import (VIEW_F, VIEW_H, VIEW_HEIGHT, VIEW_INTRINSICS, VIEW_RADIUS, VIEW_W, cylinder_view,

@@ -9,7 +9,7 @@ from mcap.reader import make_reader
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
-from graspsim import partial_view
+from graspsim.testing import partial_view
 
 from _support import VIEW_INTRINSICS, cylinder_view
 

@@ -1,8 +1,8 @@
 """A hardware gateway session recorded beside its twin (issue 25, docs/recording.md): PredictAction on a scene
 being recorded appends its request on "/graspsim/gateway/action" (graspsim.v1.PredictActionRequest) and every
 sample it streams on "/graspsim/gateway/prediction" (graspsim.v1.PredictionSample). Real processes, as in
-test_gateway.py: graspsim-server, graspsim-gateway and the PG70 emulator (graspsim.gateway_rig). The file is read
-with classes built from the schemas it embeds (mcap-protobuf-support), not with this client's own.
+test_gateway.py: graspsim-server, graspsim-gateway and the PG70 emulator (graspsim.testing.gateway_rig). The file
+is read with classes built from the schemas it embeds (mcap-protobuf-support), not with this client's own.
 """
 import math
 import struct
@@ -13,7 +13,7 @@ from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
 import graspsim
-from graspsim.gateway_rig import GatewayRig
+from graspsim.testing.gateway_rig import GatewayRig
 from graspsim.v1 import gateway_pb2
 
 from _support import wait_stopped

@@ -18,7 +18,7 @@ from grpc_health.v1 import health_pb2, health_pb2_grpc
 
 import graspsim
 from graspsim.v1 import grasp_pb2
-from graspsim.gateway_rig import GatewayRig
+from graspsim.testing.gateway_rig import GatewayRig
 from _support import expect_error
 from conftest import REPO_ROOT as REPO, free_port, server_binary
 

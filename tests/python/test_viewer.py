@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import graspsim
-from graspsim import partial_view
+from graspsim.testing import partial_view
 
 CUBE = 0.05  # m
 

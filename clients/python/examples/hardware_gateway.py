@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 import graspsim
-from graspsim.gateway_rig import GatewayRig, find_bin_dir
+from graspsim.testing.gateway_rig import GatewayRig, find_bin_dir
 
 
 def wait_stopped(client, device_id, timeout=10.0):

@@ -33,7 +33,9 @@ def stage_printer():
 
 def pick_and_place(client: graspsim.Client, scene_id: str, arm_id: str, body_id: str, goal, **kwargs):
     """Runs PickAndPlace, prints the stages, the outcome and the object's pose error read back from the scene."""
-    result = client.pick_and_place(scene_id, arm_id, body_id, goal, on_progress=stage_printer(), **kwargs)
+    # The printed stages instead of a progress bar: the two on one terminal would garble each other.
+    result = client.pick_and_place(scene_id, arm_id, body_id, goal, on_progress=stage_printer(), progress=False,
+                                   **kwargs)
     end = client.get_body_poses(scene_id, [body_id])[body_id]
     goal = graspsim.as_pose(goal)
     error = float(np.linalg.norm(np.asarray(end.position) - np.asarray(goal.position)))

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """Shape completion: an object seen from one side, completed by its symmetry (PerceptionService.CompleteShape).
 
-A simulated depth camera (graspsim.partial_view: 320 x 240 pixels, 0.45 m away, 35 degrees above the table) sees
-a 5 cm cube and a can (r 3.3 cm, h 10 cm) standing on a table; the server filters the points, finds the mirror
-plane perpendicular to the table by the visibility score, mirrors the points, fits normals and a Poisson surface,
-and returns a closed mesh — and the paper's Delaunay baseline for comparison. Prints the plane, the stages' times
-and how far the completed mesh is from the true shape; draws before/after pictures into shape_completion.png
-when matplotlib is installed.
+A simulated depth camera (graspsim.testing.partial_view: 320 x 240 pixels, 0.45 m away, 35 degrees above the
+table) sees a 5 cm cube and a can (r 3.3 cm, h 10 cm) standing on a table; the server filters the points, finds
+the mirror plane perpendicular to the table by the visibility score, mirrors the points, fits normals and a
+Poisson surface, and returns a closed mesh — and the paper's Delaunay baseline for comparison. Prints the plane,
+the stages' times and how far the completed mesh is from the true shape; draws before/after pictures into
+shape_completion.png when matplotlib is installed.
 
     python3 shape_completion.py --server 127.0.0.1:50051 [--out DIR]
 """
@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 import graspsim
-from graspsim import partial_view
+from graspsim.testing import partial_view
 
 WIDTH, HEIGHT, FOCAL = 320, 240, 300.0
 INTRINSICS = (FOCAL, FOCAL, (WIDTH - 1) / 2, (HEIGHT - 1) / 2)

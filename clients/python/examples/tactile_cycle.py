@@ -67,7 +67,8 @@ def run_cycle(client: graspsim.Client, coverage: float, *, hold_time: float = 1.
     def run() -> graspsim.WorkCycleResult:
         return client.run_work_cycle(scene_id, GRIPPER, CUBE, coverage=coverage, hold_time=hold_time,
                                      tactile_setpoint=tactile_setpoint, lift_height=lift_height,
-                                     frame_rate_hz=frame_rate_hz, on_frame=on_frame)
+                                     frame_rate_hz=frame_rate_hz, on_frame=on_frame,
+                                     progress=not verbose)  # the printed stages, or a bar: not both at once
 
     try:
         if record is None:

@@ -9,19 +9,21 @@ import numpy as np
 
 from graspsim import _build, _robot_files
 from graspsim._auth import AuthMethods, PemLike, open_channel
-from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
+from graspsim._errors import GraspsimError, translated_errors
 from graspsim._gateway import GatewayMethods
 from graspsim._ids import accept_scene_objects
 from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, target_proto
 from graspsim._motion import MotionMethods
 from graspsim._perception import PerceptionMethods
 from graspsim._pose import Pose, PoseLike, Velocity, as_pose
+from graspsim._progress import advance, progress_bar
 from graspsim._recording import RecordingMethods
 from graspsim._robot_files import FilePath, PackageRoots
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
+from graspsim._stream import server_stream
 from graspsim._upload import FileData, upload_chunks
 from graspsim._watch import SceneWatch
-from graspsim._work_cycle import WorkCycleFrame, WorkCycleResult
+from graspsim._work_cycle import STAGES as WORK_CYCLE_STAGES, WorkCycleFrame, WorkCycleResult
 from graspsim.v1 import common_pb2, grasp_pb2, grasp_pb2_grpc, scene_pb2, scene_pb2_grpc, tactile_pb2, tactile_pb2_grpc
 
 _CHANNEL_OPTIONS = [
@@ -109,13 +111,9 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
     def export_scene(self, scene_id: str) -> bytes:
         """The whole scene as an archive (its edits as received, its files, its state), for import_scene on
         another server: how a fleet moves a scene (graspsim.fleet.rebalance, docs/scaling.md)."""
-        with translated_errors():
-            stream = self.scene_stub.ExportScene(scene_pb2.ExportSceneRequest(scene_id=scene_id),
-                                                 timeout=self.call_timeout)
-            try:
-                return b"".join(chunk.data for chunk in stream)
-            finally:
-                stream.cancel()
+        request = scene_pb2.ExportSceneRequest(scene_id=scene_id)
+        with server_stream(self.scene_stub.ExportScene(request, timeout=self.call_timeout)) as call:
+            return b"".join(chunk.data for chunk in call)
 
     def import_scene(self, archive: bytes, scene_id: Optional[str] = None,
                      chunk_size: int = 1 << 20) -> scene_pb2.SceneSummary:
@@ -383,7 +381,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
     def run_work_cycle(self, scene_id: str, gripper_id: str, object_id: str, *, tactile_setpoint: float = 0,
                        lift_height: float = 0, coverage: float = 0, frame_rate_hz: float = 0, hold_time: float = 0,
                        on_frame: Optional[Callable[[WorkCycleFrame], None]] = None,
-                       timeout: Optional[float] = None) -> WorkCycleResult:
+                       timeout: Optional[float] = None, progress: bool = True) -> WorkCycleResult:
         """Runs the grasp work cycle on a gripper carried by a z axis (built-in "schunk_pg70_on_z_axis") and
         returns its time series: approach, grasp (velocity control until the first tactile contact, then force
         control of the tactile sum), lift, hold, move_down, release, done.
@@ -392,7 +390,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         coverage: fraction (0, 1] of the pads' length the object covers (0 = 1); frame_rate_hz: progress frames
         per simulated second (0 = 50); hold_time: s held at the top (0 = 1). on_frame(frame) is called with each
         WorkCycleFrame as it arrives; if it raises, the cycle is cancelled and the exception propagates.
-        timeout (s) bounds the whole call (None: no deadline). The server's refusals raise GraspsimError.
+        progress=True shows a tqdm bar of the stages on stderr. timeout (s) bounds the whole call (None: no
+        deadline). The server's refusals raise GraspsimError.
         """
         request = tactile_pb2.RunWorkCycleRequest(
             scene_id=scene_id, gripper_id=gripper_id, object_id=object_id, tactile_setpoint=tactile_setpoint,
@@ -400,19 +399,19 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             # A message may carry the frames that waited while this reader was busy: a fast cycle's frames then
             # cost one message per batch rather than one each.
             max_frames_per_message=64)
-        call = self.tactile_stub.RunWorkCycle(request, timeout=timeout)
         frames: List[WorkCycleFrame] = []
-        try:
+        # The bar counts stages: the cycle's length in frames depends on the object and is not known up front.
+        with progress_bar(progress, len(WORK_CYCLE_STAGES) - 1, "work cycle", "stages") as bar, \
+                server_stream(self.tactile_stub.RunWorkCycle(request, timeout=timeout)) as call:
             for message in call:
                 for part in (message, *message.following):
                     frame = WorkCycleFrame.from_proto(part)
                     frames.append(frame)
                     if on_frame is not None:
                         on_frame(frame)
-        except grpc.RpcError as err:
-            raise from_rpc_error(err) from None
-        finally:
-            call.cancel()  # a no-op once the stream has ended; stops the server's run otherwise
+                stage = frame.stage  # the newest; a stage this client does not know leaves the bar where it is
+                done = WORK_CYCLE_STAGES.index(stage) if stage in WORK_CYCLE_STAGES else bar.n
+                advance(bar, done, f"{stage}, t {frame.time:.2f} s")
         return WorkCycleResult.from_frames(frames, tactile_setpoint=tactile_setpoint, lift_height=lift_height,
                                            coverage=coverage)
 
@@ -433,8 +432,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         (n, 3) m, triangles (m, 3)). method: "bounding_box", "grasp_points" (grasp_points=(a, b) or detected),
         "centroid_circles". friction μ (None = 0.4); preshapes (empty = all); standoffs m (empty = [0]); rolls
         per approach (None = 4); spacing m of the bounding-box samples (None = 0.02); seed (None = 1);
-        max_candidates (0 = all); max_grasps kept (0 = 50). progress=True shows a tqdm bar when tqdm is
-        installed; on_progress(done, total) is called with every progress message. Returns a GraspSetResult
+        max_candidates (0 = all); max_grasps kept (0 = 50). progress=True shows a tqdm bar of the candidates on
+        stderr; on_progress(done, total) is called with every progress message. Returns a GraspSetResult
         whose .grasps and .contacts are numpy structured arrays (object frame). timeout (s) bounds the call.
         Materials: object_material, link_materials {hand link: material} (None/unlisted = "default") and
         friction_pairs {(material_a, material_b): μ} give each contact the μ of its pair (else friction).
@@ -452,31 +451,17 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             a, b = grasp_points
             request.grasp_point_a.CopyFrom(common_pb2.Vec3(x=a[0], y=a[1], z=a[2]))
             request.grasp_point_b.CopyFrom(common_pb2.Vec3(x=b[0], y=b[1], z=b[2]))
-        bar = None
-        if progress:
-            try:
-                from tqdm import tqdm
-                bar = tqdm(total=0, unit="candidates", desc=f"grasps {hand}", leave=False)
-            except ImportError:
-                bar = None
-        call = self.grasp_stub.PlanGrasps(request, timeout=timeout)
         result = None
-        try:
+        with progress_bar(progress, 0, f"grasps {hand}", "candidates") as bar, \
+                server_stream(self.grasp_stub.PlanGrasps(request, timeout=timeout)) as call:
             for message in call:
-                if bar is not None and message.candidates_total:
+                if message.candidates_total:
                     bar.total = message.candidates_total
-                    bar.n = message.candidates_done
-                    bar.refresh()
+                    advance(bar, message.candidates_done)
                 if on_progress is not None:
                     on_progress(message.candidates_done, message.candidates_total)
                 if message.HasField("result"):
                     result = GraspSetResult.from_proto(message.result)
-        except grpc.RpcError as err:
-            raise from_rpc_error(err) from None
-        finally:
-            call.cancel()  # a no-op once the stream has ended; stops the planning otherwise
-            if bar is not None:
-                bar.close()
         if result is None:
             raise GraspsimError.for_code(grpc.StatusCode.INTERNAL, "PlanGrasps ended without a grasp set")
         return result

@@ -4,10 +4,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, List, Optional, Sequence
 
-import grpc
 import numpy as np
 
-from graspsim._errors import from_rpc_error, translated_errors
+from graspsim._errors import translated_errors
+from graspsim._stream import server_stream
 from graspsim.v1 import gateway_pb2, gateway_pb2_grpc
 
 
@@ -104,15 +104,11 @@ class GatewayMethods:
         request = gateway_pb2.PredictActionRequest(
             device_id=device_id, scene_id=scene_id, gripper_id=gripper_id,
             move=gateway_pb2.Move(opening=opening, speed=speed, force=force), timeout=timeout, rate_hz=rate_hz)
-        call = self.gateway_stub.PredictAction(request, timeout=(timeout or 5.0) + self.call_timeout)
         samples = []
-        try:
+        deadline = (timeout or 5.0) + self.call_timeout
+        with server_stream(self.gateway_stub.PredictAction(request, timeout=deadline)) as call:
             for sample in call:
                 samples.append(sample)
                 if on_sample is not None:
                     on_sample(sample)
-        except grpc.RpcError as err:
-            raise from_rpc_error(err) from None
-        finally:
-            call.cancel()
         return PredictionResult.from_samples(samples)

@@ -9,6 +9,7 @@ import numpy as np
 
 from graspsim._errors import GraspsimError, error_for_code, translated_errors
 from graspsim._pose import Pose, PoseLike, as_pose
+from graspsim._progress import advance, progress_bar
 from graspsim._stream import CancellableStream
 from graspsim.v1 import grasp_pb2, grasp_pb2_grpc
 
@@ -137,7 +138,8 @@ class MotionMethods:
                               hand_id: str = "", grasp_set_id: str = "", max_attempts: int = 0,
                               seed: Optional[int] = None, call_timeout: Optional[float] = None) -> CancellableStream:
         """The raw progress stream of pick_and_place (graspsim.v1.PickAndPlaceProgress messages: stage,
-        fraction, and the result in the last one); cancel() stops the server's job."""
+        fraction, and the result in the last one); cancel(), leaving a with-block or dropping the stream stops the
+        server's job."""
         request = grasp_pb2.PickAndPlaceRequest(scene_id=scene_id, arm_id=arm_id, hand_id=hand_id, body_id=body_id,
                                                 grasp_set_id=grasp_set_id, max_attempts=max_attempts)
         request.goal.CopyFrom(as_pose(goal).to_proto())
@@ -149,18 +151,21 @@ class MotionMethods:
     def pick_and_place(self, scene_id: str, arm_id: str, body_id: str, goal: PoseLike, *, hand_id: str = "",
                        grasp_set_id: str = "", max_attempts: int = 0, seed: Optional[int] = None,
                        on_progress: Optional[Callable[[str, float], None]] = None,
-                       call_timeout: Optional[float] = None) -> PickAndPlaceResult:
+                       call_timeout: Optional[float] = None, progress: bool = True) -> PickAndPlaceResult:
         """Picks body_id up with the hand on arm_id's flange and puts it at `goal` (world pose of the object),
         planned and executed in the dynamic simulation (docs/motion.md, "Pick and place"). The grasps come from
         grasp_set_id (a PlanGrasps set for this hand and object) or a set planned now. on_progress(stage,
-        fraction) is called for every progress message. On success the scene holds the simulated end state; an
-        unreachable goal or grasps that all fail raise FailedPrecondition with the reasons (scene unchanged)."""
-        stream = self.pick_and_place_stream(scene_id, arm_id, body_id, goal, hand_id=hand_id,
-                                            grasp_set_id=grasp_set_id, max_attempts=max_attempts, seed=seed,
-                                            call_timeout=call_timeout)
+        fraction) is called for every progress message; progress=True shows a tqdm bar on stderr. On success the
+        scene holds the simulated end state; an unreachable goal or grasps that all fail raise FailedPrecondition
+        with the reasons (scene unchanged). Leaving the call early (on_progress raising, KeyboardInterrupt)
+        cancels the server's job."""
         last = None
-        with stream:
+        with progress_bar(progress, 100, "pick and place", "%") as bar, \
+                self.pick_and_place_stream(scene_id, arm_id, body_id, goal, hand_id=hand_id,
+                                           grasp_set_id=grasp_set_id, max_attempts=max_attempts, seed=seed,
+                                           call_timeout=call_timeout) as stream:
             for message in stream:
+                advance(bar, round(100 * message.fraction), message.stage)
                 if on_progress is not None:
                     on_progress(message.stage, message.fraction)
                 last = message

@@ -8,8 +8,10 @@ from typing import Callable, Dict, List, Optional, Sequence
 import grpc
 import numpy as np
 
-from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
+from graspsim._errors import GraspsimError, translated_errors
 from graspsim._pose import PoseLike, as_pose
+from graspsim._progress import advance, progress_bar
+from graspsim._stream import server_stream
 from graspsim.v1 import common_pb2, perception_pb2, perception_pb2_grpc
 
 METHODS = {"mirror": perception_pb2.COMPLETION_METHOD_MIRROR, "delaunay": perception_pb2.COMPLETION_METHOD_DELAUNAY}
@@ -81,7 +83,7 @@ class PerceptionMethods:
                        shifts: int = 0, octree_depth: int = 0, refinements: int = 0, voxel_size: float = 0.0,
                        add_to_scene_id: str = "", object_name: str = "", object_mass: float = 0.0,
                        on_progress: Optional[Callable[[str, float], None]] = None,
-                       timeout: Optional[float] = None) -> CompletedShape:
+                       timeout: Optional[float] = None, progress: bool = True) -> CompletedShape:
         """Completes one object seen from camera_pose (camera frame in the world: z forward, x right, y down).
 
         Input: points=(n, 3) m in the world, or depth=(h, w) m along the optical axis (0/NaN = no return) with
@@ -90,7 +92,9 @@ class PerceptionMethods:
         closed flat; None = world z up, underside left to the surface fit. method "mirror" (symmetry search,
         Poisson surface) or "delaunay" (the paper's baseline). orientations × shifts hypotheses (0 = 7 × 5),
         octree_depth 5..8 (0 = 6), refinements 0..5 finer passes. add_to_scene_id: the mesh also becomes a free
-        object of that scene (object_name, object_mass kg, 0 = 0.1). on_progress(stage, fraction) per stage.
+        object of that scene (object_name, object_mass kg, 0 = 0.1). on_progress(stage, fraction) per stage;
+        progress=True shows a tqdm bar on stderr. Leaving the call early (on_progress raising, KeyboardInterrupt)
+        cancels the server's job.
         """
         request = perception_pb2.CompleteShapeRequest(
             camera_pose=as_pose(camera_pose).to_proto(), orientations=orientations, shifts=shifts,
@@ -119,15 +123,14 @@ class PerceptionMethods:
                 request.depth_image.mask = np.ascontiguousarray(np.asarray(mask).astype(np.uint8)).tobytes()
         stages: List[str] = []
         last = None
-        call = self.perception_stub.CompleteShape(request, timeout=timeout)
-        try:
+        with progress_bar(progress, 100, "shape", "%") as bar, \
+                server_stream(self.perception_stub.CompleteShape(request, timeout=timeout)) as call:
             for message in call:
                 stages.append(message.stage)
+                advance(bar, round(100 * message.fraction), message.stage)
                 if on_progress is not None:
                     on_progress(message.stage, message.fraction)
                 last = message
-        except grpc.RpcError as err:
-            raise from_rpc_error(err) from None
         if last is None or last.stage != "done":
             raise GraspsimError.for_code(grpc.StatusCode.INTERNAL, "CompleteShape ended without a mesh")
         return CompletedShape.from_proto(last, stages)

@@ -15,8 +15,9 @@ from typing import Iterator, List, Optional, Sequence, Tuple, Union
 import grpc
 import numpy as np
 
-from graspsim._errors import GraspsimError, from_rpc_error, translated_errors
+from graspsim._errors import GraspsimError, translated_errors
 from graspsim._ids import SceneLike, scene_id_of
+from graspsim._stream import server_stream
 from graspsim.v1 import recording_pb2, recording_pb2_grpc
 
 @dataclass
@@ -141,9 +142,9 @@ class RecordingMethods:
         target = Path(path)
         request = recording_pb2.DownloadRecordingRequest(name=name)
         fd, partial = _create_beside(target)
-        call = self.recording_stub.DownloadRecording(request, timeout=timeout)
         try:
-            with os.fdopen(fd, "wb") as out:
+            with os.fdopen(fd, "wb") as out, \
+                    server_stream(self.recording_stub.DownloadRecording(request, timeout=timeout)) as call:
                 written = 0
                 for chunk in call:
                     if chunk.offset != written:
@@ -153,10 +154,7 @@ class RecordingMethods:
                     out.write(chunk.data)
                     written += len(chunk.data)
             os.replace(partial, target)
-        except grpc.RpcError as err:
-            raise from_rpc_error(err) from None
         finally:
-            call.cancel()  # a no-op once the stream has ended
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(partial)
         return target

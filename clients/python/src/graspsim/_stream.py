@@ -1,13 +1,29 @@
-"""A server stream as a cancellable iterator: the shape of SceneWatch and SensorStream."""
+"""Server streams that end on the server as soon as the client stops reading: server_stream() for the calls that
+read a stream to its end, CancellableStream (SceneWatch, SensorStream, pick_and_place_stream) for the ones that
+hand it to the caller."""
 from __future__ import annotations
 
+import contextlib
 from typing import Callable, Generic, Iterator, TypeVar
 
 import grpc
 
-from graspsim._errors import from_rpc_error
+from graspsim._errors import from_rpc_error, translated_errors
 
 T = TypeVar("T")
+
+
+@contextlib.contextmanager
+def server_stream(call: grpc.Call) -> Iterator[grpc.Call]:
+    """The block that reads `call`: its gRPC errors are raised as GraspsimError, and however the block is left (the
+    stream's end, a return, any exception: a callback's, KeyboardInterrupt, GeneratorExit) the call is cancelled.
+    Cancelling an ended call does nothing; otherwise the server stops the work nobody reads any more at once,
+    rather than when the call object is garbage-collected (never, while a traceback holds this frame)."""
+    try:
+        with translated_errors():
+            yield call
+    finally:
+        call.cancel()
 
 
 class CancellableStream(Generic[T]):
@@ -45,4 +61,9 @@ class CancellableStream(Generic[T]):
         return self
 
     def __exit__(self, *exc) -> None:
+        self.cancel()
+
+    def __del__(self) -> None:
+        # A stream dropped unfinished (a loop left by break or an exception, outside a with-block) ends on the
+        # server too, even while someone still holds the underlying call.
         self.cancel()

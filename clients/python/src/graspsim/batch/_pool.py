@@ -14,6 +14,7 @@ from typing import Callable, List, Optional, Sequence
 import ray
 from ray.exceptions import NodeDiedError, ObjectLostError, RayActorError, RayTaskError, WorkerCrashedError
 
+from graspsim import _progress
 from graspsim.batch._server import ServerActor
 
 # What a lost actor looks like from the driver: the actor process died (ray.kill, a crash, its node went away).
@@ -161,11 +162,5 @@ def ray_session(address: Optional[str] = None, needed: bool = True):
 
 
 def progress_bar(enabled: bool, total: int, initial: int, desc: str):
-    """A tqdm bar over a whole job (None when disabled or tqdm is missing)."""
-    if not enabled:
-        return None
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=total, initial=initial, unit="task", desc=desc)
+    """The tqdm bar of a whole job, on the driver's stderr; it stays there as the job's summary."""
+    return _progress.progress_bar(enabled, total, desc, "task", leave=True, initial=initial)

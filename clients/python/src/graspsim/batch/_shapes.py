@@ -38,7 +38,8 @@ def volume_and_centroid(vertices: np.ndarray, triangles: np.ndarray):
 def _complete_task(client, spec: dict, view: dict):
     shape = client.complete_shape(view["camera_pose"], points=view.get("points"), depth=view.get("depth"),
                                   intrinsics=view.get("intrinsics"), mask=view.get("mask"),
-                                  table_pose=view.get("table_pose"), timeout=spec["timeout"], **spec["params"])
+                                  table_pose=view.get("table_pose"), timeout=spec["timeout"], progress=False,
+                                  **spec["params"])  # the job's bar is the driver's; a worker has none
     volume, centroid = volume_and_centroid(shape.vertices, shape.triangles)
     return dict(spec["row"], vertices=len(shape.vertices), triangles=len(shape.triangles), volume=volume,
                 centroid=centroid, score=shape.score, input_points=shape.input_points,
