@@ -286,10 +286,14 @@ void ContactFinder::Find(const std::vector<Pose>& body_poses, std::vector<Contac
       if (world[a].bounds.Empty() || world[b].bounds.Empty() || !world[a].bounds.Overlaps(world[b].bounds)) continue;
       const size_t first = contacts->size();
       m.SamplesInto(a, b, world, &locals, contacts);
+      const size_t samples_end = contacts->size();
       m.SupportsInto(a, b, world, locals, contacts);
-      // Support features sort after their sphere's samples: keep the pair's contacts in feature order.
-      std::sort(contacts->begin() + static_cast<std::ptrdiff_t>(first), contacts->end(),
-                [](const ContactPoint& x, const ContactPoint& y) { return x.feature < y.feature; });
+      // Samples come in feature order; support features sort after their sphere's samples: when there are
+      // any, keep the pair's contacts in feature order.
+      if (contacts->size() > samples_end) {
+        std::sort(contacts->begin() + static_cast<std::ptrdiff_t>(first), contacts->end(),
+                  [](const ContactPoint& x, const ContactPoint& y) { return x.feature < y.feature; });
+      }
     }
   }
 }
