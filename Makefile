@@ -11,7 +11,7 @@ SERVER := $(BUILD)/bin/graspsim-server
 PROTOS := $(wildcard proto/graspsim/v1/*.proto)
 CLIENT_FILES := clients/python/pyproject.toml clients/python/setup.py
 
-.PHONY: all deps build python node-tests go-tools demo test test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke mbm-data
+.PHONY: all deps build python node-tests go-tools demo test check-includes test-cpp test-python test-matlab clean build-fuzz test-sanitize fuzz-smoke mbm-data
 all: build python
 
 deps:
@@ -92,7 +92,13 @@ test-python: build python node-tests go-tools
 test-matlab: build
 	@GRASPSIM_SERVER=$(abspath $(SERVER)) tests/matlab/run.sh
 
-test: test-cpp test-python test-matlab test-sanitize fuzz-smoke
+# The folder map of docs/architecture.md (issue 24): every #include of server/src and drivers/ against the folders
+# it may include, and gRPC/protobuf headers nowhere below rpc/. Python 3's standard library only: runs first, in
+# about a second, with no build.
+check-includes:
+	@python3 scripts/check_includes.py
+
+test: check-includes test-cpp test-python test-matlab test-sanitize fuzz-smoke
 
 # Bad input (issue 11, docs/fuzzing.md): one clang build in $(FUZZ_BUILD) holds the ASan + UBSan build of the C++
 # tests and the libFuzzer targets of tests/fuzz.

@@ -1,5 +1,5 @@
 // Who may call what: bearer tokens with roles, the one table of the role each RPC needs, the owners of scenes
-// and the scripters granted each hardware device. No gRPC here: the interceptor (auth/grpc_auth.h) and the HTTP
+// and the scripters granted each hardware device. No gRPC here: the interceptor (rpc/auth_interceptor.h) and the HTTP
 // gateway both call Authorizer, so a call is judged the same way whichever port it came in on.
 #pragma once
 

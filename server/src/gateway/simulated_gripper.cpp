@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "physics/builtin_drives.h"
 #include "sensors/readings.h"
-#include "workcycle/drives.h"
 
 namespace graspsim::gateway {
 namespace {

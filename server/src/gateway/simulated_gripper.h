@@ -2,7 +2,7 @@
 // controller runs the real gripper through the gateway and this twin in the simulation. It owns a private copy
 // of a scene's state and its own Simulation; the scene itself is never changed.
 //
-// Commands act like the module's MOVE_POS: the finger drive (the built-in PG70 drive, workcycle/drives.h) in
+// Commands act like the module's MOVE_POS: the finger drive (the built-in PG70 drive, physics/builtin_drives.h) in
 // position mode toward opening/2 per finger (two mirrored fingers), its speed capped at speed/2 per finger and
 // its current limited to force / (200 N / 3.5 A), the PG70's force constant. Time advances only in Advance():
 // a prediction steps it to the times of the real device's readings.

@@ -10,9 +10,9 @@
 
 #include "core/error.h"
 #include "core/format.h"
+#include "physics/builtin_drives.h"
 #include "physics/simulation.h"
 #include "pickplace/internal.h"
-#include "workcycle/drives.h"
 
 namespace graspsim::pickplace {
 namespace {

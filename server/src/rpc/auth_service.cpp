@@ -1,8 +1,8 @@
 #include "rpc/auth_service.h"
 
-#include "auth/grpc_auth.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "rpc/auth_interceptor.h"
 #include "rpc/call.h"
 
 namespace graspsim::rpc {
@@ -16,7 +16,7 @@ void AuthServiceImpl::RequireTokens() const {
 grpc::ServerUnaryReactor* AuthServiceImpl::WhoAmI(Context* context, const v1::WhoAmIRequest*,
                                                   v1::WhoAmIResponse* response) {
   return RunUnary(context, "AuthService/WhoAmI", pool_, [=] {
-    if (const auto who = auth::CallerOf(*context)) {
+    if (const auto who = CallerOf(*context)) {
       response->set_name(who->name);
       response->set_role(auth::RoleName(who->role));
     }
@@ -59,7 +59,7 @@ grpc::ServerUnaryReactor* AuthServiceImpl::ShareScene(Context* context, const v1
   return RunUnary(context, "AuthService/ShareScene", pool_, [=, this] {
     RequireTokens();
     if (request->name().empty()) ThrowInvalidArgument("name: empty");
-    const auto who = auth::CallerOf(*context);
+    const auto who = CallerOf(*context);
     // The interceptor let only the owner or an admin through; Share checks again against a scene deleted since.
     if (!who || !authorizer_->Share(*who, request->scene_id(), request->name())) {
       ThrowNotFound("scene_id: '" + request->scene_id().substr(0, 80) + "' does not exist");

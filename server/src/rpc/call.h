@@ -8,9 +8,9 @@
 
 #include <grpcpp/grpcpp.h>
 
-#include "auth/grpc_auth.h"
 #include "core/error.h"
 #include "core/worker_pool.h"
+#include "rpc/auth_interceptor.h"
 #include "rpc/failed_call.h"
 
 namespace graspsim::rpc {
@@ -23,12 +23,12 @@ void LogRequest(const char* method, const grpc::ServerContextBase& context, cons
                 std::chrono::steady_clock::duration elapsed);
 
 // Runs a handler body; an Error becomes its status, anything else INTERNAL (never a crash). A call the auth
-// interceptor refused (auth/grpc_auth.h) ends with that refusal and the body does not run.
+// interceptor refused (rpc/auth_interceptor.h) ends with that refusal and the body does not run.
 template <typename Body>
 grpc::Status Handle(const char* method, const grpc::ServerContextBase& context, Body&& body) {
   const auto start = std::chrono::steady_clock::now();
   grpc::Status status;
-  if (auto refused = auth::RefusedCall(context)) return *refused;
+  if (auto refused = RefusedCall(context)) return *refused;
   try {
     body();
   } catch (const Error& error) {
@@ -55,12 +55,12 @@ grpc::ServerUnaryReactor* RunUnary(grpc::CallbackServerContext* context, const c
 }
 
 // Every server stream starts through one of these two, so none can skip the auth check: a call the auth interceptor
-// refused (auth/grpc_auth.h) ends with its refusal before any stream exists. With `prepare` (the request's checks,
-// run as a handler: an Error becomes the call's status) a rejected request ends likewise; otherwise `start` makes
-// the stream.
+// refused (rpc/auth_interceptor.h) ends with its refusal before any stream exists. With `prepare` (the request's
+// checks, run as a handler: an Error becomes the call's status) a rejected request ends likewise; otherwise `start`
+// makes the stream.
 template <typename Response, typename Start>
 grpc::ServerWriteReactor<Response>* StartStream(grpc::CallbackServerContext* context, Start&& start) {
-  if (auto refused = auth::RefusedCall(*context)) return new FailedWriter<Response>(*refused);
+  if (auto refused = RefusedCall(*context)) return new FailedWriter<Response>(*refused);
   return start();
 }
 

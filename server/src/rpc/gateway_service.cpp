@@ -19,7 +19,7 @@ grpc::Status StatusOf(const gateway::CommandResult& result) {
 grpc::ServerBidiReactor<v1::GatewayMessage, v1::GatewayCommand>* GatewayServiceImpl::Connect(Context* context) {
   // Refused before the stream opens a hub session: a caller who sends nothing must not hold one (it did,
   // tests/python/test_auth_every_method.py).
-  if (auto refused = auth::RefusedCall(*context)) {
+  if (auto refused = RefusedCall(*context)) {
     return new FailedBidi<v1::GatewayMessage, v1::GatewayCommand>(*refused);
   }
   return StartGatewayStream(context, hub_);
@@ -53,7 +53,7 @@ grpc::ServerUnaryReactor* GatewayServiceImpl::SendCommand(Context* context, cons
 grpc::ServerUnaryReactor* GatewayServiceImpl::EmergencyStop(Context* context, const v1::EmergencyStopRequest* request,
                                                             v1::EmergencyStopResponse* response) {
   constexpr char kMethod[] = "GatewayService/EmergencyStop";
-  if (auto refused = auth::RefusedCall(*context)) return FailedUnary(context, *refused);
+  if (auto refused = RefusedCall(*context)) return FailedUnary(context, *refused);
   if (!request->device_id().empty() && !hub_->Find(request->device_id())) {
     const grpc::Status status(grpc::StatusCode::NOT_FOUND,
                               "device_id: no device '" + request->device_id() + "' is registered");

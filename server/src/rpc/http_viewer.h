@@ -46,7 +46,7 @@ void AddViewerRoutes(httplib::Server* server, std::shared_ptr<grpc::Channel> cha
 
 // The caller's credentials as an authorization metadata value ("Bearer <token>"): the Authorization header, else
 // a ?token= query parameter (a link that opens the viewer), else the graspsim_token cookie that such a link sets.
-// Empty when there are none. The interceptor checks them (auth/grpc_auth.h), as for any gRPC client.
+// Empty when there are none. The interceptor checks them (rpc/auth_interceptor.h), as for any gRPC client.
 std::string AuthorizationOf(const httplib::Request& req);
 // A ?token= query parameter becomes an HttpOnly, SameSite=Strict cookie, so the page's own fetches carry it.
 void RememberToken(const httplib::Request& req, httplib::Response& res);

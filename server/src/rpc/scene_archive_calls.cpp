@@ -62,7 +62,7 @@ class ImportReader : public grpc::ServerReadReactor<v1::SceneArchiveChunk> {
       pool_->Post([this] { Finish(Handle("ImportScene", *context_, [this] { Complete(); })); });
       return;
     }
-    if (auto refused = auth::RefusedCall(*context_)) return Finish(*refused);
+    if (auto refused = RefusedCall(*context_)) return Finish(*refused);
     if (chunks_++ == 0) id_ = chunk_.scene_id();
     // Files, edits and state: an archive is at most the scene's file limit plus as much again for the rest.
     const uint64_t limit = 2 * registry_->limits().max_scene_file_bytes;

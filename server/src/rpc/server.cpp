@@ -39,7 +39,7 @@ bool IsLoopback(const std::string& address) {
 }  // namespace
 
 void CheckListenSecurity(const ServerOptions& options) {
-  const auth::TlsFiles& tls = options.tls;
+  const TlsFiles& tls = options.tls;
   if (tls.cert.empty() != tls.key.empty()) ThrowInvalidArgument("--tls-cert and --tls-key: give both or neither");
   if (!tls.client_ca.empty() && tls.cert.empty()) ThrowInvalidArgument("--tls-client-ca: needs --tls-cert and --tls-key");
   if (options.insecure && !tls.cert.empty()) ThrowInvalidArgument("--insecure: contradicts --tls-cert");
@@ -108,10 +108,10 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
 
   grpc::ServerBuilder builder;
   // Loopback by default; wider addresses need TLS (CheckListenSecurity). docs/security.md.
-  builder.AddListeningPort(options.listen, auth::ServerCredentials(options.tls), &port_);
+  builder.AddListeningPort(options.listen, ServerCredentials(options.tls), &port_);
   {
     std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
-    interceptors.push_back(auth::MakeInterceptorFactory(
+    interceptors.push_back(MakeInterceptorFactory(
         &authorizer_, {.tokens = !options.token_file.empty(), .gateway_needs_cert = !options.tls.client_ca.empty()}));
     builder.experimental().SetInterceptorCreators(std::move(interceptors));
   }

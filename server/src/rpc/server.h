@@ -7,13 +7,13 @@
 #include <grpcpp/grpcpp.h>
 
 #include "auth/auth.h"
-#include "auth/grpc_auth.h"
 #include "core/limits.h"
 #include "core/worker_pool.h"
 #include "gateway/gateway_hub.h"
 #include "physics/simulation_cache.h"
 #include "persistence/scene_store.h"
 #include "live/foxglove_server.h"
+#include "rpc/auth_interceptor.h"
 #include "rpc/http_gateway.h"
 #include "rpc/recording_service.h"
 #include "rpc/scene_overlays.h"
@@ -41,7 +41,7 @@ struct ServerOptions {
   // Security (docs/security.md): TLS on both ports from these PEM files; without them only loopback addresses
   // are served (plaintext, with a warning), and `insecure` says so explicitly. A token file turns on bearer
   // tokens and roles.
-  auth::TlsFiles tls;
+  TlsFiles tls;
   bool insecure = false;
   std::string token_file;
   // Tokens added or revoked by AuthService, scene owners, shares and grants (auth.sqlite); empty = data_dir,

@@ -5,11 +5,11 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/validate.h"
+#include "physics/builtin_drives.h"
 #include "rpc/call.h"
 #include "rpc/convert.h"
 #include "rpc/scene_edits.h"
 #include "rpc/scene_service.h"
-#include "workcycle/drives.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -82,7 +82,7 @@ grpc::ServerUnaryReactor* SceneServiceImpl::SetActuators(grpc::CallbackServerCon
           state->actuators.erase(found->second);
           continue;
         }
-        // A joint without its own motor settings gets its robot's drive (workcycle/drives.h): the PG70's for
+        // A joint without its own motor settings gets its robot's drive (physics/builtin_drives.h): the PG70's for
         // the built-in PG70s' fingers, the axis drive for the z axis.
         const RobotSpec& robot = model->robots[model->robot_index.at(joint.robot_id)];
         JointActuator& actuator = state->actuators[found->second];

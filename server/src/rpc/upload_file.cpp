@@ -21,7 +21,7 @@ class UploadReactor : public grpc::ServerReadReactor<v1::UploadFileChunk> {
       pool_->Post([this] { Finish(Handle("UploadFile", *context_, [this] { Complete(); })); });
       return;
     }
-    if (auto refused = auth::RefusedCall(*context_)) return Finish(*refused);  // checked on the header chunk
+    if (auto refused = RefusedCall(*context_)) return Finish(*refused);  // checked on the header chunk
     try {
       Append();
     } catch (const Error& error) {

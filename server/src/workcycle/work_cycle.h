@@ -16,7 +16,7 @@
 // The controller samples the sensors and decides every control period (10 ms, the DSACON32's order of frame
 // rate); the axis's set-point is updated every step. Readings go out as frames at frame_rate_hz of simulated
 // time, and at the first step of each stage. The drives are the joints' installed motors if any, else the
-// built-in drives (workcycle/drives.h). docs/tactile.md has the parameters and the measured figures.
+// built-in drives (physics/builtin_drives.h). docs/tactile.md has the parameters and the measured figures.
 #pragma once
 
 #include <array>

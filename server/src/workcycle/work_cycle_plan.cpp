@@ -7,7 +7,7 @@
 #include "collision/tactile_rays.h"
 #include "core/error.h"
 #include "core/format.h"
-#include "workcycle/drives.h"
+#include "physics/builtin_drives.h"
 #include "workcycle/work_cycle.h"
 
 namespace graspsim {

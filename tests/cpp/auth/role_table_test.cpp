@@ -78,8 +78,8 @@ TEST(AuthRoleTable, WritesNeedScripterAndSceneOwnership) {
 }
 
 TEST(AuthRoleTable, HardwareCommandsAreAllInGatewayService) {
-  // With tokens off the interceptor is created only for GatewayService and AuthService calls (grpc_auth.cpp):
-  // a device grant anywhere else would go unlogged there.
+  // With tokens off the interceptor is created only for GatewayService and AuthService calls
+  // (rpc/auth_interceptor.cpp): a device grant anywhere else would go unlogged there.
   for (const auto& [method, rule] : RoleTable()) {
     if (rule.device_grant) EXPECT_TRUE(method.starts_with("/graspsim.v1.GatewayService/")) << method;
   }

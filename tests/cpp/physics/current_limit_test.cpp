@@ -16,7 +16,7 @@ namespace {
 
 // A 2.6 kg carriage on a vertical prismatic joint (a welded base above it), gravity on, driven by a ball-screw
 // servo: 10 mm lead, 283 N at its 10 A limit, velocity loop ~2500 rad/s, position loop 200 1/s (the work
-// cycle's z axis, workcycle/drives.cpp).
+// cycle's z axis, physics/builtin_drives.cpp).
 struct Slider {
   std::shared_ptr<SceneModel> model = std::make_shared<SceneModel>();
   SceneState state;

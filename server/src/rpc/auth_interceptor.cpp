@@ -1,4 +1,4 @@
-#include "auth/grpc_auth.h"
+#include "rpc/auth_interceptor.h"
 
 #include <atomic>
 #include <fstream>
@@ -14,7 +14,11 @@
 #include "graspsim/v1/scene.pb.h"
 #include "graspsim/v1/recording.pb.h"
 
-namespace graspsim::auth {
+namespace graspsim::rpc {
+
+using auth::Authorizer, auth::BearerToken, auth::Decision, auth::Identity, auth::MethodRule, auth::Role,
+    auth::RoleTable, auth::Verdict;
+
 namespace {
 
 using grpc::experimental::InterceptionHookPoints;
@@ -293,4 +297,4 @@ std::optional<Identity> CallerOf(const grpc::ServerContextBase& context) {
   return it->second.who;
 }
 
-}  // namespace graspsim::auth
+}  // namespace graspsim::rpc

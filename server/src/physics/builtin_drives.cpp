@@ -1,4 +1,4 @@
-#include "workcycle/drives.h"
+#include "physics/builtin_drives.h"
 
 #include <numbers>
 

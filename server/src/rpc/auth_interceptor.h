@@ -1,5 +1,6 @@
 // The gRPC side of auth: server credentials (TLS, optionally requesting client certificates) and the one
-// interceptor that judges every call with Authorizer (auth/auth.h) before it reaches a service.
+// interceptor that judges every call with auth::Authorizer (auth/auth.h) before it reaches a service. Here in rpc/,
+// not auth/, because only the gRPC edge includes gRPC (docs/architecture.md, "Folder map").
 //
 // gRPC C++ server interceptors cannot end a call themselves, so the interceptor records its refusal and the
 // call helpers (rpc/call.h Handle, and the few stream starts that do not go through it) ask RefusedCall first
@@ -15,7 +16,7 @@
 
 #include "auth/auth.h"
 
-namespace graspsim::auth {
+namespace graspsim::rpc {
 
 struct TlsFiles {
   std::string cert, key;  // PEM; both empty = no TLS
@@ -32,11 +33,11 @@ struct InterceptorOptions {
 };
 
 std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface> MakeInterceptorFactory(
-    Authorizer* authorizer, const InterceptorOptions& options);
+    auth::Authorizer* authorizer, const InterceptorOptions& options);
 
 // The refusal the interceptor decided for this call, if any.
 std::optional<grpc::Status> RefusedCall(const grpc::ServerContextBase& context);
 // The caller of an AuthService call as the interceptor found it (nullopt when tokens are off).
-std::optional<Identity> CallerOf(const grpc::ServerContextBase& context);
+std::optional<auth::Identity> CallerOf(const grpc::ServerContextBase& context);
 
-}  // namespace graspsim::auth
+}  // namespace graspsim::rpc
