@@ -55,7 +55,18 @@ def connect(target: str = "127.0.0.1:50051", timeout: float = 10.0, *, call_time
     return Client(channel, call_timeout, fleet=fleet)
 
 
+def _own_mixin_methods(cls: type) -> type:
+    """The mixins only split Client over files: their public methods become Client's own, so the API reference
+    (pdoc leaves out members inherited from private classes) lists them on Client."""
+    for mixin in cls.__mro__[1:-1]:
+        for name, member in vars(mixin).items():
+            if not name.startswith("_") and name not in vars(cls):
+                setattr(cls, name, member)
+    return cls
+
+
 @accept_scene_objects
+@_own_mixin_methods
 class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, RecordingMethods):
     """A connection to one graspsim server (see connect()); a context manager that closes the channel.
 
