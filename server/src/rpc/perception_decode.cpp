@@ -80,7 +80,8 @@ CompletionOptions OptionsFromProto(const v1::CompleteShapeRequest& request, cons
   }
   options.symmetry.refinements = int(request.refinements());
   if (!std::isfinite(request.voxel_size()) || request.voxel_size() < 0) {
-    ThrowInvalidArgument("voxel_size: " + FormatNumber(request.voxel_size()) + " m must be ≥ 0 (0 = none)");
+    ThrowInvalidArgument("voxel_size: " + FormatNumber(request.voxel_size()) +
+                         " m must be ≥ 0 (0 = automatic: above 1,500 points, a voxel for ~1,500)");
   }
   options.voxel_size = request.voxel_size();
   switch (request.method()) {
