@@ -239,6 +239,34 @@ double IsoValue(const std::vector<ScreeningSample>& samples, const std::vector<f
   return sum / double(samples.size());
 }
 
+// Nodes farther than `margin` outside the samples' bounding box count as outside. The grid reaches (scale − 1)/2
+// of the extent beyond the samples so that their surface is never cut; but where a one-sided cloud leaves the
+// indicator's inside open, the iso-surface balloons into that room, away from every sample (issue 22: more than
+// half of the completions' reverse deviation). Clipped here, the surface closes flat at the box instead: still
+// closed, since this only moves the border inwards.
+void ClipToSamples(const Grid& grid, const std::vector<Vec3>& points, double margin, float iso,
+                   std::vector<float>* chi) {
+  Vec3 lo = points.front(), hi = points.front();
+  for (const Vec3& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Eigen::Vector3d first = (grid.ToGrid(lo - Vec3::Constant(margin))).array().ceil();
+  const Eigen::Vector3d last = (grid.ToGrid(hi + Vec3::Constant(margin))).array().floor();
+  const int n = grid.n;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        if (i >= first.x() && i <= last.x() && j >= first.y() && j <= last.y() && k >= first.z() && k <= last.z()) {
+          continue;
+        }
+        float& v = (*chi)[grid.Index(i, j, k)];
+        v = std::max(v, iso);
+      }
+    }
+  }
+}
+
 void CloseAtBorder(const Grid& grid, float iso, std::vector<float>* chi) {
   const int n = grid.n;
   for (int k = 0; k < n; ++k) {
@@ -320,6 +348,7 @@ PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vec
   // The border counts as outside: where the indicator's inside reaches it (an open, one-sided cloud can leak
   // there) the surface closes in the last cell instead of leaving a hole.
   CloseAtBorder(grid, float(stats.iso_value), &chi);
+  if (params.clip_cells >= 0) ClipToSamples(grid, points, params.clip_cells * grid.h, float(stats.iso_value), &chi);
   GridSamples view;
   view.nodes = Eigen::Vector3i::Constant(grid.n);
   view.origin = grid.origin;

@@ -17,7 +17,8 @@
 //   4. Iso:     the mean of χ at the samples.
 //   5. Extract: marching cubes at that iso-value (marching_cubes.h): triangles counter-clockwise from outside.
 // The grid's border lies (scale − 1)/2 of the extent beyond the cloud; it counts as outside for the extraction,
-// so even where a one-sided cloud's inside leaks to it the mesh is closed (clipped by the cube).
+// and so does everything beyond the samples' bounding box grown by clip_cells: where a one-sided cloud's inside
+// leaks there the mesh still closes (clipped by the box) instead of ballooning into the margin.
 #pragma once
 
 #include <vector>
@@ -40,6 +41,9 @@ struct PoissonParams {
   // about three cells apart (2.1k points on a 10 cm sphere: depth 6 solved, 7 interpolated; 0.012 mm deviation
   // against 0.004 mm solving depth 7 too, in a fifth of the time). 0..4; 0 solves every level.
   double refine_limit = 0.35;
+  // The surface is clipped to the samples' bounding box grown by this many cells (negative: only at the grid's
+  // border): a one-sided cloud's indicator no longer balloons into the grid's margin (poisson.cpp, ClipToSamples).
+  double clip_cells = 2;
 };
 
 struct PoissonStats {
