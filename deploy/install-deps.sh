@@ -18,6 +18,7 @@ DEBIAN_PACKAGES=(
   libboost-dev  # Boost.Beast: the Foxglove WebSocket endpoint (server/src/live)
   nlohmann-json3-dev  # JSON of the Foxglove WebSocket protocol (server/src/live); Boost 1.74's JSON is not header-only
   libmujoco-dev libbullet-dev  # the MuJoCo and Bullet engines behind server/src/physics/engine.h (issue 21)
+  curl  # the docs' HTTP examples run in make test (tests/python/test_doc_examples.py)
   haproxy  # the fleet's gRPC load balancer, run on loopback by tests/python/test_fleet.py and tests/bench/run fleet
 )
 
