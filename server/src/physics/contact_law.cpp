@@ -134,29 +134,6 @@ double EffectiveFriction(const ContactParams& params, double hump) {
   return out;
 }
 
-[[gnu::always_inline]] inline Vec3 Advance(const ContactParams& params, double normal_force, const Vec3& normal,
-                                            const Vec3& slip_velocity, const Vec3& bristle, double dt) {
-  if (!params.HasFriction()) return Vec3::Zero();
-  const Vec3 slip = slip_velocity - slip_velocity.dot(normal) * normal;
-  const double speed2 = slip.squaredNorm();
-  const double g = std::abs(normal_force) * EffectiveFriction(params, Hump(params, speed2));
-  if (!(g > 0)) return Vec3::Zero();  // no normal force: the bristles let go (a → −∞ in the update below)
-  const double sigma0 = params.bristle_stiffness;
-  const Vec3 z = ProjectBristle(normal, bristle, StaticLimit(params, normal_force), sigma0);
-  if (speed2 == 0 || !(dt > 0)) return z;
-
-  // ż = v + a z with v and a = −σ0|v|/g constant over the step: z⁺ = e^{a dt} z + (e^{a dt} − 1)/a · v
-  //    = e^{a dt} z + (1 − e^{a dt}) z_ss,  z_ss = g/σ0 · v/|v|,
-  // a convex combination of z and the steady state, so no dt can overshoot (explicit Euler's factor 1 + a dt
-  // leaves [−1, 1] once dt > 2g/(σ0|v|)). expm1 keeps (e^{a dt} − 1)/a accurate when a dt → 0; a dt = −∞
-  // (g underflowing) gives z⁺ = 0, the relaxed bristle.
-  const double x = -sigma0 * std::sqrt(speed2) / g * dt;  // a dt
-  const ExpMinusOne grown(x);                              // e^{a dt} − 1, and over a dt
-  // No projection afterwards: a convex combination of a capped z and z_ss (|z_ss| = g/σ0 ≤ the cap), both in the
-  // tangent plane, stays capped and tangent up to rounding, and the next evaluation projects anyway.
-  return (1 + grown.value) * z + (dt * grown.over_x) * slip;
-}
-
 }  // namespace
 
 double StribeckLimit(const ContactParams& params, double normal_force, double slip_speed) {
@@ -180,17 +157,25 @@ void EvaluateContacts(std::span<const ContactParams> params, std::span<const Con
 
 Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
                     const Vec3& bristle, double dt) {
-  return Advance(params, normal_force, normal, slip_velocity, bristle, dt);
-}
+  if (!params.HasFriction()) return Vec3::Zero();
+  const Vec3 slip = slip_velocity - slip_velocity.dot(normal) * normal;
+  const double speed2 = slip.squaredNorm();
+  const double g = std::abs(normal_force) * EffectiveFriction(params, Hump(params, speed2));
+  if (!(g > 0)) return Vec3::Zero();  // no normal force: the bristles let go (a → −∞ in the update below)
+  const double sigma0 = params.bristle_stiffness;
+  const Vec3 z = ProjectBristle(normal, bristle, StaticLimit(params, normal_force), sigma0);
+  if (speed2 == 0 || !(dt > 0)) return z;
 
-void AdvanceBristles(std::span<const ContactParams> params, std::span<const BristleSample> samples, double dt,
-                     std::vector<Vec3>* out) {
-  out->resize(samples.size());
-  Vec3* bristles = out->data();
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const BristleSample& s = samples[i];
-    bristles[i] = Advance(params[i], s.normal_force, s.normal, s.slip_velocity, s.bristle, dt);
-  }
+  // ż = v + a z with v and a = −σ0|v|/g constant over the step: z⁺ = e^{a dt} z + (e^{a dt} − 1)/a · v
+  //    = e^{a dt} z + (1 − e^{a dt}) z_ss,  z_ss = g/σ0 · v/|v|,
+  // a convex combination of z and the steady state, so no dt can overshoot (explicit Euler's factor 1 + a dt
+  // leaves [−1, 1] once dt > 2g/(σ0|v|)). expm1 keeps (e^{a dt} − 1)/a accurate when a dt → 0; a dt = −∞
+  // (g underflowing) gives z⁺ = 0, the relaxed bristle.
+  const double x = -sigma0 * std::sqrt(speed2) / g * dt;  // a dt
+  const ExpMinusOne grown(x);                              // e^{a dt} − 1, and over a dt
+  // No projection afterwards: a convex combination of a capped z and z_ss (|z_ss| = g/σ0 ≤ the cap), both in the
+  // tangent plane, stays capped and tangent up to rounding, and the next evaluation projects anyway.
+  return (1 + grown.value) * z + (dt * grown.over_x) * slip;
 }
 
 ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b) {

@@ -74,17 +74,6 @@ void EvaluateContacts(std::span<const ContactParams> params, std::span<const Con
 Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
                     const Vec3& bristle, double dt);
 
-// One contact point's inputs to the bristle update, for the batch form.
-struct BristleSample {
-  double normal_force = 0;
-  Vec3 normal = Vec3::Zero(), slip_velocity = Vec3::Zero(), bristle = Vec3::Zero();
-};
-
-// AdvanceBristle at every sample (params[i] for samples[i]) into *out resized to match, in one tight loop as
-// EvaluateContacts.
-void AdvanceBristles(std::span<const ContactParams> params, std::span<const BristleSample> samples, double dt,
-                     std::vector<Vec3>* out);
-
 // Combines two bodies' materials into the parameters of their contact (documented in the implementation).
 ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b);
 

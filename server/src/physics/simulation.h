@@ -111,8 +111,6 @@ class Simulation : public PhysicsEngine {
   std::vector<Multibody::Vec6> twists_;  // per pair
   std::vector<ContactSample> samples_;   // per contact: the law's inputs (ContactForces)
   std::vector<ContactForce> laws_;       // per contact: the law's outputs
-  std::vector<BristleSample> bristle_samples_;  // per contact: the bristle update's inputs ...
-  std::vector<Vec3> advanced_;                  // ... and its output (AdvanceBristles)
   // The sub-step's driven joints: the motor's state before the step and its output (ActuatorForces).
   struct Drive {
     size_t joint = 0;

@@ -213,24 +213,21 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
 }
 
 void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) {
-  // The exact LuGre update, with the slip velocity the friction force was evaluated with, in one batch
-  // (physics/contact_law.h). Contacts that ended drop their bristle state; frictionless contacts never get one.
-  // Built in the contacts' (sorted) order into the previous step's buffer.
-  twists_.clear();
-  for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists_.push_back(W * v);
-  bristle_samples_.resize(contacts_.size());
-  for (size_t i = 0; i < contacts_.size(); ++i) {
-    const ContactPoint& c = contacts_[i];
-    const Vec6& twist = twists_[forces.contact_pair[i]];
-    bristle_samples_[i] = {forces.normal_force[i], c.normal, twist.tail<3>() + twist.head<3>().cross(c.point),
-                           forces.bristle[i]};
-  }
-  graspsim::AdvanceBristles(contact_params_, bristle_samples_, h, &advanced_);
+  // The exact LuGre update, with the slip velocity the friction force was evaluated with. Contacts that ended
+  // drop their bristle state; frictionless contacts never get one. Built in the contacts' (sorted) order into
+  // the previous step's buffer. (A batch form like the law's measured no faster here: one division per contact.)
   std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
   bristles.clear();
+  twists_.clear();
+  for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists_.push_back(W * v);
   for (size_t i = 0; i < contacts_.size(); ++i) {
     const ContactPoint& c = contacts_[i];
-    if (contact_params_[i].HasFriction()) bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature}, advanced_[i]);
+    const ContactParams& params = contact_params_[i];
+    if (!params.HasFriction()) continue;
+    const Vec6& twist = twists_[forces.contact_pair[i]];
+    const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
+    bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature},
+                          AdvanceBristle(params, forces.normal_force[i], c.normal, relative, forces.bristle[i], h));
   }
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   if (!std::is_sorted(bristles.begin(), bristles.end(), by_key)) std::sort(bristles.begin(), bristles.end(), by_key);
