@@ -2,12 +2,14 @@
 from __future__ import annotations
 
 import os
-from typing import Optional, Union
+from typing import Any, Dict, Iterator, Optional, Sequence, Tuple, Union
 
 import grpc
+from google.protobuf.message import Message
 
 from graspsim._errors import translated_errors
-from graspsim._routing import CallDetails, SceneRouting
+from graspsim._routing import (CallDetails, Continuation, SceneRouting, StreamStreamInterceptor, StreamUnaryInterceptor,
+                               UnaryStreamInterceptor, UnaryUnaryInterceptor)
 from graspsim.v1 import auth_pb2, auth_pb2_grpc
 
 PemLike = Union[bytes, str, "os.PathLike[str]", None]
@@ -21,34 +23,35 @@ def _pem(value: PemLike) -> Optional[bytes]:
         return f.read()
 
 
-class _BearerToken(grpc.UnaryUnaryClientInterceptor, grpc.UnaryStreamClientInterceptor,
-                   grpc.StreamUnaryClientInterceptor, grpc.StreamStreamClientInterceptor):
+class _BearerToken(UnaryUnaryInterceptor, UnaryStreamInterceptor, StreamUnaryInterceptor, StreamStreamInterceptor):
     """Adds "authorization: Bearer <token>" to every call. An interceptor rather than call credentials, so that
     a token also reaches a plaintext loopback server (gRPC sends call credentials over TLS only)."""
 
-    def __init__(self, token: str):
+    def __init__(self, token: str) -> None:
         self._metadata = (("authorization", f"Bearer {token}"),)
 
-    def _details(self, details):
+    def _details(self, details: grpc.ClientCallDetails) -> grpc.ClientCallDetails:
         metadata = tuple(details.metadata or ()) + self._metadata
-        fields = {name: getattr(details, name, None) for name in
+        fields: Dict[str, Any] = {name: getattr(details, name, None) for name in
                   ("method", "timeout", "credentials", "wait_for_ready", "compression")}
         return CallDetails(metadata=metadata, **fields)
 
-    def intercept_unary_unary(self, continuation, details, request):
+    def intercept_unary_unary(self, continuation: Continuation, details: grpc.ClientCallDetails, request: Any) -> Any:
         return continuation(self._details(details), request)
 
-    def intercept_unary_stream(self, continuation, details, request):
+    def intercept_unary_stream(self, continuation: Continuation, details: grpc.ClientCallDetails, request: Any) -> Any:
         return continuation(self._details(details), request)
 
-    def intercept_stream_unary(self, continuation, details, requests):
+    def intercept_stream_unary(self, continuation: Continuation, details: grpc.ClientCallDetails,
+                               requests: Iterator[Any]) -> Any:
         return continuation(self._details(details), requests)
 
-    def intercept_stream_stream(self, continuation, details, requests):
+    def intercept_stream_stream(self, continuation: Continuation, details: grpc.ClientCallDetails,
+                                requests: Iterator[Any]) -> Any:
         return continuation(self._details(details), requests)
 
 
-def open_channel(target: str, options, *, token: Optional[str] = None, tls: bool = False,
+def open_channel(target: str, options: Sequence[Tuple[str, Any]], *, token: Optional[str] = None, tls: bool = False,
                  root_certificates: PemLike = None, private_key: PemLike = None,
                  certificate_chain: PemLike = None) -> grpc.Channel:
     """A channel to target: TLS when tls is true or any certificate is given (root_certificates: the CA that
@@ -67,14 +70,18 @@ def open_channel(target: str, options, *, token: Optional[str] = None, tls: bool
 class AuthMethods:
     """AuthService: who the caller is, tokens and device grants (admin), sharing a scene (its owner)."""
 
-    def _auth(self, method: str, request):
+    channel: grpc.Channel  # set by Client
+    call_timeout: float
+
+    def _auth(self, method: str, request: Message) -> Any:
         with translated_errors():
             stub = auth_pb2_grpc.AuthServiceStub(self.channel)
             return getattr(stub, method)(request, timeout=self.call_timeout)
 
     def whoami(self) -> auth_pb2.WhoAmIResponse:
         """The caller's token name and role (both empty when the server checks no tokens)."""
-        return self._auth("WhoAmI", auth_pb2.WhoAmIRequest())
+        response: auth_pb2.WhoAmIResponse = self._auth("WhoAmI", auth_pb2.WhoAmIRequest())
+        return response
 
     def add_token(self, role: str, name: str, token: str) -> None:
         """Adds a token (admin): role viewer, scripter, gateway or admin; token the secret (>= 16 characters)."""

@@ -1,9 +1,10 @@
 """Builders of AddObject's geometry, inertial and material from plain Python/numpy values."""
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import Any, Dict, Optional, Sequence, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from graspsim import inertia as mass_properties
 from graspsim.meshes import pack_mesh
@@ -12,7 +13,7 @@ from graspsim.v1 import common_pb2
 SHAPES = ("builtin", "box", "sphere", "cylinder", "mesh", "mesh_file")
 
 
-def vec3(values: Sequence[float], what: str) -> common_pb2.Vec3:
+def vec3(values: ArrayLike, what: str) -> common_pb2.Vec3:
     """A Vec3 message from 3 numbers (no value checks: the server validates)."""
     v = np.asarray(values, dtype=np.float64).reshape(-1)
     if v.shape != (3,):
@@ -20,7 +21,7 @@ def vec3(values: Sequence[float], what: str) -> common_pb2.Vec3:
     return common_pb2.Vec3(x=v[0], y=v[1], z=v[2])
 
 
-def pick_shape(shapes: dict) -> tuple:
+def pick_shape(shapes: Dict[str, Any]) -> Tuple[str, Any]:
     """The one (kind, value) given among the shape keywords; ValueError unless exactly one is given."""
     given = [(kind, value) for kind, value in shapes.items() if value is not None]
     if len(given) != 1:
@@ -28,7 +29,7 @@ def pick_shape(shapes: dict) -> tuple:
     return given[0]
 
 
-def geometry(kind: str, value) -> common_pb2.Geometry:
+def geometry(kind: str, value: Any) -> common_pb2.Geometry:
     """The Geometry message of a shape keyword: box=(x, y, z) m, sphere=r m, cylinder=(r, l) m,
     mesh=(vertices (N, 3) m, triangles (M, 3)), mesh_file="uploaded/path.stl"."""
     if kind == "box":
@@ -46,7 +47,8 @@ def geometry(kind: str, value) -> common_pb2.Geometry:
     raise ValueError(f"unknown shape {kind!r}")
 
 
-def _inertia_of_shape(kind: str, value, mass: float, center_of_mass):
+def _inertia_of_shape(kind: str, value: Any, mass: float, center_of_mass: Optional[ArrayLike]
+                      ) -> Tuple[Optional[ArrayLike], NDArray[np.float64]]:
     """(center_of_mass, inertia 3x3) computed for a uniform-density shape, or ValueError where impossible."""
     if kind == "box":
         return center_of_mass, mass_properties.box_inertia(mass, value)
@@ -60,7 +62,8 @@ def _inertia_of_shape(kind: str, value, mass: float, center_of_mass):
     raise ValueError(f"give inertia (3x3, kg m^2) with mass for a {kind} object: it cannot be computed here")
 
 
-def inertial(kind: str, value, mass: Optional[float], inertia, center_of_mass) -> Optional[common_pb2.Inertial]:
+def inertial(kind: str, value: Any, mass: Optional[float], inertia: Optional[ArrayLike],
+             center_of_mass: Optional[ArrayLike]) -> Optional[common_pb2.Inertial]:
     """The Inertial message: None when no mass is given (a builtin keeps its own, a static body needs none, a
     moving body given by geometry gets the server's from the geometry unless import options say from_file or
     strict: then the server says a mass is needed). With a mass but no inertia, a primitive's or closed mesh's

@@ -2,17 +2,19 @@
 from __future__ import annotations
 
 import secrets
-from typing import Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 import grpc
 import numpy as np
+from google.protobuf.message import Message
+from numpy.typing import ArrayLike, NDArray
 
 from graspsim import _build, _robot_files
 from graspsim._auth import AuthMethods, PemLike, open_channel
 from graspsim._errors import GraspsimError, translated_errors
 from graspsim._gateway import GatewayMethods
 from graspsim._ids import accept_scene_objects
-from graspsim._grasp import GraspSetResult, grasps_to_arrays, set_materials, target_proto
+from graspsim._grasp import FrictionPairs, GraspSetResult, MeshLike, grasps_to_arrays, set_materials, target_proto
 from graspsim._motion import MotionMethods
 from graspsim._perception import PerceptionMethods
 from graspsim._pose import Pose, PoseLike, Velocity, as_pose
@@ -75,7 +77,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
     The raw stubs are available as `scene_stub` and `tactile_stub` for messages this class does not wrap.
     """
 
-    def __init__(self, channel: grpc.Channel, call_timeout: float = 60.0, *, fleet: bool = False):
+    def __init__(self, channel: grpc.Channel, call_timeout: float = 60.0, *, fleet: bool = False) -> None:
         self.channel = channel
         self.call_timeout = call_timeout
         self.fleet = fleet
@@ -90,10 +92,11 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
     def __enter__(self) -> Client:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def _unary(self, method: str, request, stub=None):
+    def _unary(self, method: str, request: Message, stub: Any = None) -> Any:
+        # Any: the generated *_pb2_grpc stubs are untyped; the callers annotate the response they return
         with translated_errors():
             return getattr(stub or self.scene_stub, method)(request, timeout=self.call_timeout)
 
@@ -105,7 +108,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         if scene_id is None and self.fleet:
             scene_id = "s-" + secrets.token_hex(8)
         request = scene_pb2.CreateSceneRequest(name=name, scene_id=scene_id or "")
-        return self._unary("CreateScene", request).summary
+        result: scene_pb2.SceneSummary = self._unary("CreateScene", request).summary
+        return result
 
     def list_scenes(self) -> List[scene_pb2.SceneSummary]:
         """Summaries of every scene on the server."""
@@ -113,7 +117,9 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
 
     def get_scene(self, scene_id: str, include_geometry: bool = False) -> scene_pb2.Scene:
         """The whole scene: bodies, joints, robots, tactile arrays, files (meshes only with include_geometry)."""
-        return self._unary("GetScene", scene_pb2.GetSceneRequest(scene_id=scene_id, include_geometry=include_geometry))
+        request = scene_pb2.GetSceneRequest(scene_id=scene_id, include_geometry=include_geometry)
+        result: scene_pb2.Scene = self._unary("GetScene", request)
+        return result
 
     def delete_scene(self, scene_id: str) -> None:
         """Deletes a scene with everything in it."""
@@ -135,13 +141,14 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             raise ValueError(f"chunk_size must be > 0 bytes, got {chunk_size}")
         view = memoryview(archive).cast("B")
 
-        def chunks():
+        def chunks() -> Iterator[scene_pb2.SceneArchiveChunk]:
             yield scene_pb2.SceneArchiveChunk(scene_id=scene_id or "", data=bytes(view[:chunk_size]))
             for start in range(chunk_size, len(view), chunk_size):
                 yield scene_pb2.SceneArchiveChunk(data=bytes(view[start:start + chunk_size]))
 
         with translated_errors():
-            return self.scene_stub.ImportScene(chunks(), timeout=self.call_timeout).summary
+            summary: scene_pb2.SceneSummary = self.scene_stub.ImportScene(chunks(), timeout=self.call_timeout).summary
+            return summary
 
     # --- files and models ---------------------------------------------------------------------------------
     def upload_file(self, scene_id: str, path_in_scene: str, data: FileData,
@@ -152,8 +159,10 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         URDF or Geometry.mesh_file names it (e.g. "meshes/finger.stl"). The server checks size and SHA-256.
         """
         with translated_errors():
-            return self.scene_stub.UploadFile(upload_chunks(scene_id, path_in_scene, data, chunk_size),
+            result: common_pb2.FileInfo = self.scene_stub.UploadFile(
+                upload_chunks(scene_id, path_in_scene, data, chunk_size),
                                               timeout=self.call_timeout)
+            return result
 
     def builtin_models(self) -> List[scene_pb2.BuiltinModel]:
         """The server's built-in models (name, kind "robot"/"object", description)."""
@@ -162,8 +171,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
     # --- bodies and robots --------------------------------------------------------------------------------
     def add_object(self, scene_id: str, name: str, *, builtin: Optional[str] = None,
                    box: Optional[Sequence[float]] = None, sphere: Optional[float] = None,
-                   cylinder: Optional[Sequence[float]] = None, mesh: Optional[tuple] = None,
-                   mesh_file: Optional[str] = None, mass: Optional[float] = None, inertia=None,
+                   cylinder: Optional[Sequence[float]] = None, mesh: Optional[MeshLike] = None,
+                   mesh_file: Optional[str] = None, mass: Optional[float] = None, inertia: Optional[ArrayLike] = None,
                    center_of_mass: Optional[Sequence[float]] = None, friction: Optional[Sequence[float]] = None,
                    pose: Optional[PoseLike] = None, is_static: bool = False, inertia_source: str = "auto",
                    density: Optional[float] = None, strict: bool = False) -> common_pb2.Body:
@@ -199,7 +208,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             request.material.CopyFrom(material)
         if pose is not None:
             request.pose.CopyFrom(as_pose(pose).to_proto())
-        return self._unary("AddObject", request)
+        result: common_pb2.Body = self._unary("AddObject", request)
+        return result
 
     def add_robot(self, scene_id: str, name: str, *, urdf: Optional[str] = None, builtin: Optional[str] = None,
                   mjcf: Optional[str] = None, sdf: Optional[str] = None, path: Optional[FilePath] = None,
@@ -239,7 +249,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             request.base_pose.CopyFrom(as_pose(base_pose).to_proto())
         for file_path, data in (files or {}).items():
             request.files.add(path=file_path, data=bytes(data))
-        return self._unary("AddRobot", request)
+        result: scene_pb2.AddRobotResponse = self._unary("AddRobot", request)
+        return result
 
     def remove_body(self, scene_id: str, id: str) -> List[str]:
         """Removes an object, or a robot (by robot id) with its links; returns the removed body ids."""
@@ -251,7 +262,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         request = scene_pb2.SetBodyPosesRequest(scene_id=scene_id)
         for body_id, pose in poses.items():
             request.poses.add(body_id=body_id, pose=as_pose(pose).to_proto())
-        return self._unary("SetBodyPoses", request).revision
+        result: int = self._unary("SetBodyPoses", request).revision
+        return result
 
     def set_body_pose(self, scene_id: str, body_id: str, pose: PoseLike) -> int:
         """Sets one world pose; returns the new scene revision."""
@@ -274,7 +286,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
                                      f"got {values.size}")
                 velocity = Velocity(values[:3], values[3:])
             request.poses.add(body_id=body_id, velocity=velocity.to_proto())
-        return self._unary("SetBodyPoses", request).revision
+        result: int = self._unary("SetBodyPoses", request).revision
+        return result
 
     def get_body_velocities(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, Velocity]:
         """Free objects' velocities by id (world frame, centre of mass); every free object when ids is None.
@@ -297,7 +310,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             entry = request.positions.add(joint_id=joint_id, position=float(value))
             if joint_id in velocities:
                 entry.velocity = float(velocities[joint_id])
-        return self._unary("SetJointPositions", request).revision
+        result: int = self._unary("SetJointPositions", request).revision
+        return result
 
     def get_joint_positions(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, float]:
         """Joint positions (rad or m) by joint id (every joint when ids is None)."""
@@ -331,11 +345,12 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             request.duration = duration
         elif steps is not None:
             request.steps = steps
-        else:
+        elif until_time is not None:  # exactly one is given (checked above)
             request.until_time = until_time
-        return self._unary("StepSimulation", request)
+        result: scene_pb2.StepSimulationResponse = self._unary("StepSimulation", request)
+        return result
 
-    def set_simulation_params(self, scene_id: str, **params) -> scene_pb2.SimulationParams:
+    def set_simulation_params(self, scene_id: str, **params: Any) -> scene_pb2.SimulationParams:
         """Sets simulation parameters by SimulationParams field name (time_step s, substeps, integrator
         "linearly_implicit_euler" | "semi_implicit_euler" | "velocity_verlet" | "runge_kutta_4", engine "graspsim" | "mujoco" |
         "bullet" (docs/physics.md), gravity (3,) m/s², contact dict of ContactDefaults fields, sample_spacing m,
@@ -343,9 +358,12 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         message = scene_pb2.SimulationParams()
         for key, value in params.items():
             if key == "integrator":
-                message.integrator = scene_pb2.Integrator.Value("INTEGRATOR_" + str(value).upper())
+                # protoc's .pyi types an enum field as its enum class, EnumTypeWrapper.Value as returning int
+                integrator = scene_pb2.Integrator.Value("INTEGRATOR_" + str(value).upper())
+                message.integrator = integrator  # type: ignore[assignment]
             elif key == "engine":
-                message.engine = scene_pb2.PhysicsEngine.Value("PHYSICS_ENGINE_" + str(value).upper())
+                engine = scene_pb2.PhysicsEngine.Value("PHYSICS_ENGINE_" + str(value).upper())
+                message.engine = engine  # type: ignore[assignment]  # (an enum field set from an int, as above)
             elif key == "gravity":
                 message.gravity.x, message.gravity.y, message.gravity.z = (float(v) for v in value)
             elif key == "contact":
@@ -353,20 +371,25 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
                     setattr(message.contact, field, float(v))
             else:
                 setattr(message, key, value)
-        return self._unary("SetSimulationParams",
+        result: scene_pb2.SimulationParams = self._unary("SetSimulationParams",
                            scene_pb2.SetSimulationParamsRequest(scene_id=scene_id, params=message))
+        return result
 
     def get_simulation_params(self, scene_id: str) -> scene_pb2.SimulationParams:
         """The scene's simulation parameters, defaults filled in."""
-        return self._unary("GetSimulationParams", scene_pb2.GetSimulationParamsRequest(scene_id=scene_id))
+        request = scene_pb2.GetSimulationParamsRequest(scene_id=scene_id)
+        result: scene_pb2.SimulationParams = self._unary("GetSimulationParams", request)
+        return result
 
     def set_actuator(self, scene_id: str, joint_id: str, mode: str, value: float = 0.0,
                      current_limit: float = 0.0) -> None:
         """Drives a joint with its DC motor: mode "velocity" (value m/s or rad/s), "position" (m or rad),
         "voltage" (V) or "off"; current_limit (A) caps the motor current, i.e. the force (0 = the motor's own).
         The built-in PG70's finger joint uses the PG70 drive."""
-        command = scene_pb2.ActuatorCommand(joint_id=joint_id, mode=scene_pb2.ActuatorMode.Value(
-            "ACTUATOR_MODE_" + mode.upper()), value=value, current_limit=current_limit)
+        # protoc's .pyi types the enum field as its enum class, EnumTypeWrapper.Value as returning int
+        mode_number = scene_pb2.ActuatorMode.Value("ACTUATOR_MODE_" + mode.upper())
+        command = scene_pb2.ActuatorCommand(joint_id=joint_id, mode=mode_number,  # type: ignore[arg-type]
+                                            value=value, current_limit=current_limit)
         self._unary("SetActuators", scene_pb2.SetActuatorsRequest(scene_id=scene_id, commands=[command]))
     # --- sensors ------------------------------------------------------------------------------------------
     def sample(self, scene_id: str, sensor_id: str) -> Reading:
@@ -387,7 +410,8 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         """A tactile array's current reading as a PNG heat map (inferno colour map, black = no pressure),
         scale pixels per texel: a PG70 pad (6 x 14 texels) at scale 20 is 120 x 280 px (at most 4096 px a side)."""
         request = tactile_pb2.GetTactileImageRequest(scene_id=scene_id, sensor_id=sensor_id, scale=scale)
-        return self._unary("GetTactileImage", request, self.tactile_stub).png
+        result: bytes = self._unary("GetTactileImage", request, self.tactile_stub).png
+        return result
 
     def run_work_cycle(self, scene_id: str, gripper_id: str, object_id: str, *, tactile_setpoint: float = 0,
                        lift_height: float = 0, coverage: float = 0, frame_rate_hz: float = 0, hold_time: float = 0,
@@ -428,14 +452,16 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
 
     # --- grasp planning ----------------------------------------------------------------------------------
     def plan_grasps(self, hand: str, *, scene_id: Optional[str] = None, body_id: Optional[str] = None,
-                    mesh=None, method: str = "bounding_box", friction: Optional[float] = None,
+                    mesh: Optional[MeshLike] = None, method: str = "bounding_box", friction: Optional[float] = None,
                     preshapes: Sequence[str] = (), standoffs: Sequence[float] = (), rolls: Optional[int] = None,
                     spacing: Optional[float] = None, circle_samples: Optional[int] = None,
-                    grasp_points=None, seed: Optional[int] = None, max_candidates: int = 0, max_grasps: int = 0,
+                    grasp_points: Optional[Sequence[Sequence[float]]] = None, seed: Optional[int] = None,
+                    max_candidates: int = 0, max_grasps: int = 0,
                     recompute: bool = False, progress: bool = True,
                     on_progress: Optional[Callable[[int, int], None]] = None,
                     timeout: Optional[float] = None, object_material: Optional[str] = None,
-                    link_materials: Optional[Dict[str, str]] = None, friction_pairs=None) -> GraspSetResult:
+                    link_materials: Optional[Dict[str, str]] = None,
+                    friction_pairs: Optional[FrictionPairs] = None) -> GraspSetResult:
         """Plans the grasp set of an object for a built-in hand ("schunk_pg70", "barrett_bh8_282", "schunk_sdh2"),
         or returns the stored one (same hand, mesh, obstacles, parameters: .from_store is True).
 
@@ -483,9 +509,9 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             self._unary("GetGraspSet", grasp_pb2.GetGraspSetRequest(set_id=set_id), self.grasp_stub))
 
     def evaluate_grasp(self, hand: str, candidate: grasp_pb2.GraspCandidate, *, scene_id: Optional[str] = None,
-                       body_id: Optional[str] = None, mesh=None, friction: Optional[float] = None,
+                       body_id: Optional[str] = None, mesh: Optional[MeshLike] = None, friction: Optional[float] = None,
                        object_material: Optional[str] = None, link_materials: Optional[Dict[str, str]] = None,
-                       friction_pairs=None):
+                       friction_pairs: Optional[FrictionPairs] = None) -> Tuple[np.void, NDArray[np.void]]:
         """Simulates one candidate (a grasp_pb2.GraspCandidate, object frame); returns (grasp row, contacts) as
         structured arrays of one grasp, whatever its outcome ("grasp", "missed", "collision"). Materials as in
         plan_grasps."""

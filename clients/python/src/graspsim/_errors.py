@@ -3,7 +3,7 @@ InvalidArgument, ...), so a caller catches what it can handle and still catches 
 from __future__ import annotations
 
 import contextlib
-from typing import Iterator
+from typing import ClassVar, Iterator
 
 import grpc
 
@@ -15,6 +15,8 @@ class GraspsimError(Exception):
         code: the gRPC status code (e.g. grpc.StatusCode.INVALID_ARGUMENT).
         message: the server's explanation, naming the offending field and value.
     """
+
+    status: ClassVar[grpc.StatusCode]  # each subclass's own code (GraspsimError itself has none)
 
     def __init__(self, code: grpc.StatusCode, message: str):
         super().__init__(code, message)

@@ -4,7 +4,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, List, Optional, Sequence
 
+import grpc
 import numpy as np
+from numpy.typing import NDArray
 
 from graspsim._errors import translated_errors
 from graspsim._stream import server_stream
@@ -16,18 +18,18 @@ class PredictionResult:
     """PredictAction's samples as arrays (one entry per sample): time s since the action began; opening m,
     current A and tactile_sum (intensity counts; measured is 0: the real grippers have no pads) predicted by the
     simulated PG70 and measured on the device; surprise (0 = as predicted, 1 = off by a whole range)."""
-    time: np.ndarray
-    predicted_opening: np.ndarray
-    measured_opening: np.ndarray
-    predicted_current: np.ndarray
-    measured_current: np.ndarray
-    predicted_tactile_sum: np.ndarray
-    surprise: np.ndarray
+    time: NDArray[np.float64]
+    predicted_opening: NDArray[np.float64]
+    measured_opening: NDArray[np.float64]
+    predicted_current: NDArray[np.float64]
+    measured_current: NDArray[np.float64]
+    predicted_tactile_sum: NDArray[np.float64]
+    surprise: NDArray[np.float64]
     finished: bool  # the last sample says the real fingers stopped
 
     @classmethod
     def from_samples(cls, samples: Sequence[gateway_pb2.PredictionSample]) -> "PredictionResult":
-        def column(get):
+        def column(get: Callable[[gateway_pb2.PredictionSample], float]) -> NDArray[np.float64]:
             return np.array([get(s) for s in samples], dtype=float)
         return cls(time=column(lambda s: s.time),
                    predicted_opening=column(lambda s: s.predicted.opening),
@@ -41,6 +43,9 @@ class PredictionResult:
 
 class GatewayMethods:
     """Mixed into Client; needs self.channel and self.call_timeout."""
+
+    channel: grpc.Channel
+    call_timeout: float
 
     @property
     def gateway_stub(self) -> gateway_pb2_grpc.GatewayServiceStub:
@@ -85,13 +90,15 @@ class GatewayMethods:
             setattr(request, chosen[0], True)
         deadline = (timeout or 5.0) + self.call_timeout
         with translated_errors():
-            return self.gateway_stub.SendCommand(request, timeout=deadline)
+            result: gateway_pb2.CommandResult = self.gateway_stub.SendCommand(request, timeout=deadline)
+            return result
 
     def emergency_stop(self, device_id: str = "") -> gateway_pb2.EmergencyStopResponse:
         """Stops one device (or every device of every gateway) and latches the stop until `initialize`."""
         with translated_errors():
-            return self.gateway_stub.EmergencyStop(gateway_pb2.EmergencyStopRequest(device_id=device_id),
-                                                   timeout=self.call_timeout)
+            response: gateway_pb2.EmergencyStopResponse = self.gateway_stub.EmergencyStop(
+                gateway_pb2.EmergencyStopRequest(device_id=device_id), timeout=self.call_timeout)
+            return response
 
     def predict_action(self, device_id: str, scene_id: str, gripper_id: str, opening: float, speed: float,
                        force: float, *, timeout: float = 0.0, rate_hz: float = 0.0,
@@ -104,7 +111,7 @@ class GatewayMethods:
         request = gateway_pb2.PredictActionRequest(
             device_id=device_id, scene_id=scene_id, gripper_id=gripper_id,
             move=gateway_pb2.Move(opening=opening, speed=speed, force=force), timeout=timeout, rate_hz=rate_hz)
-        samples = []
+        samples: List[gateway_pb2.PredictionSample] = []
         deadline = (timeout or 5.0) + self.call_timeout
         with server_stream(self.gateway_stub.PredictAction(request, timeout=deadline)) as call:
             for sample in call:

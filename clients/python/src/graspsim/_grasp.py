@@ -2,14 +2,20 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from graspsim.v1 import common_pb2, grasp_pb2
 
+# an object given as a mesh: (vertices (n, 3) m, triangles (m, 3) vertex indices)
+MeshLike = Tuple[ArrayLike, ArrayLike]
+# {(material_a, material_b): μ} or a sequence of (material_a, material_b, μ)
+FrictionPairs = Union[Dict[Tuple[str, str], float], Sequence[Tuple[str, str, float]]]
 
-def grasp_dtype(joint_count: int) -> np.dtype:
+
+def grasp_dtype(joint_count: int) -> np.dtype[np.void]:
     """One row per grasp; every vector in the object's frame (m, unit directions, quaternion w x y z)."""
     return np.dtype([
         ("candidate_index", np.uint32), ("outcome", "U9"), ("preshape", "U16"),
@@ -33,7 +39,7 @@ def _pose(p: common_pb2.Pose) -> List[float]:
     return _vec(p.position) + ([q.w, q.x, q.y, q.z] if p.HasField("orientation") else [1.0, 0.0, 0.0, 0.0])
 
 
-def grasps_to_arrays(grasps: Sequence[grasp_pb2.Grasp], joint_count: int):
+def grasps_to_arrays(grasps: Sequence[grasp_pb2.Grasp], joint_count: int) -> Tuple[NDArray[np.void], NDArray[np.void]]:
     """(grasps, contacts): structured arrays; contacts["grasp"] indexes rows of grasps."""
     rows = np.zeros(len(grasps), dtype=grasp_dtype(joint_count))
     contacts = np.zeros(sum(len(g.contacts) for g in grasps), dtype=CONTACT_DTYPE)
@@ -66,8 +72,8 @@ class GraspSetResult:
     joint_ids: List[str]
     preshapes: List[str]
     params: str
-    grasps: np.ndarray      # grasp_dtype(len(joint_ids))
-    contacts: np.ndarray    # CONTACT_DTYPE
+    grasps: NDArray[np.void]    # grasp_dtype(len(joint_ids))
+    contacts: NDArray[np.void]  # CONTACT_DTYPE
     cpu_seconds: float = 0.0  # s, the planner threads' CPU time over `seconds` (0 when from the store)
 
     @classmethod
@@ -83,21 +89,24 @@ class GraspSetResult:
         return self.candidates / self.seconds if self.seconds > 0 else float("inf")
 
 
-def set_materials(request, object_material: Optional[str], link_materials: Optional[Dict[str, str]],
-                  friction_pairs) -> None:
+def set_materials(request: Union[grasp_pb2.PlanGraspsRequest, grasp_pb2.EvaluateGraspRequest],
+                  object_material: Optional[str], link_materials: Optional[Dict[str, str]],
+                  friction_pairs: Optional[FrictionPairs]) -> None:
     """Fills the material fields of a PlanGraspsRequest or EvaluateGraspRequest. friction_pairs: a mapping
     {(material_a, material_b): μ} or a sequence of (material_a, material_b, μ)."""
     if object_material is not None:
         request.object_material = object_material
     for link, material in (link_materials or {}).items():
         request.link_materials[link] = material
-    pairs = friction_pairs.items() if isinstance(friction_pairs, dict) else (friction_pairs or ())
-    for pair in pairs:
-        (a, b), mu = (pair[0], pair[1]) if isinstance(friction_pairs, dict) else (pair[:2], pair[2])
+    if isinstance(friction_pairs, dict):
+        triples: Sequence[Tuple[str, str, float]] = [(a, b, mu) for (a, b), mu in friction_pairs.items()]
+    else:
+        triples = [(pair[0], pair[1], pair[2]) for pair in (friction_pairs or ())]
+    for a, b, mu in triples:
         request.friction_pairs.add(material_a=a, material_b=b, friction=float(mu))
 
 
-def target_proto(scene_id: Optional[str], body_id: Optional[str], mesh) -> grasp_pb2.GraspTarget:
+def target_proto(scene_id: Optional[str], body_id: Optional[str], mesh: Optional[MeshLike]) -> grasp_pb2.GraspTarget:
     """The object: a scene's body, or a mesh (vertices (n, 3) m, triangles (m, 3) indices)."""
     if mesh is not None:
         vertices, triangles = mesh

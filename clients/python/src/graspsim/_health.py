@@ -10,6 +10,7 @@ def serving(address: str, timeout: float = 1.0) -> bool:
     try:
         with grpc.insecure_channel(address) as channel:
             check = channel.unary_unary(_CHECK, request_serializer=bytes, response_deserializer=bytes)
-            return check(b"", timeout=timeout) == b"\x08\x01"
+            response: bytes = check(b"", timeout=timeout)
+            return response == b"\x08\x01"
     except grpc.RpcError:
         return False

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import functools
 import inspect
-from typing import Any, Union
+from typing import Any, Callable, Sequence, Union
 
 # What names a scene: its id, or an object that carries it.
 SceneLike = Union[str, Any]
@@ -40,9 +40,9 @@ def accept_scene_objects(cls: type) -> type:
     return cls
 
 
-def _converting(method, signature: inspect.Signature, names):
+def _converting(method: Callable[..., Any], signature: inspect.Signature, names: Sequence[str]) -> Callable[..., Any]:
     @functools.wraps(method)
-    def wrapper(*args, **kwargs):
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
         bound = signature.bind(*args, **kwargs)
         for name in names:
             value = bound.arguments.get(name)

@@ -2,10 +2,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
 
 import grpc
 import numpy as np
+from numpy.typing import NDArray
 
 from graspsim._errors import GraspsimError, error_for_code, translated_errors
 from graspsim._pose import Pose, PoseLike, as_pose
@@ -19,8 +20,8 @@ class ArmPath:
     """PlanArmPath's answer: waypoints (n, dof) rad or m in joint_ids order, start first; times (n,) s, the arm
     at rest at each (trapezoidal velocity between them, within the joints' velocity and acceleration limits)."""
     joint_ids: List[str]
-    waypoints: np.ndarray
-    times: np.ndarray
+    waypoints: NDArray[np.float64]
+    times: NDArray[np.float64]
     tip_body: str
     direct: bool
     checks: int
@@ -31,7 +32,7 @@ class ArmPath:
     search_seconds: float = 0.0  # s, of `seconds`: start/goal checks, straight segment, search (not shortcutting)
 
 
-def _arm_path(response) -> ArmPath:
+def _arm_path(response: grasp_pb2.PlanArmPathResponse) -> ArmPath:
     dof = len(response.joint_ids)
     return ArmPath(joint_ids=list(response.joint_ids),
                    waypoints=np.frombuffer(response.waypoints, dtype="<f8").reshape(-1, max(dof, 1)).copy(),
@@ -41,8 +42,9 @@ def _arm_path(response) -> ArmPath:
                    search_seconds=response.search_seconds)
 
 
-def _arm_path_request(scene_id: str, arm_id: str, goal: Optional[PoseLike], goal_positions, start_positions,
-                      tip_body: str, timeout: float, seed: Optional[int], planner: str):
+def _arm_path_request(scene_id: str, arm_id: str, goal: Optional[PoseLike], goal_positions: Optional[Iterable[float]],
+                      start_positions: Optional[Iterable[float]], tip_body: str, timeout: float, seed: Optional[int],
+                      planner: str) -> grasp_pb2.PlanArmPathRequest:
     request = grasp_pb2.PlanArmPathRequest(scene_id=scene_id, arm_id=arm_id, tip_body=tip_body, timeout=timeout,
                                            planner=planner)
     if goal is not None:
@@ -61,8 +63,8 @@ class ArmMotion:
     """One arm motion of an executed pick-and-place: waypoints (n, dof) in joint_ids order, times (n,) s from
     the motion's start; `closed`: the hand held the object during it."""
     stage: str
-    waypoints: np.ndarray
-    times: np.ndarray
+    waypoints: NDArray[np.float64]
+    times: NDArray[np.float64]
     closed: bool
 
 
@@ -84,7 +86,7 @@ class PickAndPlaceResult:
     motions: List[ArmMotion]
 
 
-def _pick_result(message) -> PickAndPlaceResult:
+def _pick_result(message: grasp_pb2.PickAndPlaceProgress) -> PickAndPlaceResult:
     dof = len(message.joint_ids)
     motions = [ArmMotion(m.stage, np.frombuffer(m.waypoints, dtype="<f8").reshape(-1, max(dof, 1)).copy(),
                          np.frombuffer(m.times, dtype="<f8").copy(), m.closed) for m in message.motions]
@@ -96,6 +98,9 @@ def _pick_result(message) -> PickAndPlaceResult:
 
 class MotionMethods:
     """Mixed into Client; needs self.channel and self.call_timeout."""
+
+    channel: grpc.Channel
+    call_timeout: float
 
     def plan_arm_path(self, scene_id: str, arm_id: str, *, goal: Optional[PoseLike] = None,
                       goal_positions: Optional[Sequence[float]] = None,
@@ -113,7 +118,7 @@ class MotionMethods:
             response = stub.PlanArmPath(request, timeout=call_timeout or self.call_timeout)
         return _arm_path(response)
 
-    def plan_arm_paths(self, problems: Sequence[dict], *,
+    def plan_arm_paths(self, problems: Sequence[Dict[str, Any]], *,
                        call_timeout: Optional[float] = None) -> List[Union[ArmPath, GraspsimError]]:
         """Many plan_arm_path problems in one call: each a dict of plan_arm_path's keyword arguments plus
         scene_id and arm_id. Returns, in order, an ArmPath per solved problem and the error (not raised) of each
@@ -136,7 +141,8 @@ class MotionMethods:
 
     def pick_and_place_stream(self, scene_id: str, arm_id: str, body_id: str, goal: PoseLike, *,
                               hand_id: str = "", grasp_set_id: str = "", max_attempts: int = 0,
-                              seed: Optional[int] = None, call_timeout: Optional[float] = None) -> CancellableStream:
+                              seed: Optional[int] = None, call_timeout: Optional[float] = None
+                              ) -> CancellableStream[grasp_pb2.PickAndPlaceProgress]:
         """The raw progress stream of pick_and_place (graspsim.v1.PickAndPlaceProgress messages: stage,
         fraction, and the result in the last one); cancel(), leaving a with-block or dropping the stream stops the
         server's job."""

@@ -7,6 +7,8 @@ from typing import Callable, Dict, List, Optional, Sequence
 
 import grpc
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from graspsim._errors import GraspsimError, translated_errors
 from graspsim._pose import PoseLike, as_pose
@@ -17,13 +19,13 @@ from graspsim.v1 import common_pb2, perception_pb2, perception_pb2_grpc
 METHODS = {"mirror": perception_pb2.COMPLETION_METHOD_MIRROR, "delaunay": perception_pb2.COMPLETION_METHOD_DELAUNAY}
 
 
-def points_bytes(points) -> bytes:
+def points_bytes(points: ArrayLike) -> bytes:
     """(n, 3) m → packed float32 x y z (the wire format of PointCloud.points)."""
     array = np.ascontiguousarray(np.asarray(points, dtype="<f4").reshape(-1, 3))
     return array.tobytes()
 
 
-def points_from_bytes(data: bytes) -> np.ndarray:
+def points_from_bytes(data: bytes) -> NDArray[np.float64]:
     return np.frombuffer(data, dtype="<f4").reshape(-1, 3).astype(np.float64)
 
 
@@ -32,10 +34,10 @@ class CompletedShape:
     """CompleteShape's answer: the closed mesh (world frame, m; triangles counter-clockwise from outside), the
     symmetry plane (point, unit normal; None for the Delaunay baseline) and its visibility score, the per-stage
     wall times (ms) and point counts; body_id when the mesh was added to a scene."""
-    vertices: np.ndarray
-    triangles: np.ndarray
-    plane_point: Optional[np.ndarray]
-    plane_normal: Optional[np.ndarray]
+    vertices: NDArray[np.float64]
+    triangles: NDArray[np.int64]
+    plane_point: Optional[NDArray[np.float64]]
+    plane_normal: Optional[NDArray[np.float64]]
     score: float
     hypotheses: int
     timings_ms: Dict[str, float]
@@ -63,13 +65,16 @@ class CompletedShape:
 @dataclass
 class SceneSegments:
     """SegmentScene's answer: the table plane {x : normal · x = offset} and each object's points (largest first)."""
-    table_normal: np.ndarray
+    table_normal: NDArray[np.float64]
     table_offset: float
-    objects: List[np.ndarray]
+    objects: List[NDArray[np.float64]]
 
 
 class PerceptionMethods:
     """Mixed into Client; needs self.channel and self.call_timeout."""
+
+    channel: grpc.Channel
+    call_timeout: float
 
     @property
     def perception_stub(self) -> perception_pb2_grpc.PerceptionServiceStub:
@@ -78,7 +83,9 @@ class PerceptionMethods:
             stub = self.__dict__["_perception_stub"] = perception_pb2_grpc.PerceptionServiceStub(self.channel)
         return stub
 
-    def complete_shape(self, camera_pose: PoseLike, *, points=None, depth=None, intrinsics=None, mask=None,
+    def complete_shape(self, camera_pose: PoseLike, *, points: Optional[ArrayLike] = None,
+                       depth: Optional[ArrayLike] = None, intrinsics: Optional[Sequence[float]] = None,
+                       mask: Optional[ArrayLike] = None,
                        table_pose: Optional[PoseLike] = None, method: str = "mirror", orientations: int = 0,
                        shifts: int = 0, octree_depth: int = 0, refinements: int = 0, voxel_size: float = 0.0,
                        add_to_scene_id: str = "", object_name: str = "", object_mass: float = 0.0,
@@ -135,7 +142,7 @@ class PerceptionMethods:
             raise GraspsimError.for_code(grpc.StatusCode.INTERNAL, "CompleteShape ended without a mesh")
         return CompletedShape.from_proto(last, stages)
 
-    def segment_scene(self, points, *, cluster_tolerance: float = 0.0, plane_threshold: float = 0.0,
+    def segment_scene(self, points: ArrayLike, *, cluster_tolerance: float = 0.0, plane_threshold: float = 0.0,
                       min_cluster_points: int = 0) -> SceneSegments:
         """Splits a table-top cloud ((n, 3) m) into the table plane (RANSAC) and objects (Euclidean clusters).
         cluster_tolerance m (0 = 0.02), plane_threshold m (0 = 0.01), min_cluster_points (0 = 30)."""

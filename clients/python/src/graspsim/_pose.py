@@ -5,14 +5,15 @@ Conventions (as on the wire): positions in metres, orientations as unit quaterni
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Sequence, Union
+from typing import TYPE_CHECKING, Sequence, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from graspsim.v1 import common_pb2
 
 
-def _identity_quaternion() -> np.ndarray:
+def _identity_quaternion() -> NDArray[np.float64]:
     return np.array([1.0, 0.0, 0.0, 0.0])
 
 
@@ -20,10 +21,13 @@ def _identity_quaternion() -> np.ndarray:
 class Velocity:
     """A free body's velocity: linear (3,) m/s of its centre of mass and angular (3,) rad/s, both world frame."""
 
-    linear: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    angular: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    linear: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
+    angular: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
 
-    def __post_init__(self):
+    if TYPE_CHECKING:  # the generated __init__ takes any 3 values: __post_init__ makes float64 arrays of them
+        def __init__(self, linear: ArrayLike = ..., angular: ArrayLike = ...) -> None: ...
+
+    def __post_init__(self) -> None:
         self.linear = np.array(self.linear, dtype=np.float64).reshape(-1)
         self.angular = np.array(self.angular, dtype=np.float64).reshape(-1)
         if self.linear.shape != (3,) or self.angular.shape != (3,):
@@ -49,10 +53,13 @@ class Pose:
     1e-3 from 1 and normalises the rest.
     """
 
-    position: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    orientation: np.ndarray = field(default_factory=_identity_quaternion)
+    position: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
+    orientation: NDArray[np.float64] = field(default_factory=_identity_quaternion)
 
-    def __post_init__(self):
+    if TYPE_CHECKING:  # the generated __init__ takes any 3 and 4 values: __post_init__ makes float64 arrays of them
+        def __init__(self, position: ArrayLike = ..., orientation: ArrayLike = ...) -> None: ...
+
+    def __post_init__(self) -> None:
         self.position = np.array(self.position, dtype=np.float64).reshape(-1)
         self.orientation = np.array(self.orientation, dtype=np.float64).reshape(-1)
         if self.position.shape != (3,):
@@ -61,12 +68,12 @@ class Pose:
             raise ValueError(f"Pose.orientation needs 4 values (w, x, y, z), got {self.orientation.size}")
 
     @classmethod
-    def from_array(cls, values: Sequence[float]) -> Pose:
+    def from_array(cls, values: ArrayLike) -> Pose:
         """From 7 values [x, y, z (m), qw, qx, qy, qz]."""
-        values = np.asarray(values, dtype=np.float64).reshape(-1)
-        if values.shape != (7,):
-            raise ValueError(f"a pose array needs 7 values [x y z qw qx qy qz], got {values.size}")
-        return cls(values[:3], values[3:])
+        array = np.asarray(values, dtype=np.float64).reshape(-1)
+        if array.shape != (7,):
+            raise ValueError(f"a pose array needs 7 values [x y z qw qx qy qz], got {array.size}")
+        return cls(array[:3], array[3:])
 
     @classmethod
     def from_proto(cls, msg: common_pb2.Pose) -> Pose:
@@ -86,15 +93,15 @@ class Pose:
         msg.orientation.CopyFrom(common_pb2.Quaternion(w=w, x=qx, y=qy, z=qz))
         return msg
 
-    def as_array(self) -> np.ndarray:
+    def as_array(self) -> NDArray[np.float64]:
         """The 7 values [x, y, z (m), qw, qx, qy, qz]."""
         return np.concatenate([self.position, self.orientation])
 
-    def rotation_matrix(self) -> np.ndarray:
+    def rotation_matrix(self) -> NDArray[np.float64]:
         """The 3x3 rotation matrix of the (normalised) orientation."""
         return quaternion_to_matrix(self.orientation)
 
-    def matrix(self) -> np.ndarray:
+    def matrix(self) -> NDArray[np.float64]:
         """The 4x4 homogeneous transform (m)."""
         out = np.eye(4)
         out[:3, :3] = self.rotation_matrix()
@@ -102,7 +109,8 @@ class Pose:
         return out
 
 
-PoseLike = Union[Pose, common_pb2.Pose, Sequence[float], "tuple[Sequence[float], Sequence[float]]", np.ndarray]
+PoseLike = Union[Pose, common_pb2.Pose, Sequence[float], "tuple[Sequence[float], Sequence[float]]",
+                 NDArray[np.float64]]
 
 
 def as_pose(value: PoseLike) -> Pose:
@@ -117,14 +125,14 @@ def as_pose(value: PoseLike) -> Pose:
     return Pose.from_array(value)
 
 
-def quaternion_about_axis(axis: Sequence[float], angle: float) -> np.ndarray:
+def quaternion_about_axis(axis: ArrayLike, angle: float) -> NDArray[np.float64]:
     """The unit quaternion (w, x, y, z) of a rotation by angle (rad) about axis (any non-zero length)."""
-    axis = np.asarray(axis, dtype=np.float64)
-    axis = axis / np.linalg.norm(axis)
-    return np.concatenate([[np.cos(angle / 2.0)], np.sin(angle / 2.0) * axis])
+    unit = np.asarray(axis, dtype=np.float64)
+    unit = unit / np.linalg.norm(unit)
+    return np.concatenate([[np.cos(angle / 2.0)], np.sin(angle / 2.0) * unit])
 
 
-def quaternion_to_matrix(q: Sequence[float]) -> np.ndarray:
+def quaternion_to_matrix(q: ArrayLike) -> NDArray[np.float64]:
     """The 3x3 rotation matrix of quaternion (w, x, y, z), normalised first."""
     w, x, y, z = np.asarray(q, dtype=np.float64) / np.linalg.norm(q)
     return np.array([

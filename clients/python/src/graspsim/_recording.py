@@ -10,10 +10,12 @@ import dataclasses
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterator, List, Optional, Sequence, Tuple, Union
+from typing import Any, Iterator, List, Optional, Sequence, Tuple, Union
 
 import grpc
 import numpy as np
+from numpy.typing import NDArray
+from google.protobuf.message import Message
 
 from graspsim._errors import GraspsimError, translated_errors
 from graspsim._ids import SceneLike, scene_id_of
@@ -71,7 +73,7 @@ class Replay:
 
     scene_id: str
     name: str
-    frame_times: np.ndarray
+    frame_times: NDArray[np.float64]
 
     @property
     def frames(self) -> int:
@@ -92,6 +94,9 @@ def _create_beside(target: Path) -> Tuple[int, str]:
 class RecordingMethods:
     """Mixed into Client; needs self.channel and self.call_timeout."""
 
+    channel: grpc.Channel
+    call_timeout: float
+
     @property
     def recording_stub(self) -> recording_pb2_grpc.RecordingServiceStub:
         stub = self.__dict__.get("_recording_stub")
@@ -99,7 +104,7 @@ class RecordingMethods:
             stub = self.__dict__["_recording_stub"] = recording_pb2_grpc.RecordingServiceStub(self.channel)
         return stub
 
-    def _recording_call(self, method: str, request):
+    def _recording_call(self, method: str, request: Message) -> Any:  # Any: the generated stubs are untyped
         with translated_errors():
             return getattr(self.recording_stub, method)(request, timeout=self.call_timeout)
 
@@ -132,7 +137,8 @@ class RecordingMethods:
         reply = self._recording_call("ListRecordings", recording_pb2.ListRecordingsRequest())
         return [RecordingInfo.from_proto(r) for r in reply.recordings]
 
-    def download_recording(self, name: str, path: Union[str, os.PathLike], timeout: Optional[float] = None) -> Path:
+    def download_recording(self, name: str, path: Union[str, os.PathLike[str]],
+                           timeout: Optional[float] = None) -> Path:
         """Streams a recording's .mcap file (finished, or the part written so far) to the local `path`.
 
         The bytes go to a temporary file beside `path` that replaces it once complete, so `path` never holds
@@ -160,8 +166,8 @@ class RecordingMethods:
         return target
 
     @contextlib.contextmanager
-    def record(self, scene: SceneLike, path: Union[str, os.PathLike, None] = None,
-               **start_kwargs) -> Iterator[RecordingInfo]:
+    def record(self, scene: SceneLike, path: Union[str, os.PathLike[str], None] = None,
+               **start_kwargs: Any) -> Iterator[RecordingInfo]:
         """A with-block recorded: starts (start_recording(scene, **start_kwargs)), yields the RecordingInfo,
         stops on leaving the block, also on an exception, and then, when `path` is given, downloads the file to
         it. After the block the yielded RecordingInfo holds the stopped recording's figures (frames, bytes, ...).

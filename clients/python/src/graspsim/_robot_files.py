@@ -20,12 +20,16 @@ import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import TYPE_CHECKING, Dict, Iterable, List, Mapping, Optional, Sequence, Set, Tuple, Union
 
 from graspsim._upload import digest
+from graspsim.v1 import common_pb2
 
-FilePath = Union[str, os.PathLike]
-PackageRoots = Union[None, Mapping[str, Union[str, os.PathLike]], Sequence[Union[str, os.PathLike]]]
+if TYPE_CHECKING:
+    from graspsim._client import Client
+
+FilePath = Union[str, os.PathLike[str]]
+PackageRoots = Union[None, Mapping[str, Union[str, os.PathLike[str]]], Sequence[Union[str, os.PathLike[str]]]]
 
 FORMATS = ("urdf", "mjcf", "sdf")
 _EXTENSIONS = {".urdf": "urdf", ".xml": "mjcf", ".mjcf": "mjcf", ".sdf": "sdf", ".world": "sdf"}
@@ -234,13 +238,13 @@ def _mjcf(resolver: _Resolver, root: ET.Element) -> None:
                     resolver.add(joined, resolver.base, where, key=normalise(joined))
 
 
-def _sdf(resolver: _Resolver, root: ET.Element, base: Path, where: Path, prefix: str, seen: set) -> None:
+def _sdf(resolver: _Resolver, root: ET.Element, base: Path, where: Path, prefix: str, seen: Set[Path]) -> None:
     """<collision> meshes, and <include>d models (model://name resolved under the package roots; the model's
     file and its meshes uploaded under "name/...")."""
     for collision in root.iter("collision"):
-        for uri in collision.iterfind("./geometry/mesh/uri"):
-            if uri.text and uri.text.strip():
-                ref = uri.text.strip()
+        for uri_element in collision.iterfind("./geometry/mesh/uri"):
+            if uri_element.text and uri_element.text.strip():
+                ref = uri_element.text.strip()
                 key = scene_path(ref) if "://" in ref or os.path.isabs(ref) else normalise(posixpath.join(prefix, ref))
                 resolver.add(ref, base, where, key=key)
     for include in root.iter("include"):
@@ -301,7 +305,7 @@ def _model_sdf(directory: Path) -> Optional[Path]:
     return directory / "model.sdf" if (directory / "model.sdf").is_file() else None
 
 
-def collect(path: Union[str, os.PathLike], package_roots: PackageRoots = None,
+def collect(path: Union[str, os.PathLike[str]], package_roots: PackageRoots = None,
             fmt: Optional[str] = None) -> RobotFiles:
     """Reads a robot file and resolves every file it needs on the server (module docstring).
 
@@ -326,8 +330,8 @@ def collect(path: Union[str, os.PathLike], package_roots: PackageRoots = None,
     return resolver.result(fmt, text)
 
 
-def upload_missing(client, scene_id: str, files: Mapping[str, Path],
-                   present: Optional[Iterable] = None) -> List[str]:
+def upload_missing(client: Client, scene_id: str, files: Mapping[str, Path],
+                   present: Optional[Iterable[common_pb2.FileInfo]] = None) -> List[str]:
     """Uploads each file the scene does not already hold with the same SHA-256; returns the uploaded paths.
     present: the scene's FileInfo list if the caller has it (else get_scene is asked)."""
     if not files:

@@ -3,11 +3,27 @@ that holds it by this header (docs/scaling.md). The client sets it on every call
 from __future__ import annotations
 
 import itertools
-from typing import Dict, Iterator, Optional, Tuple
+from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, Iterator, Optional, Tuple
 
 import grpc
 from google.protobuf.descriptor import Descriptor, FieldDescriptor
 from google.protobuf.message import Message
+
+if TYPE_CHECKING:
+    # grpc-stubs makes the interceptor classes generic (request, response); grpc's own classes are not subscriptable
+    # at run time, hence the aliases. Requests and responses are Any: the generated stubs are untyped.
+    UnaryUnaryInterceptor = grpc.UnaryUnaryClientInterceptor[Any, Any]
+    UnaryStreamInterceptor = grpc.UnaryStreamClientInterceptor[Any, Any]
+    StreamUnaryInterceptor = grpc.StreamUnaryClientInterceptor[Any, Any]
+    StreamStreamInterceptor = grpc.StreamStreamClientInterceptor[Any, Any]
+else:
+    UnaryUnaryInterceptor = grpc.UnaryUnaryClientInterceptor
+    UnaryStreamInterceptor = grpc.UnaryStreamClientInterceptor
+    StreamUnaryInterceptor = grpc.StreamUnaryClientInterceptor
+    StreamStreamInterceptor = grpc.StreamStreamClientInterceptor
+
+# continuation(details, request or request iterator) of an interceptor: the call (a future or a response iterator)
+Continuation = Callable[[grpc.ClientCallDetails, Any], Any]
 
 SCENE_HEADER = "graspsim-scene-id"
 _SCENE_FIELDS = ("scene_id", "add_to_scene_id")
@@ -50,41 +66,44 @@ def scene_id_of(request: Message) -> Optional[str]:
 
 
 class CallDetails(grpc.ClientCallDetails):
-    def __init__(self, method, timeout, metadata, credentials, wait_for_ready, compression):
+    def __init__(self, method: str, timeout: Optional[float], metadata: Any,
+                 credentials: Optional[grpc.CallCredentials], wait_for_ready: Optional[bool],
+                 compression: Optional[grpc.Compression]) -> None:
         self.method, self.timeout, self.metadata = method, timeout, metadata
         self.credentials, self.wait_for_ready, self.compression = credentials, wait_for_ready, compression
 
 
-class SceneRouting(grpc.UnaryUnaryClientInterceptor, grpc.UnaryStreamClientInterceptor,
-                   grpc.StreamUnaryClientInterceptor, grpc.StreamStreamClientInterceptor):
+class SceneRouting(UnaryUnaryInterceptor, UnaryStreamInterceptor, StreamUnaryInterceptor, StreamStreamInterceptor):
     """Adds "graspsim-scene-id: <id>" to each call whose (first) request names a scene."""
 
     @staticmethod
-    def _details(details, request):
+    def _details(details: grpc.ClientCallDetails, request: object) -> grpc.ClientCallDetails:
         scene_id = scene_id_of(request) if isinstance(request, Message) else None
         if not scene_id:
             return details
         metadata = tuple(details.metadata or ()) + ((SCENE_HEADER, scene_id),)
-        fields = {name: getattr(details, name, None) for name in
+        fields: Dict[str, Any] = {name: getattr(details, name, None) for name in
                   ("method", "timeout", "credentials", "wait_for_ready", "compression")}
         return CallDetails(metadata=metadata, **fields)
 
-    def intercept_unary_unary(self, continuation, details, request):
+    def intercept_unary_unary(self, continuation: Continuation, details: grpc.ClientCallDetails, request: Any) -> Any:
         return continuation(self._details(details, request), request)
 
-    def intercept_unary_stream(self, continuation, details, request):
+    def intercept_unary_stream(self, continuation: Continuation, details: grpc.ClientCallDetails, request: Any) -> Any:
         return continuation(self._details(details, request), request)
 
-    def intercept_stream_unary(self, continuation, details, requests):
+    def intercept_stream_unary(self, continuation: Continuation, details: grpc.ClientCallDetails,
+                               requests: Iterator[Any]) -> Any:
         first, requests = _peek(requests)
         return continuation(self._details(details, first), requests)
 
-    def intercept_stream_stream(self, continuation, details, requests):
+    def intercept_stream_stream(self, continuation: Continuation, details: grpc.ClientCallDetails,
+                                requests: Iterator[Any]) -> Any:
         first, requests = _peek(requests)
         return continuation(self._details(details, first), requests)
 
 
-def _peek(requests) -> Tuple[Optional[Message], Iterator]:
+def _peek(requests: Iterable[Any]) -> Tuple[Optional[Message], Iterator[Any]]:
     """The first message of a request stream (read ahead, then given back in front)."""
     iterator = iter(requests)
     first = next(iterator, None)

@@ -6,8 +6,9 @@ from typing import Union
 
 import grpc
 import numpy as np
+from numpy.typing import NDArray
 
-from graspsim._stream import CancellableStream
+from graspsim._stream import CancellableStream, StreamCall
 from graspsim.v1 import tactile_pb2
 
 
@@ -30,10 +31,10 @@ class TactileFrame:
     time: float
     rows: int
     cols: int
-    intensities: np.ndarray
-    forces: np.ndarray
+    intensities: NDArray[np.uint16]
+    forces: NDArray[np.float32]
     intensity_sum: int
-    force_sum: np.ndarray
+    force_sum: NDArray[np.float64]
 
     @classmethod
     def from_proto(cls, sensor_id: str, time: float, msg: tactile_pb2.TactileReading) -> TactileFrame:
@@ -83,8 +84,8 @@ class ForceTorqueState:
 
     sensor_id: str
     time: float
-    force: np.ndarray
-    torque: np.ndarray
+    force: NDArray[np.float64]
+    torque: NDArray[np.float64]
 
 
 Reading = Union[TactileFrame, GripperState, ForceTorqueState]
@@ -113,6 +114,6 @@ class SensorStream(CancellableStream[Reading]):
     (bad ids, the scene deleted) are raised as GraspsimError.
     """
 
-    def __init__(self, call: grpc.Call):
+    def __init__(self, call: StreamCall) -> None:
         super().__init__(call, reading_from_proto)
 

@@ -4,7 +4,7 @@ hand it to the caller."""
 from __future__ import annotations
 
 import contextlib
-from typing import Callable, Generic, Iterator, TypeVar
+from typing import Any, Callable, Generic, Iterator, Protocol, TypeVar
 
 import grpc
 
@@ -13,8 +13,19 @@ from graspsim._errors import from_rpc_error, translated_errors
 T = TypeVar("T")
 
 
+class StreamCall(Protocol):
+    """What a server-streaming stub call returns (grpc's rendezvous): an iterator of the response messages that is
+    also the call, cancellable. The generated stubs are untyped, so the messages are Any here."""
+
+    def __iter__(self) -> Iterator[Any]: ...
+
+    def __next__(self) -> Any: ...
+
+    def cancel(self) -> bool: ...
+
+
 @contextlib.contextmanager
-def server_stream(call: grpc.Call) -> Iterator[grpc.Call]:
+def server_stream(call: StreamCall) -> Iterator[StreamCall]:
     """The block that reads `call`: its gRPC errors are raised as GraspsimError, and however the block is left (the
     stream's end, a return, any exception: a callback's, KeyboardInterrupt, GeneratorExit) the call is cancelled.
     Cancelling an ended call does nothing; otherwise the server stops the work nobody reads any more at once,
@@ -34,7 +45,7 @@ class CancellableStream(Generic[T]):
     raised as GraspsimError.
     """
 
-    def __init__(self, call: grpc.Call, convert: Callable[[object], T]):
+    def __init__(self, call: StreamCall, convert: Callable[[Any], T]) -> None:
         self._call = call
         self._convert = convert
         self._cancelled = False
@@ -57,10 +68,10 @@ class CancellableStream(Generic[T]):
 
     close = cancel
 
-    def __enter__(self):
+    def __enter__(self) -> CancellableStream[T]:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.cancel()
 
     def __del__(self) -> None:

@@ -7,7 +7,7 @@ from typing import Iterator, Tuple, Union
 
 from graspsim.v1 import scene_pb2
 
-FileData = Union[bytes, bytearray, memoryview, str, os.PathLike]
+FileData = Union[bytes, bytearray, memoryview, str, os.PathLike[str]]
 
 
 def _pieces(data: FileData, chunk_size: int) -> Iterator[bytes]:

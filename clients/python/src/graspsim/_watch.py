@@ -6,8 +6,9 @@ from typing import List
 
 import grpc
 import numpy as np
+from numpy.typing import NDArray
 
-from graspsim._stream import CancellableStream
+from graspsim._stream import CancellableStream, StreamCall
 from graspsim._pose import Pose
 from graspsim.v1 import scene_pb2
 
@@ -34,11 +35,11 @@ class Snapshot:
     revision: int
     time: float
     body_ids: List[str]
-    poses: np.ndarray
+    poses: NDArray[np.float64]
     joint_ids: List[str]
-    joint_positions: np.ndarray
-    contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
-    contact_bodies: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
+    joint_positions: NDArray[np.float64]
+    contacts: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 6)))
+    contact_bodies: NDArray[np.int64] = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
 
     @classmethod
     def from_proto(cls, msg: scene_pb2.SceneSnapshot) -> Snapshot:
@@ -71,5 +72,5 @@ class SceneWatch(CancellableStream[Snapshot]):
     Server errors are raised as GraspsimError.
     """
 
-    def __init__(self, call: grpc.Call):
+    def __init__(self, call: StreamCall) -> None:
         super().__init__(call, Snapshot.from_proto)

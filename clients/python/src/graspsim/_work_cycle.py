@@ -2,9 +2,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Iterable, List, Optional, Sequence, Tuple
+from typing import Any, Iterable, List, Optional, Sequence, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike, NDArray
 
 from graspsim._pose import Pose
 from graspsim._sensors import GripperState, TactileFrame, reading_from_proto
@@ -100,19 +101,19 @@ class WorkCycleResult:
         left_id, right_id, gripper_sensor_id: the sensors the readings came from.
     """
 
-    time: np.ndarray
+    time: NDArray[np.float64]
     stage: List[str]
-    left_sum: np.ndarray
-    right_sum: np.ndarray
-    left_images: np.ndarray
-    right_images: np.ndarray
-    finger_distance: np.ndarray
-    motor_current: np.ndarray
-    finger_velocity: np.ndarray
-    object_position: np.ndarray
-    object_orientation: np.ndarray
-    axis_position: np.ndarray
-    current_limit: np.ndarray
+    left_sum: NDArray[np.float64]
+    right_sum: NDArray[np.float64]
+    left_images: NDArray[np.uint16]
+    right_images: NDArray[np.uint16]
+    finger_distance: NDArray[np.float64]
+    motor_current: NDArray[np.float64]
+    finger_velocity: NDArray[np.float64]
+    object_position: NDArray[np.float64]
+    object_orientation: NDArray[np.float64]
+    axis_position: NDArray[np.float64]
+    current_limit: NDArray[np.float64]
     tactile_setpoint: float = DEFAULT_TACTILE_SETPOINT
     lift_height: float = DEFAULT_LIFT_HEIGHT
     coverage: float = DEFAULT_COVERAGE
@@ -133,10 +134,10 @@ class WorkCycleResult:
             raise ValueError(f"work cycle: tactile readings of different shapes {sorted(shapes)}")
         rows, cols = shapes.pop() if shapes else (0, 0)
 
-        def series(values, dtype=np.float64) -> np.ndarray:
+        def series(values: Iterable[ArrayLike], dtype: DTypeLike = np.float64) -> NDArray[Any]:
             return np.array(list(values), dtype=dtype)
 
-        def images(pads: Iterable[TactileFrame]) -> np.ndarray:
+        def images(pads: Iterable[TactileFrame]) -> NDArray[np.uint16]:
             return np.array([p.intensities for p in pads], dtype=np.uint16).reshape(len(frames), rows, cols)
 
         first = frames[0] if frames else None
@@ -163,7 +164,7 @@ class WorkCycleResult:
         )
 
     @classmethod
-    def from_progress(cls, messages: Iterable[tactile_pb2.WorkCycleProgress], **settings) -> WorkCycleResult:
+    def from_progress(cls, messages: Iterable[tactile_pb2.WorkCycleProgress], **settings: float) -> WorkCycleResult:
         """Decodes and stacks WorkCycleProgress messages (settings as in from_frames)."""
         return cls.from_frames([WorkCycleFrame.from_proto(m) for m in messages], **settings)
 
@@ -175,7 +176,7 @@ class WorkCycleResult:
         """The stages in the order they first appear."""
         return list(dict.fromkeys(self.stage))
 
-    def stage_mask(self, stage: str) -> np.ndarray:
+    def stage_mask(self, stage: str) -> NDArray[np.bool_]:
         """(N,) bool: the frames of one stage."""
         return np.array([s == stage for s in self.stage], dtype=bool)
 

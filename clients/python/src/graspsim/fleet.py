@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 import sys
 from dataclasses import dataclass, field
-from typing import List, Optional, Sequence
+from typing import List, Optional, Sequence, Tuple
 
 import graspsim
 
@@ -22,8 +22,8 @@ import graspsim
 class Rebalance:
     """What rebalance() did: scenes kept where they were, moved (id, from replica address), and failures."""
     kept: List[str] = field(default_factory=list)
-    moved: List[tuple] = field(default_factory=list)
-    failed: List[tuple] = field(default_factory=list)  # (scene id, replica, "CODE: message")
+    moved: List[Tuple[str, str]] = field(default_factory=list)
+    failed: List[Tuple[str, str, str]] = field(default_factory=list)  # (scene id, replica, "CODE: message")
 
 
 def rebalance(balancer: str, replicas: Sequence[str], *, token: Optional[str] = None,

@@ -7,27 +7,29 @@ from __future__ import annotations
 from typing import Sequence, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 
-def box_inertia(mass: float, size: Sequence[float]) -> np.ndarray:
+def box_inertia(mass: float, size: Sequence[float]) -> NDArray[np.float64]:
     """Solid box of full edge lengths size = (a, b, c): diag(b²+c², a²+c², a²+b²) * m / 12."""
     a, b, c = (float(v) for v in size)
     return np.diag([b * b + c * c, a * a + c * c, a * a + b * b]) * float(mass) / 12.0
 
 
-def sphere_inertia(mass: float, radius: float) -> np.ndarray:
+def sphere_inertia(mass: float, radius: float) -> NDArray[np.float64]:
     """Solid sphere: 2/5 m r² about every axis."""
     return np.eye(3) * 0.4 * float(mass) * float(radius) ** 2
 
 
-def cylinder_inertia(mass: float, radius: float, length: float) -> np.ndarray:
+def cylinder_inertia(mass: float, radius: float, length: float) -> NDArray[np.float64]:
     """Solid cylinder along z: m r²/2 about z, m (3r² + l²)/12 about x and y."""
     m, r, l = float(mass), float(radius), float(length)
     side = m * (3.0 * r * r + l * l) / 12.0
     return np.diag([side, side, 0.5 * m * r * r])
 
 
-def mesh_volume_properties(vertices: np.ndarray, triangles: np.ndarray) -> Tuple[float, np.ndarray, np.ndarray]:
+def mesh_volume_properties(vertices: ArrayLike, triangles: ArrayLike
+                           ) -> Tuple[float, NDArray[np.float64], NDArray[np.float64]]:
     """Volume (m³), centroid (3,) (m) and the second moment ∫ (x-c)(x-c)ᵀ dV (3x3, m⁵) of a closed mesh.
 
     Divergence theorem: the solid is the signed sum of the tetrahedra (origin, a, b, c) over the triangles,
@@ -48,7 +50,8 @@ def mesh_volume_properties(vertices: np.ndarray, triangles: np.ndarray) -> Tuple
     return volume, centroid, second - volume * np.outer(centroid, centroid)
 
 
-def mesh_inertia(mass: float, vertices: np.ndarray, triangles: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+def mesh_inertia(mass: float, vertices: ArrayLike, triangles: ArrayLike
+                 ) -> Tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Centre of mass (3,) (m) and inertia tensor about it (3x3, kg m²) of a closed mesh of uniform density."""
     volume, centroid, second = mesh_volume_properties(vertices, triangles)
     density = float(mass) / volume

@@ -21,9 +21,10 @@ import struct
 from collections import Counter, defaultdict
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, List, Tuple, Union
+from typing import IO, Any, Dict, Generator, Iterable, List, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 try:
     from mcap.exceptions import EndOfFile
@@ -41,7 +42,7 @@ SENSOR_TOPIC = "/graspsim/sensor"
 STATE_TOPIC = "/graspsim/state"
 _RECORD_HEADER = struct.Struct("<BQ")  # opcode, length of the record's content
 
-PathLike = Union[str, os.PathLike]
+PathLike = Union[str, "os.PathLike[str]"]
 
 
 @dataclass
@@ -65,15 +66,15 @@ class RecordingData:
     """
 
     path: Path
-    times: np.ndarray
-    log_times: np.ndarray
-    revisions: np.ndarray
+    times: NDArray[np.float64]
+    log_times: NDArray[np.int64]
+    revisions: NDArray[np.uint64]
     body_ids: List[str]
-    body_poses: np.ndarray
+    body_poses: NDArray[np.float64]
     joint_ids: List[str]
-    joint_positions: np.ndarray
-    tactile: Dict[str, np.ndarray]
-    force_torque: Dict[str, np.ndarray]
+    joint_positions: NDArray[np.float64]
+    tactile: Dict[str, NDArray[np.uint16]]
+    force_torque: Dict[str, NDArray[np.float64]]
     states: int
     messages_per_topic: Dict[str, int]
     truncated: bool
@@ -86,7 +87,7 @@ class RecordingData:
     def __len__(self) -> int:
         return self.frames
 
-    def tactile_sums(self) -> Dict[str, np.ndarray]:
+    def tactile_sums(self) -> Dict[str, NDArray[np.int64]]:
         """sensor id -> (frames,) int64, the intensity sum of each frame."""
         return {k: v.reshape(len(v), -1).sum(axis=1, dtype=np.int64) for k, v in self.tactile.items()}
 
@@ -125,14 +126,14 @@ def complete_prefix(path: PathLike) -> Tuple[int, bool]:
 class _Prefix(io.RawIOBase):
     """The first `limit` bytes of a binary file, as a raw stream."""
 
-    def __init__(self, file, limit: int):
+    def __init__(self, file: IO[bytes], limit: int) -> None:
         self._file = file
         self._left = limit
 
     def readable(self) -> bool:
         return True
 
-    def readinto(self, buffer) -> int:
+    def readinto(self, buffer: Any) -> int:  # a writable buffer (memoryview)
         n = min(len(buffer), self._left)
         if n <= 0:
             return 0
@@ -142,7 +143,7 @@ class _Prefix(io.RawIOBase):
         return len(data)
 
 
-def iter_records(path: PathLike):
+def iter_records(path: PathLike) -> Generator[Any, None, Tuple[int, bool]]:
     """Yields the MCAP records of a file front to back with mcap's StreamReader (chunks opened into their
     records, CRCs checked), stopping cleanly after the last complete record of a truncated file. The generator's
     return value (StopIteration.value) is (bytes_read, truncated).
@@ -172,7 +173,7 @@ def read(path: PathLike) -> RecordingData:
     whose writer died. ValueError when the file is not MCAP or its messages do not match the graspsim.v1 API."""
     path = Path(path)
     topics: Dict[int, str] = {}
-    counts: Counter = Counter()
+    counts: Counter[str] = Counter()
     snapshots: List[scene_pb2.SceneSnapshot] = []
     snapshot_log_times: List[int] = []
     readings: List[Tuple[int, tactile_pb2.SensorReading]] = []
@@ -209,10 +210,10 @@ def read(path: PathLike) -> RecordingData:
                      bytes_read)
 
 
-def _occurrence_keys(log_times) -> List[Tuple[int, int]]:
+def _occurrence_keys(log_times: Iterable[int]) -> List[Tuple[int, int]]:
     """(log_time, k): the k-th message at that log_time. Frames of one simulation time (edits between steps)
     and their sensor readings pair up by k."""
-    seen: Counter = Counter()
+    seen: Counter[int] = Counter()
     keys = []
     for t in log_times:
         keys.append((int(t), seen[t]))
@@ -220,12 +221,13 @@ def _occurrence_keys(log_times) -> List[Tuple[int, int]]:
     return keys
 
 
-def _index(ids_per_frame) -> List[str]:
+def _index(ids_per_frame: Iterable[Iterable[str]]) -> List[str]:
     return list(dict.fromkeys(i for ids in ids_per_frame for i in ids))
 
 
-def _assemble(path, snapshots, snapshot_log_times, readings, state_log_times, counts, truncated,
-              bytes_read) -> RecordingData:
+def _assemble(path: Path, snapshots: List[scene_pb2.SceneSnapshot], snapshot_log_times: List[int],
+              readings: List[Tuple[int, tactile_pb2.SensorReading]], state_log_times: List[int],
+              counts: Dict[str, int], truncated: bool, bytes_read: int) -> RecordingData:
     frames = len(snapshots)
     body_ids = _index(s.body_ids for s in snapshots)
     joint_ids = _index(s.joint_ids for s in snapshots)
@@ -243,11 +245,11 @@ def _assemble(path, snapshots, snapshot_log_times, readings, state_log_times, co
         joints[i, [joint_column[j] for j in s.joint_ids]] = positions
 
     frame_of = {key: i for i, key in enumerate(_occurrence_keys(snapshot_log_times))}
-    by_sensor: Dict[str, list] = defaultdict(list)
+    by_sensor: Dict[str, List[Tuple[int, tactile_pb2.SensorReading]]] = defaultdict(list)
     for log_time, reading in readings:
         by_sensor[reading.sensor_id].append((log_time, reading))
-    tactile: Dict[str, np.ndarray] = {}
-    force_torque: Dict[str, np.ndarray] = {}
+    tactile: Dict[str, NDArray[np.uint16]] = {}
+    force_torque: Dict[str, NDArray[np.float64]] = {}
     for sensor_id, items in by_sensor.items():
         keys = _occurrence_keys(t for t, _ in items)
         for key, (_, reading) in zip(keys, items):
@@ -261,19 +263,19 @@ def _assemble(path, snapshots, snapshot_log_times, readings, state_log_times, co
                 if image.size != t.rows * t.cols:
                     raise ValueError(f"{path}: {sensor_id} at frame {frame}: {image.size} intensities for "
                                      f"{t.rows} x {t.cols} texels")
-                array = tactile.get(sensor_id)
-                if array is None:
-                    array = tactile[sensor_id] = np.zeros((frames, t.rows, t.cols), dtype=np.uint16)
-                if array.shape[1:] != (t.rows, t.cols):
-                    raise ValueError(f"{path}: {sensor_id} changes shape from {array.shape[1:]} to "
+                image_array = tactile.get(sensor_id)
+                if image_array is None:
+                    image_array = tactile[sensor_id] = np.zeros((frames, t.rows, t.cols), dtype=np.uint16)
+                if image_array.shape[1:] != (t.rows, t.cols):
+                    raise ValueError(f"{path}: {sensor_id} changes shape from {image_array.shape[1:]} to "
                                      f"{(t.rows, t.cols)} at frame {frame}")
-                array[frame] = image.reshape(t.rows, t.cols)
+                image_array[frame] = image.reshape(t.rows, t.cols)
             elif kind == "force_torque":
-                array = force_torque.get(sensor_id)
-                if array is None:
-                    array = force_torque[sensor_id] = np.full((frames, 6), np.nan)
+                wrench = force_torque.get(sensor_id)
+                if wrench is None:
+                    wrench = force_torque[sensor_id] = np.full((frames, 6), np.nan)
                 f, m = reading.force_torque.force, reading.force_torque.torque
-                array[frame] = (f.x, f.y, f.z, m.x, m.y, m.z)
+                wrench[frame] = (f.x, f.y, f.z, m.x, m.y, m.z)
     states = sum(1 for key in _occurrence_keys(state_log_times) if key in frame_of)
     return RecordingData(
         path=path, times=np.array([s.time for s in snapshots], dtype=np.float64),
@@ -283,27 +285,29 @@ def _assemble(path, snapshots, snapshot_log_times, readings, state_log_times, co
         messages_per_topic=counts, truncated=truncated, bytes_read=bytes_read)
 
 
-def _max(values) -> float:
+def _max(values: ArrayLike) -> float:
     """The largest value, NaN ignored (0 for none; NaN when every value is NaN)."""
-    values = np.asarray(values, dtype=np.float64)
-    if values.size == 0:
+    array = np.asarray(values, dtype=np.float64)
+    if array.size == 0:
         return 0.0
-    if np.isnan(values).all():
+    if np.isnan(array).all():
         return float("nan")
-    return float(np.nanmax(values))
+    return float(np.nanmax(array))
 
 
-def rotation_angle(qa: np.ndarray, qb: np.ndarray) -> np.ndarray:
+def rotation_angle(qa: NDArray[np.float64], qb: NDArray[np.float64]) -> NDArray[np.float64]:
     """The angle (rad, 0..pi) of the rotation between unit quaternions (w, x, y, z) along the last axis:
     2 atan2(|v|, |w|) of conj(qa) qb, exactly 0 for equal quaternions and accurate at small angles."""
     wa, va = qa[..., 0], qa[..., 1:]
     wb, vb = qb[..., 0], qb[..., 1:]
     w = wa * wb + np.sum(va * vb, axis=-1)
     v = wa[..., None] * vb - wb[..., None] * va - np.cross(va, vb)
-    return 2.0 * np.arctan2(np.linalg.norm(v, axis=-1), np.abs(w))
+    angle: NDArray[np.float64] = 2.0 * np.arctan2(np.linalg.norm(v, axis=-1), np.abs(w))
+    return angle
 
 
-def compare(a: Union[RecordingData, PathLike], b: Union[RecordingData, PathLike]) -> dict:
+def compare(a: Union[RecordingData, PathLike], b: Union[RecordingData, PathLike]
+            ) -> Dict[str, Union[int, float, str]]:
     """How far two recordings differ, frame by frame at equal simulation time (MCAP log_time, ns; the k-th frame
     of a time in one against the k-th of that time in the other), over the bodies, joints and tactile arrays both
     have. Differences are maxima over frames and bodies:
@@ -328,9 +332,10 @@ def compare(a: Union[RecordingData, PathLike], b: Union[RecordingData, PathLike]
     bodies = [x for x in a.body_ids if x in set(b.body_ids)]
     joints = [x for x in a.joint_ids if x in set(b.joint_ids)]
     sensors = sorted(set(a.tactile) & set(b.tactile))
-    report = {"frames_compared": len(pairs), "frames_only_in_a": a.frames - len(pairs),
-              "frames_only_in_b": b.frames - len(pairs), "bodies_compared": len(bodies),
-              "joints_compared": len(joints), "sensors_compared": len(sensors)}
+    report: Dict[str, Union[int, float, str]] = {
+        "frames_compared": len(pairs), "frames_only_in_a": a.frames - len(pairs),
+        "frames_only_in_b": b.frames - len(pairs), "bodies_compared": len(bodies),
+        "joints_compared": len(joints), "sensors_compared": len(sensors)}
     if not pairs:
         nan = float("nan")
         report.update(max_position_diff_m=nan, max_orientation_diff_rad=nan, max_joint_diff=nan,

@@ -5,16 +5,18 @@ Vertices are (N, 3) in m; triangles are (M, 3) vertex indices, counter-clockwise
 from __future__ import annotations
 
 import struct
-from typing import Sequence, Tuple
+from typing import Any, Sequence, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from graspsim.v1 import common_pb2
 
-Mesh = Tuple[np.ndarray, np.ndarray]
+# (vertices (N, 3) m: float64, or float32 as unpacked from the wire; triangles (M, 3) uint32)
+Mesh = Tuple[NDArray[np.floating[Any]], NDArray[np.uint32]]
 
 
-def pack_mesh(vertices: np.ndarray, triangles: np.ndarray) -> common_pb2.MeshData:
+def pack_mesh(vertices: ArrayLike, triangles: ArrayLike) -> common_pb2.MeshData:
     """MeshData with vertices as float32 LE bytes and triangles as uint32 LE bytes (no range checks here)."""
     v = np.asarray(vertices, dtype="<f4")
     t = np.asarray(triangles, dtype="<u4")
@@ -30,7 +32,7 @@ def unpack_mesh(msg: common_pb2.MeshData) -> Mesh:
     return v, t
 
 
-def to_stl(vertices: np.ndarray, triangles: np.ndarray) -> bytes:
+def to_stl(vertices: ArrayLike, triangles: ArrayLike) -> bytes:
     """Binary STL of a mesh (80-byte header, uint32 count, 50 bytes per triangle with its unit normal)."""
     v = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
     t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
@@ -70,7 +72,7 @@ def uv_sphere(radius: float, rings: int, segments: int) -> Mesh:
     vertices = np.vstack([[0.0, 0.0, 1.0], ring_points.reshape(-1, 3), [0.0, 0.0, -1.0]]) * float(radius)
     south = len(vertices) - 1
 
-    def ring(i: int, j: np.ndarray) -> np.ndarray:
+    def ring(i: int, j: NDArray[np.int64]) -> NDArray[np.int64]:
         return 1 + i * segments + j % segments
 
     j = np.arange(segments)

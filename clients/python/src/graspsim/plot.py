@@ -14,9 +14,11 @@ figure (work_cycle_figure(..., fig=plt.figure())).
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, Any, List, Mapping, Optional, Sequence, Union
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from graspsim._sensors import TactileFrame
 from graspsim._work_cycle import WorkCycleResult
@@ -29,7 +31,7 @@ MAX_INTENSITY = 4095  # 12-bit texels
 CMAP = "inferno"      # the server's PNG heat maps use the same colour map (black = no pressure)
 
 
-def _matplotlib():
+def _matplotlib() -> ModuleType:
     try:
         import matplotlib
     except ImportError as err:  # pragma: no cover - depends on the installation
@@ -38,7 +40,7 @@ def _matplotlib():
     return matplotlib
 
 
-def new_figure(figsize=(8.0, 5.0), dpi: float = 100) -> Figure:
+def new_figure(figsize: Tuple[float, float] = (8.0, 5.0), dpi: float = 100) -> Figure:
     """A matplotlib Figure on the Agg canvas: drawable and savable without pyplot or a display."""
     _matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -49,7 +51,7 @@ def new_figure(figsize=(8.0, 5.0), dpi: float = 100) -> Figure:
     return fig
 
 
-def save(fig: Figure, path: Union[str, os.PathLike], dpi: Optional[float] = None) -> str:
+def save(fig: Figure, path: Union[str, os.PathLike[str]], dpi: Optional[float] = None) -> str:
     """Writes the figure (format from the suffix, e.g. .png) through the Agg canvas; returns the path."""
     _matplotlib()
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -60,7 +62,7 @@ def save(fig: Figure, path: Union[str, os.PathLike], dpi: Optional[float] = None
     return os.fspath(path)
 
 
-def tactile_image(ax: Axes, frame_or_array: Union[TactileFrame, np.ndarray], max_intensity: float = MAX_INTENSITY,
+def tactile_image(ax: Axes, frame_or_array: Union[TactileFrame, ArrayLike], max_intensity: float = MAX_INTENSITY,
                   *, colorbar: bool = False, title: Optional[str] = None, cmap: str = CMAP) -> Any:
     """Draws a pad's intensities (rows, cols) as a heat map: row 0 at the top (the server's PNG layout), one
     square per texel, 0 .. max_intensity on the colour map. Returns the AxesImage."""

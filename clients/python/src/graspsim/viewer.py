@@ -13,13 +13,14 @@ from typing import TYPE_CHECKING, List, Optional, Tuple, Union
 from urllib.parse import quote, urlencode
 
 import numpy as np
+from numpy.typing import NDArray
 
 from graspsim._pose import Pose
 from graspsim.meshes import box_mesh, unpack_mesh, uv_sphere
 from graspsim.v1 import common_pb2, scene_pb2
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
-    from matplotlib.axes import Axes
+    from mpl_toolkits.mplot3d import Axes3D
     from matplotlib.figure import Figure
 
     from graspsim._client import Client
@@ -43,7 +44,7 @@ def viewer_url(scene: Union[str, scene_pb2.SceneSummary, scene_pb2.Scene], http_
     return f"{http_url.rstrip('/')}/view/{quote(scene, safe='')}" + (f"?{urlencode(query)}" if query else "")
 
 
-def _cylinder_mesh(radius: float, length: float, segments: int = 24) -> Tuple[np.ndarray, np.ndarray]:
+def _cylinder_mesh(radius: float, length: float, segments: int = 24) -> Tuple[NDArray[np.float64], NDArray[np.uint32]]:
     """Closed cylinder along z, centred on the origin."""
     phi = 2.0 * np.pi * np.arange(segments) / segments
     ring = np.stack([radius * np.cos(phi), radius * np.sin(phi)], axis=1)
@@ -58,7 +59,7 @@ def _cylinder_mesh(radius: float, length: float, segments: int = 24) -> Tuple[np
     return vertices, faces.astype(np.uint32)
 
 
-def geometry_mesh(geometry: common_pb2.Geometry) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+def geometry_mesh(geometry: common_pb2.Geometry) -> Optional[Tuple[NDArray[np.float64], NDArray[np.uint32]]]:
     """A collision shape as (vertices (n, 3) m in the body frame, triangles (m, 3)); None for a mesh_file the
     server did not inline."""
     shape = geometry.WhichOneof("shape")
@@ -78,7 +79,7 @@ def geometry_mesh(geometry: common_pb2.Geometry) -> Optional[Tuple[np.ndarray, n
     return np.asarray(vertices, dtype=np.float64) @ origin.rotation_matrix().T + origin.position, triangles
 
 
-def world_meshes(scene: scene_pb2.Scene) -> List[Tuple[str, np.ndarray, np.ndarray]]:
+def world_meshes(scene: scene_pb2.Scene) -> List[Tuple[str, NDArray[np.float64], NDArray[np.uint32]]]:
     """Every drawable shape of a scene (GetScene with include_geometry) in the world frame:
     (body id, vertices (n, 3) m, triangles (m, 3))."""
     out = []
@@ -91,7 +92,7 @@ def world_meshes(scene: scene_pb2.Scene) -> List[Tuple[str, np.ndarray, np.ndarr
     return out
 
 
-def draw_scene(ax: Axes, scene: scene_pb2.Scene) -> List[str]:
+def draw_scene(ax: Axes3D, scene: scene_pb2.Scene) -> List[str]:
     """Draws the scene's bodies into 3D axes (projection="3d") at their poses; returns the body id of each
     drawn shape, in drawing order."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection

@@ -2,12 +2,13 @@
 import argparse
 import json
 import sys
+from typing import Optional, Sequence
 from pathlib import Path
 
 from graspsim.batch._grasp_db import MESH_SUFFIXES, plan_grasp_database
 
 
-def main(argv=None) -> int:
+def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m graspsim.batch")
     commands = parser.add_subparsers(dest="command", required=True)
     db = commands.add_parser("grasp-db", help="plan the grasp sets of every mesh of a directory for every hand")

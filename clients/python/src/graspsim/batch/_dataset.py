@@ -7,18 +7,18 @@ import json
 import os
 import uuid
 from pathlib import Path
-from typing import Iterable, List, Set
+from typing import Any, Dict, Iterable, List, Optional, Set, Union
 
 import pyarrow as pa
 import pyarrow.parquet as pq
 
 
-def canonical_json(value) -> str:
+def canonical_json(value: Any) -> str:
     """Sorted keys, no spaces: the same parameters give the same text (and key) whatever their order."""
     return json.dumps(value, sort_keys=True, separators=(",", ":"))
 
 
-def sha256_hex(*parts) -> str:
+def sha256_hex(*parts: object) -> str:
     h = hashlib.sha256()
     for part in parts:
         h.update(part if isinstance(part, bytes) else str(part).encode())
@@ -26,7 +26,7 @@ def sha256_hex(*parts) -> str:
     return h.hexdigest()
 
 
-def write_task(dataset: Path, key: str, rows: List[dict], schema: pa.Schema) -> Path:
+def write_task(dataset: Path, key: str, rows: List[Dict[str, Any]], schema: pa.Schema) -> Path:
     """Writes rows as dataset/<key>.parquet via a hidden temporary file and os.replace."""
     dataset.mkdir(parents=True, exist_ok=True)
     final = dataset / f"{key}.parquet"
@@ -52,10 +52,11 @@ def written_keys(dataset: Path, retry_errors: bool = False) -> Set[str]:
 
 
 def _rows(path: Path) -> int:
-    return pq.ParquetFile(path).metadata.num_rows
+    rows: int = pq.ParquetFile(path).metadata.num_rows
+    return rows
 
 
-def read_dataset(dataset, columns: Iterable[str] = None) -> pa.Table:
+def read_dataset(dataset: Union[str, "os.PathLike[str]"], columns: Optional[Iterable[str]] = None) -> pa.Table:
     """The whole dataset as one table (files in key order; hidden temporary files are ignored)."""
     files = sorted(Path(dataset).glob("*.parquet"))
     if not files:

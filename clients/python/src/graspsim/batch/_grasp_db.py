@@ -6,15 +6,26 @@ import hashlib
 import os
 import time
 from pathlib import Path
-from typing import Dict, Iterable, List, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple, Union, cast
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 import pyarrow as pa
 import ray
 
 from graspsim.batch._dataset import canonical_json, sha256_hex, write_task, written_keys
 from graspsim.batch._pool import PoolOptions, progress_bar, ray_session, run_pool
 from graspsim.batch._summary import BatchSummary
+
+if TYPE_CHECKING:
+    import trimesh
+
+    from graspsim._client import Client
+
+# a mesh of a job: a file path (STL/OBJ/PLY) or (name, vertices (n, 3) m, triangles (m, 3))
+MeshSource = Union[str, "os.PathLike[str]", Tuple[str, ArrayLike, ArrayLike]]
+# (name, vertices float32 (n, 3) m, triangles uint32 (m, 3))
+LoadedMesh = Tuple[str, NDArray[np.float32], NDArray[np.uint32]]
 
 # PlanGrasps parameters a job may set (Client.plan_grasps keywords); seed is the job's own argument.
 PLAN_PARAMS = {"method", "friction", "preshapes", "standoffs", "rolls", "spacing", "circle_samples", "grasp_points",
@@ -36,17 +47,20 @@ SCHEMA = pa.schema([
 ])
 
 
-def mesh_sha256(vertices: np.ndarray, triangles: np.ndarray) -> str:
+def mesh_sha256(vertices: NDArray[Any], triangles: NDArray[Any]) -> str:
     """The server's mesh hash (GraspSet.mesh_sha256): SHA-256 of float32 vertices then uint32 triangles."""
     return hashlib.sha256(vertices.astype("<f4").tobytes() + triangles.astype("<u4").tobytes()).hexdigest()
 
 
-def load_mesh(source) -> tuple:
+def load_mesh(source: MeshSource) -> LoadedMesh:
     """(name, vertices float32 (n, 3) m, triangles uint32 (m, 3)) of a path (STL/OBJ/PLY, read by trimesh, which
     welds duplicate vertices) or of a (name, vertices, triangles) tuple."""
+    vertices: ArrayLike
+    triangles: ArrayLike
     if isinstance(source, (str, os.PathLike)):
         import trimesh
-        mesh = trimesh.load(os.fspath(source), force="mesh")
+        # force="mesh" makes it a Trimesh; trimesh types load() as returning any Geometry
+        mesh = cast("trimesh.Trimesh", trimesh.load(os.fspath(source), force="mesh"))
         if len(mesh.faces) == 0:
             raise ValueError(f"{source}: no triangles loaded")
         name, vertices, triangles = Path(source).stem, mesh.vertices, mesh.faces
@@ -60,14 +74,16 @@ def task_key(hand: str, mesh_hash: str, params_json: str) -> str:
     return sha256_hex(hand, mesh_hash, params_json)
 
 
-def _plan_task(client, spec: dict, mesh) -> List[dict]:
+def _plan_task(client: Client, spec: Dict[str, Any], mesh: Tuple[NDArray[np.float32], NDArray[np.uint32]]
+               ) -> List[Dict[str, Any]]:
     """On an actor: plans one grasp set and returns its rows."""
-    params = {k: (tuple(map(tuple, v)) if k == "grasp_points" else v) for k, v in spec["plan"].items()}
+    params: Dict[str, Any] = {k: (tuple(map(tuple, v)) if k == "grasp_points" else v)
+                              for k, v in spec["plan"].items()}
     result = client.plan_grasps(spec["hand"], mesh=mesh, progress=False, timeout=spec["timeout"], **params)
     base = dict(spec["row"], set_id=result.set_id, joint_ids=list(result.joint_ids),
                 task_candidates=result.candidates, task_simulated=result.simulated,
                 task_force_closure=result.force_closure, task_seconds=result.seconds)
-    rows = []
+    rows: List[Dict[str, Any]] = []
     for i, g in enumerate(result.grasps):
         contacts = result.contacts[result.contacts["grasp"] == i]
         rows.append(dict(base, grasp_index=i, candidate_index=int(g["candidate_index"]), preshape=str(g["preshape"]),
@@ -79,15 +95,16 @@ def _plan_task(client, spec: dict, mesh) -> List[dict]:
     return rows or [base]  # a set without force-closure grasps: one row of counts
 
 
-def _hand_params(params, hand: str) -> dict:
+def _hand_params(params: Optional[Dict[str, Any]], hand: str) -> Dict[str, Any]:
     """params for every hand, or {hand: params} per hand (every key a non-parameter, every value a dict)."""
     params = params or {}
     per_hand = params and all(k not in PLAN_PARAMS | {"seed"} and isinstance(v, dict) for k, v in params.items())
     return dict(params.get(hand, {})) if per_hand else dict(params)
 
 
-def plan_grasp_database(meshes: Iterable[Union[str, os.PathLike, tuple]], hands: Sequence[str], *,
-                        out_dir: Union[str, os.PathLike], params: Optional[Dict] = None, workers: Optional[int] = None,
+def plan_grasp_database(meshes: Iterable[MeshSource], hands: Sequence[str], *,
+                        out_dir: Union[str, os.PathLike[str]], params: Optional[Dict[str, Any]] = None,
+                        workers: Optional[int] = None,
                         seed: int = 1, progress: bool = True, server: Optional[str] = None,
                         address: Optional[str] = None, compute_threads: Optional[int] = None,
                         server_flags: Sequence[str] = (), store_dir: Optional[str] = None,
@@ -117,7 +134,7 @@ def plan_grasp_database(meshes: Iterable[Union[str, os.PathLike, tuple]], hands:
         summary.errors += 1
     bar = None
 
-    def on_result(i: int, status: str, value) -> None:
+    def on_result(i: int, status: str, value: Any) -> None:
         spec = todo[i]
         rows = value if status == "ok" else [dict(spec["row"], error=value)]
         write_task(dataset, spec["row"]["key"], rows, SCHEMA)
@@ -129,8 +146,8 @@ def plan_grasp_database(meshes: Iterable[Union[str, os.PathLike, tuple]], hands:
     try:
         with ray_session(address, bool(todo)):
             bar = progress_bar(progress, summary.tasks, summary.tasks - len(todo), "grasp sets")
-            refs = {}
-            calls = []
+            refs: Dict[int, Any] = {}  # mesh id -> its ray object ref
+            calls: List[Tuple[Any, ...]] = []
             for spec in todo:  # each mesh once in the object store, whatever the number of hands
                 mesh = spec.pop("mesh")
                 if spec["mesh_id"] not in refs:
@@ -146,9 +163,13 @@ def plan_grasp_database(meshes: Iterable[Union[str, os.PathLike, tuple]], hands:
     return summary
 
 
-def _tasks(meshes, hands, params, seed, timeout):
+def _tasks(meshes: Iterable[MeshSource], hands: Sequence[str], params: Optional[Dict[str, Any]], seed: int,
+           timeout: float) -> Tuple[List[Dict[str, Any]], List[Tuple[str, Dict[str, Any]]], List[str]]:
     """(tasks, [(key, error row)] of meshes that did not load, mesh names): slower hands first, then mesh order."""
-    loaded, load_errors, names, seen = [], [], [], set()
+    loaded: List[LoadedMesh] = []
+    load_errors: List[Tuple[str, Dict[str, Any]]] = []
+    names: List[str] = []
+    seen: Set[str] = set()
     for source in meshes:
         try:
             loaded.append(load_mesh(source))
@@ -162,7 +183,8 @@ def _tasks(meshes, hands, params, seed, timeout):
                 key = task_key(hand, "file:" + file_hash, canonical_json(plan))
                 load_errors.append((key, dict(key=key, mesh=name, hand=hand, seed=seed, params=canonical_json(plan),
                                               error=f"load: {type(err).__name__}: {err}")))
-    tasks, digests = [], [mesh_sha256(vertices, triangles) for _, vertices, triangles in loaded]
+    tasks: List[Dict[str, Any]] = []
+    digests = [mesh_sha256(vertices, triangles) for _, vertices, triangles in loaded]
     for hand in sorted(hands, key=lambda h: HAND_ORDER.get(h, 2)):
         plan = _plan_params(params, hand, seed)
         plan_json = canonical_json(plan)
@@ -177,7 +199,7 @@ def _tasks(meshes, hands, params, seed, timeout):
     return tasks, load_errors, names
 
 
-def _plan_params(params, hand: str, seed: int) -> dict:
+def _plan_params(params: Optional[Dict[str, Any]], hand: str, seed: int) -> Dict[str, Any]:
     plan = _hand_params(params, hand)
     unknown = set(plan) - PLAN_PARAMS - {"seed"}
     if unknown:
@@ -188,7 +210,7 @@ def _plan_params(params, hand: str, seed: int) -> dict:
     return plan
 
 
-def _file_hash(source) -> str:
+def _file_hash(source: Any) -> str:  # a MeshSource: Path() of a tuple raises the TypeError caught
     try:
         return sha256_hex(Path(source).read_bytes())
     except (OSError, TypeError):

@@ -9,13 +9,16 @@ import tempfile
 import uuid
 from collections import deque
 from dataclasses import dataclass, field
-from typing import Callable, List, Optional, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import ray
 from ray.exceptions import NodeDiedError, ObjectLostError, RayActorError, RayTaskError, WorkerCrashedError
 
 from graspsim import _progress
 from graspsim.batch._server import ServerActor
+
+if TYPE_CHECKING:
+    from tqdm import tqdm
 
 # What a lost actor looks like from the driver: the actor process died (ray.kill, a crash, its node went away).
 LOST = (RayActorError, WorkerCrashedError, ObjectLostError, NodeDiedError)
@@ -61,7 +64,8 @@ class PoolStats:
     stores: List[str] = field(default_factory=list)  # data dirs of the actors (kept only with store_dir)
 
 
-def run_pool(calls: Sequence[tuple], on_result: Callable[[int, str, object], None], options: PoolOptions) -> PoolStats:
+def run_pool(calls: Sequence[Tuple[Any, ...]], on_result: Callable[[int, str, object], None],
+             options: PoolOptions) -> PoolStats:
     """calls[i] = (fn, item, *args): actor.run(fn, item, *args) → fn(client, item, *args) on an actor.
     on_result(i, "ok" | "error", value) once per call, in completion order."""
     stats = PoolStats()
@@ -73,9 +77,10 @@ def run_pool(calls: Sequence[tuple], on_result: Callable[[int, str, object], Non
     n = min(len(calls), options.workers or default_workers(threads))
     root = os.path.abspath(options.store_dir) if options.store_dir else \
         os.path.join(tempfile.gettempdir(), ACTOR_PREFIX + options.job)
-    actors, counter = [], [0]
+    actors: List[Any] = []  # ray actor handles of ServerActor
+    counter = [0]
 
-    def start_actor():
+    def start_actor() -> Any:
         counter[0] += 1
         name = f"{ACTOR_PREFIX}{options.job}-{counter[0]}"
         data_dir = os.path.join(root, f"worker-{counter[0]}")
@@ -91,7 +96,8 @@ def run_pool(calls: Sequence[tuple], on_result: Callable[[int, str, object], Non
         idle = [start_actor() for _ in range(n)]
         ray.get([a.info.remote() for a in idle])  # a server that cannot start fails the job here, once
         stats.workers = n
-        pending, inflight, attempts = deque(range(len(calls))), {}, [0] * len(calls)
+        inflight: Dict[Any, Tuple[Any, int]] = {}  # object ref -> (actor, call index)
+        pending, attempts = deque(range(len(calls))), [0] * len(calls)
         while pending or inflight:
             while idle and pending:
                 actor, i = idle.pop(), pending.popleft()
@@ -126,15 +132,15 @@ def run_pool(calls: Sequence[tuple], on_result: Callable[[int, str, object], Non
     return stats
 
 
-def _kill(actor) -> None:
+def _kill(actor: Any) -> None:
     try:
         ray.kill(actor, no_restart=True)
     except Exception:  # noqa: BLE001 - already gone
         pass
 
 
-def _stop_all(actors) -> None:
-    refs = []
+def _stop_all(actors: List[Any]) -> None:
+    refs: List[Any] = []
     for actor in actors:
         try:
             refs.append(actor.stop.remote())
@@ -150,7 +156,7 @@ def _stop_all(actors) -> None:
 
 
 @contextlib.contextmanager
-def ray_session(address: Optional[str] = None, needed: bool = True):
+def ray_session(address: Optional[str] = None, needed: bool = True) -> Iterator[None]:
     """init_ray for the length of a job (not when nothing is `needed`); shut down at its end only if the job
     started or joined it."""
     started = needed and init_ray(address)
@@ -161,6 +167,6 @@ def ray_session(address: Optional[str] = None, needed: bool = True):
             ray.shutdown()
 
 
-def progress_bar(enabled: bool, total: int, initial: int, desc: str):
+def progress_bar(enabled: bool, total: int, initial: int, desc: str) -> tqdm[Any]:
     """The tqdm bar of a whole job, on the driver's stderr; it stays there as the job's summary."""
     return _progress.progress_bar(enabled, total, desc, "task", leave=True, initial=initial)

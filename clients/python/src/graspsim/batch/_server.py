@@ -13,7 +13,7 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Any, Callable, Dict, Optional, Sequence, Tuple
 
 import ray
 
@@ -33,7 +33,7 @@ def server_binary(server: Optional[str] = None) -> str:
     return str(path)
 
 
-_SUPPORTS: dict = {}
+_SUPPORTS: Dict[Tuple[str, str], bool] = {}
 
 
 def supports_flag(binary: str, flag: str) -> bool:
@@ -44,6 +44,7 @@ def supports_flag(binary: str, flag: str) -> bool:
     return _SUPPORTS[binary, flag]
 
 
+_PRCTL: Optional[Callable[..., int]]
 try:  # resolved here, not in the forked child (no dlopen between fork and exec in a process with threads)
     _PRCTL = ctypes.CDLL(None, use_errno=True).prctl
 except (OSError, AttributeError):
@@ -64,13 +65,14 @@ class ServerHost:
 
     def __init__(self, server: Optional[str] = None, compute_threads: Optional[int] = None,
                  data_dir: Optional[str] = None, flags: Sequence[str] = (), call_timeout: float = 3600.0,
-                 keep_data: Optional[bool] = None):
+                 keep_data: Optional[bool] = None) -> None:
         binary = server_binary(server)
         threads = compute_threads
         if threads is None and supports_flag(binary, "--compute-threads"):
             threads = 1
         self.compute_threads = threads
-        self.process = self.client = None
+        self.process: Optional[subprocess.Popen[bytes]] = None
+        self.client: Optional[graspsim.Client] = None
         self.owns_dir = not keep_data if keep_data is not None else data_dir is None
         self.data_dir = data_dir or tempfile.mkdtemp(prefix="graspsim-batch-")
         os.makedirs(self.data_dir, exist_ok=True)
@@ -88,10 +90,16 @@ class ServerHost:
         self.address = f"127.0.0.1:{self._wait_serving()}"
         self.client = graspsim.connect(self.address, call_timeout=call_timeout)
 
+    @property
+    def _started(self) -> subprocess.Popen[bytes]:
+        """The server process: set by __init__ (or __init__ raised), so never None on a constructed host."""
+        assert self.process is not None
+        return self.process
+
     def _wait_serving(self) -> int:
         deadline, port = time.monotonic() + START_TIMEOUT_S, None
         while time.monotonic() < deadline:
-            if self.process.poll() is not None:
+            if self._started.poll() is not None:
                 break
             if port is None:
                 found = re.search(r"msg=listening .*port=(\d+)", self.log_path.read_text(errors="replace"))
@@ -101,13 +109,13 @@ class ServerHost:
             time.sleep(0.05)
         tail = self.log_tail()
         self.stop()
-        raise RuntimeError(f"graspsim-server did not start (exit {self.process.returncode}):\n{tail}")
+        raise RuntimeError(f"graspsim-server did not start (exit {self._started.returncode}):\n{tail}")
 
     _serving = staticmethod(serving)
 
     def alive(self) -> bool:
         """The server process runs and answers its health check."""
-        return self.process.poll() is None and self._serving(self.address, 5.0)
+        return self._started.poll() is None and self._serving(self.address, 5.0)
 
     def log_tail(self, lines: int = 20) -> str:
         try:
@@ -115,18 +123,18 @@ class ServerHost:
         except OSError:
             return ""
 
-    def info(self) -> dict:
-        return {"node": socket.gethostname(), "pid": os.getpid(), "server_pid": self.process.pid,
+    def info(self) -> Dict[str, Any]:
+        return {"node": socket.gethostname(), "pid": os.getpid(), "server_pid": self._started.pid,
                 "address": self.address, "data_dir": self.data_dir, "compute_threads": self.compute_threads}
 
-    def run(self, fn, item, *args):
+    def run(self, fn: Callable[..., Any], item: Any, *args: Any) -> Tuple[str, Any]:
         """("ok", fn(client, item, *args)); ("error", "Type: message") when fn raised and the server still
         serves; ("lost", why) when the server died under it (the caller retries elsewhere)."""
         try:
             return "ok", fn(self.client, item, *args)
         except Exception as err:  # noqa: BLE001 - any failure of the work item is reported, not raised
             if not self.alive():
-                return "lost", f"graspsim-server not serving (exit code {self.process.poll()}): {self.log_tail(5)}"
+                return "lost", f"graspsim-server not serving (exit code {self._started.poll()}): {self.log_tail(5)}"
             return "error", f"{type(err).__name__}: {err}"
 
     def stop(self) -> Optional[int]:
@@ -148,7 +156,7 @@ class ServerHost:
             shutil.rmtree(self.data_dir, ignore_errors=True)
         return code
 
-    def __del__(self):
+    def __del__(self) -> None:
         if "owns_dir" in self.__dict__:
             self.stop()
 

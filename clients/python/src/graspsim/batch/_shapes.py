@@ -5,15 +5,23 @@ from __future__ import annotations
 import os
 import time
 from pathlib import Path
-from typing import Dict, Iterable, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple, Union
 
 import numpy as np
+from numpy.typing import NDArray
 import pyarrow as pa
 
 from graspsim._pose import as_pose
 from graspsim.batch._dataset import canonical_json, sha256_hex, write_task, written_keys
 from graspsim.batch._pool import PoolOptions, progress_bar, ray_session, run_pool
 from graspsim.batch._summary import BatchSummary
+
+if TYPE_CHECKING:
+    from graspsim._client import Client
+
+# a view of complete_shapes: {"name", "camera_pose", "points"} or with "depth", "intrinsics" (+ "mask"), optional
+# "table_pose"; or a (name, camera_pose, points) tuple
+ViewLike = Union[Dict[str, Any], Tuple[str, Any, Any]]
 
 SHAPE_PARAMS = {"method", "orientations", "shifts", "octree_depth", "refinements", "voxel_size"}
 _f64 = pa.float64()
@@ -25,7 +33,8 @@ SCHEMA = pa.schema([
 ])
 
 
-def volume_and_centroid(vertices: np.ndarray, triangles: np.ndarray):
+def volume_and_centroid(vertices: NDArray[np.floating[Any]], triangles: NDArray[np.integer[Any]]
+                        ) -> Tuple[float, List[float]]:
     """Enclosed volume (m³) and its centroid of a closed, outward-oriented mesh (divergence theorem)."""
     a, b, c = (vertices[triangles[:, k]] for k in range(3))
     six_v = np.einsum("ij,ij->i", a, np.cross(b, c))
@@ -35,7 +44,7 @@ def volume_and_centroid(vertices: np.ndarray, triangles: np.ndarray):
     return float(volume), ((six_v[:, None] * (a + b + c)).sum(0) / (24.0 * volume)).tolist()
 
 
-def _complete_task(client, spec: dict, view: dict):
+def _complete_task(client: Client, spec: Dict[str, Any], view: Dict[str, Any]) -> Dict[str, Any]:
     shape = client.complete_shape(view["camera_pose"], points=view.get("points"), depth=view.get("depth"),
                                   intrinsics=view.get("intrinsics"), mask=view.get("mask"),
                                   table_pose=view.get("table_pose"), timeout=spec["timeout"], progress=False,
@@ -50,7 +59,7 @@ def _complete_task(client, spec: dict, view: dict):
                 mesh_triangles=shape.triangles.astype("<u4").tobytes())
 
 
-def _view(view) -> dict:
+def _view(view: ViewLike) -> Dict[str, Any]:
     """A view: {"name", "camera_pose", "points"} or with "depth", "intrinsics" (+ "mask"), optional
     "table_pose"; or a (name, camera_pose, points) tuple."""
     if not isinstance(view, dict):
@@ -59,8 +68,8 @@ def _view(view) -> dict:
     return dict(view)
 
 
-def _view_key(view: dict, params_json: str) -> str:
-    parts = [params_json, canonical_json(as_pose(view["camera_pose"]).as_array().tolist())]
+def _view_key(view: Dict[str, Any], params_json: str) -> str:
+    parts: List[Union[str, bytes]] = [params_json, canonical_json(as_pose(view["camera_pose"]).as_array().tolist())]
     for field in ("points", "depth", "mask"):
         if view.get(field) is not None:
             parts.append(field.encode() + np.ascontiguousarray(view[field], dtype="<f4").tobytes())
@@ -71,7 +80,8 @@ def _view_key(view: dict, params_json: str) -> str:
     return sha256_hex(*parts)
 
 
-def complete_shapes(views: Iterable, *, out_dir: Union[str, os.PathLike], params: Optional[Dict] = None,
+def complete_shapes(views: Iterable[ViewLike], *, out_dir: Union[str, os.PathLike[str]],
+                    params: Optional[Dict[str, Any]] = None,
                     workers: Optional[int] = None, progress: bool = True, server: Optional[str] = None,
                     address: Optional[str] = None, compute_threads: Optional[int] = None,
                     server_flags: Sequence[str] = (), retry_errors: bool = False,
@@ -86,7 +96,8 @@ def complete_shapes(views: Iterable, *, out_dir: Union[str, os.PathLike], params
         raise ValueError(f"params: {sorted(unknown)} are not complete_shape parameters ({sorted(SHAPE_PARAMS)})")
     params_json = canonical_json(params)
     dataset = Path(out_dir) / "shapes"
-    specs, seen = [], set()
+    specs: List[Tuple[Dict[str, Any], Dict[str, Any]]] = []  # (task spec, the view without its name)
+    seen: Set[str] = set()
     for view in map(_view, views):
         key = _view_key(view, params_json)
         if key not in seen:
@@ -98,7 +109,7 @@ def complete_shapes(views: Iterable, *, out_dir: Union[str, os.PathLike], params
     summary = BatchSummary(objects=len(specs), tasks=len(specs), skipped=len(specs) - len(todo), dataset=str(dataset))
     bar = None
 
-    def on_result(i: int, status: str, value) -> None:
+    def on_result(i: int, status: str, value: Any) -> None:
         row = value if status == "ok" else dict(todo[i][0]["row"], error=value)
         write_task(dataset, row["key"], [row], SCHEMA)
         summary.done += 1

@@ -3,7 +3,10 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import List
+from typing import TYPE_CHECKING, Any, Dict, List
+
+if TYPE_CHECKING:
+    from graspsim.batch._pool import PoolStats
 
 
 @dataclass
@@ -24,9 +27,9 @@ class BatchSummary:
     dataset: str = ""
     stores: List[str] = field(default_factory=list)  # each worker's server data dir, kept with store_dir only
 
-    def add_pool(self, stats) -> None:
+    def add_pool(self, stats: PoolStats) -> None:
         self.workers, self.retried, self.replaced, self.stores = stats.workers, stats.retried, stats.replaced, \
             list(stats.stores)
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> Dict[str, Any]:
         return dataclasses.asdict(self)

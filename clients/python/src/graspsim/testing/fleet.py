@@ -15,17 +15,19 @@ import socket
 import subprocess
 import time
 from pathlib import Path
-from typing import List, Optional, Sequence
+from typing import Any, Callable, Dict, List, Optional, Sequence
 
 from graspsim._health import serving
 
 def free_port() -> int:
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
-        return sock.getsockname()[1]
+        port: int = sock.getsockname()[1]
+        return port
 
 
-def _wait(predicate, timeout: float, what: str, process: Optional[subprocess.Popen] = None, log: Path = None):
+def _wait(predicate: Callable[[], object], timeout: float, what: str, process: Optional[subprocess.Popen[Any]] = None,
+          log: Optional[Path] = None) -> None:
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         if process is not None and process.poll() is not None:
@@ -46,7 +48,7 @@ class Replica:
         self.address = f"127.0.0.1:{self.port}"
         self.http_address = f"127.0.0.1:{self.http_port}"
         self.log_path = self.data_dir.parent / f"{name}.log"
-        self.process: Optional[subprocess.Popen] = None
+        self.process: Optional[subprocess.Popen[bytes]] = None
 
     def start(self, timeout: float = 60.0) -> None:
         self.data_dir.mkdir(parents=True, exist_ok=True)
@@ -87,7 +89,7 @@ class Fleet:
         self.port, self.http_port = free_port(), free_port()
         self.address = f"127.0.0.1:{self.port}"
         self.http_address = f"127.0.0.1:{self.http_port}"
-        self.balancer: Optional[subprocess.Popen] = None
+        self.balancer: Optional[subprocess.Popen[bytes]] = None
 
     def __enter__(self) -> Fleet:
         try:
@@ -99,10 +101,10 @@ class Fleet:
             raise
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def environment(self, config_text: Optional[str] = None) -> dict:
+    def environment(self, config_text: Optional[str] = None) -> Dict[str, str]:
         env = dict(os.environ, GRASPSIM_FLEET_GRPC=self.address, GRASPSIM_FLEET_HTTP=self.http_address,
                    GRASPSIM_HEALTH_CHECK=str(self.config.parent.resolve() / "grpc-health-check"),
                    GRASPSIM_HEALTH_PROBE_DIR=str(self.health_probe.parent.resolve()))

@@ -16,12 +16,16 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence
+from typing import TYPE_CHECKING, Dict, List, Optional, Sequence
+
+if TYPE_CHECKING:
+    from graspsim._client import Client
+    from graspsim.v1 import gateway_pb2
 
 KINDS = ("robotiq-tcp", "robotiq-rtu", "pg70")
 
 
-def find_bin_dir(hint: Optional[os.PathLike] = None) -> Path:
+def find_bin_dir(hint: Optional[os.PathLike[str]] = None) -> Path:
     """Where graspsim-gateway and graspsim-emulator are: `hint`, $GRASPSIM_BIN_DIR, the directory of
     $GRASPSIM_SERVER, or <repo>/build/bin."""
     candidates = [hint, os.environ.get("GRASPSIM_BIN_DIR")]
@@ -39,19 +43,21 @@ class GatewayRig:
     `gateway_flags` are added to the gateway's command line (e.g. "--watchdog-ms=100"). The gateway's stderr
     goes to `log_path` (a temporary file by default); gateway_events() parses its "devices stopped" lines."""
 
-    def __init__(self, server: str, bin_dir: Optional[os.PathLike] = None, kinds: Sequence[str] = KINDS,
-                 name: str = "rig", gateway_flags: Sequence[str] = (), log_path: Optional[os.PathLike] = None):
+    def __init__(self, server: str, bin_dir: Optional[os.PathLike[str]] = None, kinds: Sequence[str] = KINDS,
+                 name: str = "rig", gateway_flags: Sequence[str] = (), log_path: Optional[os.PathLike[str]] = None
+                 ) -> None:
         self.bin_dir = find_bin_dir(bin_dir)
         self.server = server
         self.name = name
         self.kinds = list(kinds)
-        self.emulators: Dict[str, subprocess.Popen] = {}
-        self.gateway: Optional[subprocess.Popen] = None
+        self.emulators: Dict[str, subprocess.Popen[str]] = {}
+        self.gateway: Optional[subprocess.Popen[bytes]] = None
         self.addresses: Dict[str, str] = {}
         self.log_path = Path(log_path or tempfile.mkstemp(prefix="graspsim-gateway-", suffix=".log")[1])
         self._gateway_flags = list(gateway_flags)
         try:
-            device_flags, keep = [], []
+            device_flags: List[str] = []
+            keep: List[socket.socket] = []
             for kind in self.kinds:
                 if kind not in KINDS:
                     raise ValueError(f"kinds: '{kind}' is not one of {KINDS}")
@@ -75,6 +81,7 @@ class GatewayRig:
         process = subprocess.Popen([str(self.bin_dir / "graspsim-emulator"), *args], stdout=subprocess.PIPE,
                                    stderr=subprocess.DEVNULL, text=True, pass_fds=fds)
         self.emulators[kind] = process
+        assert process.stdout is not None  # stdout=PIPE
         first = process.stdout.readline().split()  # "robotiq-tcp 127.0.0.1:PORT ...", "robotiq-rtu /dev/pts/N ..."
         if len(first) < 2:
             raise RuntimeError(f"graspsim-emulator {kind} did not start (exit code {process.poll()})")
@@ -89,15 +96,17 @@ class GatewayRig:
                  *self._device_flags, *self._gateway_flags],
                 stdout=log, stderr=subprocess.STDOUT, pass_fds=[f.fileno() for f in self._fds])
 
-    def wait_for_devices(self, client, timeout: float = 20.0) -> list:
+    def wait_for_devices(self, client: Client, timeout: float = 20.0) -> List[gateway_pb2.Device]:
         """Waits until the server lists every device of this rig with a first reading; returns them."""
         deadline = time.monotonic() + timeout
         while True:
+            gateway = self.gateway
+            assert gateway is not None  # started by __init__ (start_gateway restarts it)
             devices = [d for d in client.list_devices() if d.gateway == self.name]
             if len(devices) == len(self.kinds) and all(d.last_reading.device_id for d in devices):
                 return devices
-            if self.gateway.poll() is not None:
-                raise RuntimeError(f"graspsim-gateway exited with {self.gateway.returncode}:\n{self.log_tail()}")
+            if gateway.poll() is not None:
+                raise RuntimeError(f"graspsim-gateway exited with {gateway.returncode}:\n{self.log_tail()}")
             if time.monotonic() > deadline:
                 raise TimeoutError(f"devices of gateway '{self.name}' not registered within {timeout} s:\n"
                                    f"{self.log_tail()}")
@@ -106,9 +115,9 @@ class GatewayRig:
     def log_tail(self, lines: int = 30) -> str:
         return "\n".join(self.log_path.read_text(errors="replace").splitlines()[-lines:])
 
-    def gateway_events(self) -> List[dict]:
+    def gateway_events(self) -> List[Dict[str, str]]:
         """The gateway's "devices stopped" log lines as dicts (why, stopped, silent_ms, stop_ms, unix)."""
-        events = []
+        events: List[Dict[str, str]] = []
         for line in self.log_path.read_text(errors="replace").splitlines():
             if 'msg="devices stopped"' not in line:
                 continue
@@ -142,5 +151,5 @@ class GatewayRig:
     def __enter__(self) -> "GatewayRig":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.stop()

@@ -5,36 +5,39 @@ u = fx x / z + cx. For examples and tests; the server never needs it.
 """
 from __future__ import annotations
 
-from typing import Sequence, Tuple
+from typing import Any, Optional, Sequence, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from graspsim._pose import Pose
 
 
-def look_at(eye: Sequence[float], target: Sequence[float], up: Sequence[float] = (0.0, 0.0, 1.0)) -> Pose:
+def look_at(eye: ArrayLike, target: ArrayLike, up: ArrayLike = (0.0, 0.0, 1.0)) -> Pose:
     """The camera pose at `eye` looking at `target`, image rows running down along -up."""
-    eye, target, up = (np.asarray(v, dtype=float) for v in (eye, target, up))
-    forward = target - eye
+    eye_at, target_at, up_axis = (np.asarray(v, dtype=float) for v in (eye, target, up))
+    forward = target_at - eye_at
     forward /= np.linalg.norm(forward)
-    right = np.cross(forward, up)
+    right = np.cross(forward, up_axis)
     right /= np.linalg.norm(right)
     down = np.cross(forward, right)
     rotation = np.column_stack([right, down, forward])
-    return Pose(position=eye, orientation=_quaternion_from_matrix(rotation))
+    return Pose(position=eye_at, orientation=_quaternion_from_matrix(rotation))
 
 
-def _quaternion_from_matrix(m: np.ndarray) -> np.ndarray:
+def _quaternion_from_matrix(m: NDArray[np.float64]) -> NDArray[np.float64]:
     w = np.sqrt(max(0.0, 1.0 + m[0, 0] + m[1, 1] + m[2, 2])) / 2
     x = np.copysign(np.sqrt(max(0.0, 1.0 + m[0, 0] - m[1, 1] - m[2, 2])) / 2, m[2, 1] - m[1, 2])
     y = np.copysign(np.sqrt(max(0.0, 1.0 - m[0, 0] + m[1, 1] - m[2, 2])) / 2, m[0, 2] - m[2, 0])
     z = np.copysign(np.sqrt(max(0.0, 1.0 - m[0, 0] - m[1, 1] + m[2, 2])) / 2, m[1, 0] - m[0, 1])
     q = np.array([w, x, y, z])
-    return q / np.linalg.norm(q)
+    unit: NDArray[np.float64] = q / np.linalg.norm(q)
+    return unit
 
 
-def render_depth(vertices, triangles, camera_pose: Pose, width: int, height: int, fx: float, fy: float,
-                 cx: float, cy: float, noise_sigma: float = 0.0, seed: int = 0) -> Tuple[np.ndarray, np.ndarray]:
+def render_depth(vertices: ArrayLike, triangles: ArrayLike, camera_pose: Pose, width: int, height: int, fx: float,
+                 fy: float, cx: float, cy: float, noise_sigma: float = 0.0, seed: int = 0
+                 ) -> Tuple[NDArray[np.float32], NDArray[np.bool_]]:
     """(depth (h, w) float32 m, NaN where nothing was hit; mask (h, w) bool) of a mesh in the world frame.
     noise_sigma m: Gaussian noise on each depth (a stereo camera's)."""
     v = np.asarray(vertices, dtype=float).reshape(-1, 3)
@@ -67,19 +70,23 @@ def render_depth(vertices, triangles, camera_pose: Pose, width: int, height: int
     return depth.reshape(height, width).astype(np.float32), mask.reshape(height, width)
 
 
-def depth_to_points(depth, camera_pose: Pose, fx: float, fy: float, cx: float, cy: float, mask=None) -> np.ndarray:
+def depth_to_points(depth: ArrayLike, camera_pose: Pose, fx: float, fy: float, cx: float, cy: float,
+                    mask: Optional[ArrayLike] = None) -> NDArray[np.float64]:
     """The world points (n, 3) of a depth image's valid (and masked) pixels."""
-    depth = np.asarray(depth, dtype=float)
-    vs, us = np.nonzero(np.isfinite(depth) & (depth > 0) & (True if mask is None else np.asarray(mask, bool)))
-    z = depth[vs, us]
+    image = np.asarray(depth, dtype=float)
+    vs, us = np.nonzero(np.isfinite(image) & (image > 0) & (True if mask is None else np.asarray(mask, bool)))
+    z = image[vs, us]
     local = np.stack([(us - cx) * z / fx, (vs - cy) * z / fy, z], axis=1)
-    return local @ camera_pose.rotation_matrix().T + np.asarray(camera_pose.position, dtype=float)
+    points: NDArray[np.float64] = (local @ camera_pose.rotation_matrix().T
+                                   + np.asarray(camera_pose.position, dtype=float))
+    return points
 
 
-def cylinder_mesh(radius: float, height: float, segments: int = 48):
+def cylinder_mesh(radius: float, height: float, segments: int = 48) -> Tuple[NDArray[np.float64], NDArray[np.int64]]:
     """A closed cylinder along z, base at z = 0: (vertices, triangles), counter-clockwise from outside."""
     angles = 2 * np.pi * np.arange(segments) / segments
     ring = np.stack([radius * np.cos(angles), radius * np.sin(angles)], axis=1)
+    vertices: NDArray[np.float64]
     vertices = np.vstack([np.column_stack([ring, np.zeros(segments)]), np.column_stack([ring, np.full(segments, height)]),
                           [[0, 0, 0], [0, 0, height]]])
     tris = []
