@@ -414,6 +414,19 @@ def verify(client, scenes, counts) -> None:
             scene.time = t
 
 
+def stop_last(server) -> None:
+    """A run's last server stops with SIGTERM and must exit 0."""
+    code = server.stop() if server else 0
+    if code != 0:
+        raise RuntimeError(f"the last server exited with {code} on SIGTERM")
+
+
+def kill_left(server) -> None:
+    """After a run that failed: no server left running."""
+    if server and server.process.poll() is None:
+        server.process.kill()
+
+
 def learn_pg70(client) -> None:
     """The number of links of the built-in PG70, which the robot checks expect (asked once)."""
     global PG70_LINKS
@@ -456,12 +469,9 @@ def crash_iterations(iterations: int, seed: int, group: int = GROUP) -> dict:
             log(f"iteration {iteration + 1}/{iterations}: killed after {delay:.2f} s, restart {server.start_s:.2f} s,"
                 f" {server.scenes_restored} scenes; lost {counts['acknowledged_lost']},"
                 f" partial {counts['partial_visible']}")
-        code = server.stop() if server else 0
-        if code != 0:
-            raise RuntimeError(f"the last server exited with {code} on SIGTERM")
+        stop_last(server)
     finally:
-        if server and server.process.poll() is None:
-            server.process.kill()
+        kill_left(server)
         if data_dir:
             shutil.rmtree(data_dir, ignore_errors=True)
     log_path.unlink()

@@ -138,12 +138,9 @@ def power_cut_iterations(iterations: int, seed: int, group: int = GROUP, rule: s
                 f" {server.scenes_restored} scenes; lost {counts['acknowledged_lost']},"
                 f" partial {counts['partial_visible']}, unacknowledged seen {counts['unacknowledged_seen']},"
                 f" grasp sets lost {counts['grasp_sets_lost']}")
-        code = server.stop() if server else 0
-        if code != 0:
-            raise RuntimeError(f"the last server exited with {code} on SIGTERM")
+        crash.stop_last(server)
     finally:
-        if server and server.process.poll() is None:
-            server.process.kill()
+        crash.kill_left(server)
         shutil.rmtree(scratch, ignore_errors=True)
     return {"power_cut_iterations": iterations, "power_cut_seed": seed, "power_cut_rule": rule,
             "power_cut_acknowledged_lost": counts["acknowledged_lost"],
