@@ -109,8 +109,7 @@ StepStats Simulation::Step(SceneState* state, int steps) {
       for (int sub = 0; sub < params_.substeps; ++sub) {
         // What the sensors read (joint wrenches, pad forces) is recorded by the call's last sub-step only: every
         // earlier one would be overwritten unread.
-        record_readings_ = s == steps - 1 && sub == params_.substeps - 1;
-        SubStep(state, h);
+        SubStep(state, h, /*record_readings=*/s == steps - 1 && sub == params_.substeps - 1);
         CheckFinite(*state);
       }
       ++state->step;
@@ -131,7 +130,7 @@ StepStats Simulation::Step(SceneState* state, int steps) {
   return stats;
 }
 
-void Simulation::SubStep(SceneState* state, double h) {
+void Simulation::SubStep(SceneState* state, double h, bool record_readings) {
   const Eigen::VectorXd v = multibody_.Velocities(*state);
   Forces& forces = forces_at_start_;
   FindContacts(state);
@@ -154,11 +153,11 @@ void Simulation::SubStep(SceneState* state, double h) {
       v_next = v_half + SolveVelocityChange(*state, v_half, second, h / 2, &v_next);
     }
     // The second half kick, at the new configuration.
-    if (record_readings_) RecordJointWrenches(v_half, v_next, h / 2, state);
+    if (record_readings) RecordJointWrenches(v_half, v_next, h / 2, state);
     AdvanceBristles(second, v_half, h, state);
     multibody_.SetVelocities(v_next, state);
   } else if (params_.integrator == Integrator::kRungeKutta4) {
-    RungeKutta4(v, h, state);
+    RungeKutta4(v, h, state, record_readings);
   } else {
     // The bristles move with the step's new velocity, the one the implicit solve assumed for the displacement
     // h v (with the old one the bristle spring would lag the motion and pump energy into it). Drives whose
@@ -170,12 +169,12 @@ void Simulation::SubStep(SceneState* state, double h) {
     }
     RecordDriveOutputs(v, v_next, h, state);
     // At the configuration the forces were evaluated at.
-    if (record_readings_) RecordJointWrenches(v, v_next, h, state);
+    if (record_readings) RecordJointWrenches(v, v_next, h, state);
     AdvanceBristles(forces, v_next, h, state);
     multibody_.SetVelocities(v_next, state);
     multibody_.Integrate(v_next, h, state);
   }
-  if (record_readings_) RecordPadForces(state);
+  if (record_readings) RecordPadForces(state);
   ClampJointLimits(state);
   UpdateSleep(state, h);
 }
@@ -189,7 +188,7 @@ void Simulation::HoldDrives(const Forces& first, Forces* later) {
   later->tau += first.actuators;
 }
 
-void Simulation::RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* state) {
+void Simulation::RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* state, bool record_readings) {
   // The classic fourth-order Runge–Kutta step on (q, v): stage k sits at q0 + c_k h v_{k−1} (on the configuration
   // manifold, from the step's start, as MuJoCo's RK4 does) with velocity v0 + c_k Δv_{k−1}, c = (½, ½, 1); the step
   // takes the weighted means (1, 2, 2, 1)/6 of the stages' velocities and velocity changes. Contacts are
@@ -218,7 +217,7 @@ void Simulation::RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* sta
   *state = stage_start_;
   multibody_.Integrate(v_sum / 6, h, state);
   // With the last stage's contacts, at the step's end.
-  if (record_readings_) RecordJointWrenches(v, v_next, h, state);
+  if (record_readings) RecordJointWrenches(v, v_next, h, state);
   AdvanceBristles(forces_at_end_, v_next, h, state);
   multibody_.SetVelocities(v_next, state);
 }

@@ -68,8 +68,9 @@ class Simulation : public PhysicsEngine {
   };
 
   // The stages of one sub-step, in order.
-  void SubStep(SceneState* state, double h);
-  void RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* state);
+  // record_readings: this sub-step records what the sensors read (joint wrenches, pad forces): Step's last one.
+  void SubStep(SceneState* state, double h, bool record_readings);
+  void RungeKutta4(const Eigen::VectorXd& v, double h, SceneState* state, bool record_readings);
   static void HoldDrives(const Forces& first, Forces* later);
   void FindContacts(SceneState* state);
   void AddPadContacts(const SceneState& state);
@@ -106,7 +107,6 @@ class Simulation : public PhysicsEngine {
   SceneState backup_;                    // the state before Step, restored on divergence
   SceneState stage_start_;               // RungeKutta4: the sub-step's start, each stage's origin
   Forces forces_at_start_, forces_at_end_;  // of a sub-step (the end's only for velocity Verlet)
-  bool record_readings_ = true;             // this sub-step records what sensors read (Step's last one)
   std::vector<std::pair<ContactKey, Vec3>> spare_bristles_;  // swapped with the state's each sub-step
   std::vector<Multibody::Vec6> twists_;  // per pair
   std::vector<ContactSample> samples_;   // per contact: the law's inputs (ContactForces)
