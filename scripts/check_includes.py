@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Checks every #include of server/src and drivers/ against the folder map of docs/architecture.md (issue 24).
+"""Checks every #include of server/src and drivers/ against the folder map of docs/architecture.md (issue 24), and
+the server's namespaces against the doc's namespace rule.
 
 The map is the tables of the doc's "Folder map" section, read here, so the doc and the check cannot drift. A row
 is "| `folder` | its job | `allowed` `folders` | gRPC / protobuf |"; the last cell allows gRPC headers (grpcpp/,
@@ -11,7 +12,10 @@ import re
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+import os
+
+# The repository; a test points it at a small tree of its own (tests/python/test_check_includes.py).
+ROOT = Path(os.environ.get("GRASPSIM_CHECK_ROOT", Path(__file__).resolve().parent.parent))
 DOC = ROOT / "docs" / "architecture.md"
 SOURCES = (".h", ".hpp", ".cpp", ".cc", ".inc")
 INCLUDE = re.compile(r'\s*#\s*include\s*([<"])([^>"]+)[>"]')
@@ -72,6 +76,36 @@ def find_cycle(rules):
     return None
 
 
+NAMESPACE = re.compile(r"\s*namespace\s+([\w:]+)\s*\{")
+TYPE = re.compile(r"(?:struct|class|enum class|enum)\s+(\w+)(?:\s+final)?\s*(?::[^:]|\{|$)|using\s+(\w+)\s*=")
+
+
+def check_namespaces(folders):
+    """The namespace rule of docs/architecture.md: graspsim::<folder> is declared only in that folder, and a type
+    declared at namespace scope in a header has a name no other namespace of the server declares."""
+    failures, types = [], {}
+    for path in sorted((ROOT / "server" / "src").rglob("*")):
+        if path.suffix not in SOURCES or len(path.relative_to(ROOT).parts) < 4:
+            continue
+        folder, namespace = folder_of(path), None
+        for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+            if match := NAMESPACE.match(line):
+                namespace = match.group(1)
+                parts = namespace.split("::")
+                if parts[0] == "graspsim" and len(parts) > 1 and parts[1] in folders and parts[1] != folder:
+                    failures.append(f"{path.relative_to(ROOT)}:{number}: namespace {namespace} belongs to "
+                                    f"{parts[1]}/, not {folder}/ [docs/architecture.md, Namespaces]")
+            elif path.suffix == ".h" and namespace and (match := TYPE.match(line)) and \
+                    (match.group(2) or not line.rstrip().endswith(";")):  # a forward declaration declares nothing
+                name = match.group(1) or match.group(2)
+                types.setdefault(name, {}).setdefault(namespace, f"{path.relative_to(ROOT)}:{number}")
+    for name, where in sorted(types.items()):
+        if len({n for n in where if n.startswith("graspsim")}) > 1:
+            failures.append(f"type {name} is declared in {len(where)} namespaces ({', '.join(sorted(where.values()))}):"
+                            f" give each its own name [docs/architecture.md, Namespaces]")
+    return failures
+
+
 def main():
     rules = read_map()
     failures, passed, files = [], 0, 0
@@ -118,6 +152,7 @@ def main():
                     if kind == "folder" and name != folder:
                         used.add((folder, name))
 
+    failures += check_namespaces(present)
     for failure in failures:
         print(failure)
     # Allowed but unused edges do not fail: they are a hint that the map can be tightened.
@@ -125,7 +160,7 @@ def main():
     if unused:
         print(f"check-includes: note: allowed in the map but included nowhere: {', '.join(unused)}")
     print(f"check-includes: {passed} passed, {len(failures)} failed (the includes of project folders and of gRPC and "
-          f"protobuf headers in {files} files of {len(present)} folders, against {where})")
+          f"protobuf headers in {files} files of {len(present)} folders, against {where}; and the namespace rule)")
     return 1 if failures else 0
 
 

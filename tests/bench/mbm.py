@@ -91,7 +91,6 @@ def _setup_scene(client, problem, urdf: Path, fingers: dict) -> str:
 def _movable_fingers(client, urdf: Path) -> dict:
     """{finger joint id: FINGER_OPEN} for the model's prismatic finger joints (none in VAMP's Panda files).
     Checks that the robot's base stands at the world origin, where the problems (and PyBullet) have it."""
-    import graspsim
     scene = client.create_scene("mbm fingers").id
     try:
         client.add_robot(scene, ROBOT, path=str(urdf))
@@ -102,8 +101,8 @@ def _movable_fingers(client, urdf: Path) -> dict:
     if np.abs(base.position).max() > 0 or np.abs(base.orientation - [1, 0, 0, 0]).max() > 1e-12:
         raise RuntimeError(f"the robot's base is at {base}, not at the world origin")
     ids = [f"{ROBOT}/panda_finger_joint{k}" for k in (1, 2)]
-    movable = {j: FINGER_OPEN for j in ids if joints.get(j) == graspsim.common_pb2.JOINT_TYPE_PRISMATIC}
-    log(f"mbm: finger joints {[graspsim.common_pb2.JointType.Name(joints[j]) for j in ids if j in joints]}"
+    movable = {j: FINGER_OPEN for j in ids if joints.get(j) == "prismatic"}
+    log(f"mbm: finger joints {[joints[j] for j in ids if j in joints]}"
         + (f", set to {FINGER_OPEN} m" if movable else ", left as the URDF has them"))
     return movable
 

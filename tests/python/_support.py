@@ -17,9 +17,9 @@ IA = grpc.StatusCode.INVALID_ARGUMENT
 UNIT_INERTIA = np.eye(3) * 1e-3  # kg m^2, a valid tensor for tests that give it explicitly
 
 
-def scene_bytes(client, scene_id: str) -> bytes:
-    """The whole scene (with geometry), serialized deterministically, for before/after comparisons."""
-    return client.get_scene(scene_id, include_geometry=True).SerializeToString(deterministic=True)
+def whole_scene(client, scene_id) -> graspsim.Scene:
+    """The whole scene (with geometry) for before/after comparisons: a Scene compares by value, arrays included."""
+    return client.get_scene(scene_id, include_geometry=True)
 
 
 @contextlib.contextmanager
@@ -35,14 +35,14 @@ def expect_error(code, *parts):
 def assert_rejected(client, scene_id: str, code: grpc.StatusCode, fragments: Iterable[str],
                     action: Callable[[], object]) -> graspsim.GraspsimError:
     """action() fails with code, its message names every fragment (case-insensitive), the scene is unchanged."""
-    before = scene_bytes(client, scene_id)
+    before = whole_scene(client, scene_id)
     with pytest.raises(graspsim.GraspsimError) as info:
         action()
     err = info.value
     assert err.code == code, f"expected {code.name}, got {err}"
     for fragment in fragments:
         assert str(fragment).lower() in err.message.lower(), f"message does not name {fragment!r}: {err}"
-    assert scene_bytes(client, scene_id) == before, f"scene changed by a rejected request ({err})"
+    assert whole_scene(client, scene_id) == before, f"scene changed by a rejected request ({err})"
     return err
 
 

@@ -31,8 +31,8 @@ def restart(server: ServerProcess, data_dir: Path, tmp_path: Path, kill: bool) -
 
 def everything(client, scene_id: str) -> dict:
     """All a client can read of a scene."""
-    return {"scene": client.get_scene(scene_id, include_geometry=True).SerializeToString(deterministic=True),
-            "params": client.get_simulation_params(scene_id).SerializeToString(deterministic=True),
+    return {"scene": client.get_scene(scene_id, include_geometry=True),   # dataclasses: == compares every value
+            "params": client.get_simulation_params(scene_id),
             "poses": {k: (tuple(v.position), tuple(v.orientation)) for k, v in client.get_body_poses(scene_id).items()},
             "joints": client.get_joint_positions(scene_id)}
 

@@ -77,12 +77,14 @@ def test_progress_is_streamed_and_methods_work(client):
 
 
 def test_evaluate_grasp_reports_contacts(client):
-    from graspsim.v1 import common_pb2, grasp_pb2
-    candidate = grasp_pb2.GraspCandidate(approach=common_pb2.Vec3(z=-1), target=common_pb2.Vec3(z=0.025),
-                                         reference=common_pb2.Vec3(x=1), preshape="power")
+    candidate = graspsim.GraspCandidate(approach=[0, 0, -1], target=[0, 0, 0.025], reference=[1, 0, 0],
+                                        preshape="power")
     row, contacts = client.evaluate_grasp("schunk_pg70", candidate, mesh=box((0.04, 0.04, 0.05)))
     assert row["outcome"] == "grasp" and row["force_closure"] and row["volume"] > 0
     assert {"finger_left", "finger_right"} <= set(contacts["link"])
+    # The row itself is a candidate: evaluated again, the same grasp.
+    again, _ = client.evaluate_grasp("schunk_pg70", row, mesh=box((0.04, 0.04, 0.05)))
+    assert again["epsilon"] == row["epsilon"] and graspsim.GraspCandidate.from_row(again) == candidate
 
 
 def test_cancel_and_deadline_stop_planning(client):

@@ -17,8 +17,8 @@ import pytest
 from scipy.spatial import ConvexHull
 from scipy.spatial.transform import Rotation
 
+import graspsim
 from graspsim import meshes
-from graspsim.v1 import common_pb2, grasp_pb2
 
 HALF = np.array([0.02, 0.02, 0.04])      # m, the box's half extents
 JAW_HALF_WIDTH, JAW_GAP, JAW_LENGTH = 0.012, 0.001, 0.060   # m, the URDF's finger boxes
@@ -31,17 +31,12 @@ EPSILON_REL = 1e-6
 POSES = {"axis_aligned": ([0, 0, 0], [0, 0, 0]), "turned": ([0.3, -0.5, 0.4], [0.1, -0.05, 0.2])}
 
 
-def vec3(v):
-    return common_pb2.Vec3(x=v[0], y=v[1], z=v[2])
-
-
 def grasp_box(client, pose):
     """The PG70 down onto the box's top face, jaws closing along the box's y; the contacts in the box frame."""
     rotation, offset = Rotation.from_rotvec(pose[0]).as_matrix(), np.array(pose[1], float)
     vertices, triangles = meshes.box_mesh(2 * HALF)
-    candidate = grasp_pb2.GraspCandidate(approach=vec3(rotation @ [0, 0, -1]),
-                                         target=vec3(rotation @ [0, 0, HALF[2]] + offset),
-                                         reference=vec3(rotation @ [1, 0, 0]))   # hand x; its y = z × x = -box y
+    candidate = graspsim.GraspCandidate(approach=rotation @ [0, 0, -1], target=rotation @ [0, 0, HALF[2]] + offset,
+                                        reference=rotation @ [1, 0, 0])   # hand x; its y = z × x = -box y
     row, contacts = client.evaluate_grasp("schunk_pg70", candidate, mesh=(vertices @ rotation.T + offset, triangles),
                                           friction=FRICTION)
     assert row["outcome"] == "grasp" and row["force_closure"]

@@ -14,7 +14,7 @@ import pytest
 from graspsim import meshes
 from graspsim.v1 import gateway_pb2, grasp_pb2, perception_pb2, recording_pb2, scene_pb2, tactile_pb2
 
-from _support import scene_bytes
+from _support import whole_scene
 
 
 def post(server, path: str, body=None, *, form: bool = False, query: str = ""):
@@ -77,14 +77,14 @@ def test_json_and_form_bodies_reach_the_same_scene_service_as_grpc(server, clien
 
 def test_errors_carry_code_message_and_http_status_and_change_nothing(server, client, scene_id):
     client.add_object(scene_id, "cube", builtin="cube_5cm")
-    before = scene_bytes(client, scene_id)
+    before = whole_scene(client, scene_id)
     bad_pose = {"scene_id": scene_id, "poses": [{"body_id": "cube", "pose": {"orientation": {"w": 2}}}]}
     status, content_type, text = post(server, "SceneService/SetBodyPoses", bad_pose)
     error = json.loads(text)
     assert (status, error["code"], error["status"]) == (400, 3, "INVALID_ARGUMENT")
     assert content_type.startswith("application/json")
     assert "poses[0].pose.orientation" in error["message"] and "norm 2" in error["message"]
-    assert scene_bytes(client, scene_id) == before
+    assert whole_scene(client, scene_id) == before
 
     status, _, text = post(server, "SceneService/GetScene", {"scene_id": "no-such-scene"})
     assert (status, json.loads(text)["status"]) == (404, "NOT_FOUND")

@@ -30,7 +30,6 @@ import pytest
 
 import graspsim
 from graspsim import _robot_files
-from graspsim.v1 import common_pb2
 
 from _support import IA, expect_error
 
@@ -160,7 +159,7 @@ def test_fk_matches_pybullet(client, scene_id, bullet, robot):
     links, bullet_joints = bullet_links(bullet, body)
     ours = {j.id.split("/", 1)[1]: j for j in added.joints}
     movable = {name: v for name, v in bullet_joints.items() if v[1] in (pb.JOINT_REVOLUTE, pb.JOINT_PRISMATIC)}
-    leaders = [name for name in movable if not ours[name].HasField("mimic")]
+    leaders = [name for name in movable if ours[name].mimic is None]
     body_ids = [f"{robot}/{name}" for name in links]
     missing = [b for b in body_ids if b not in {b.id for b in added.bodies}]
     assert not missing, f"links PyBullet has and we do not: {missing}"
@@ -232,12 +231,6 @@ def handmade_urdfs(random_count: int = 20):
     return handmade + sorted(DATA.glob("random_urdfs/*/*.urdf"))[:random_count]
 
 
-def inertia_tensor(inertial):
-    return np.array([[inertial.ixx, inertial.ixy, inertial.ixz],
-                     [inertial.ixy, inertial.iyy, inertial.iyz],
-                     [inertial.ixz, inertial.iyz, inertial.izz]])
-
-
 def file_inertials(path: Path):
     """{link: (has <inertial>, mass, centre of mass (3,), tensor 3x3 in the link frame, inertia_scaling)} as the
     file states them: the <inertia> rotated by the inertial origin's rpy."""
@@ -297,18 +290,18 @@ def test_masses_and_inertias_from_file_equal_pybullets(client, bullet):
                 has_inertial, mass, com, tensor, scaling = declared[name]
                 if not has_inertial:  # PyBullet's own default; see test_links_without_inertial_are_massless
                     continue
-                our_com = np.array([ours.center_of_mass.x, ours.center_of_mass.y, ours.center_of_mass.z])
+                our_com = ours.center_of_mass
                 scale = max(np.abs(tensor).max(), 1e-300)
-                off_tensor = np.abs(inertia_tensor(ours) - tensor).max() > 1e-12 * scale
+                off_tensor = np.abs(ours.inertia - tensor).max() > 1e-12 * scale
                 off_com = np.abs(our_com - com).max() > 1e-12
                 if ours.mass != pytest.approx(mass, rel=1e-12, abs=0) or (mass > 0 and (off_com or off_tensor)):
                     mismatches.append(f"{relative}: {name} is not the file's: mass {ours.mass} vs {mass}, com "
-                                      f"{our_com} vs {com}, tensor {inertia_tensor(ours).tolist()} vs {tensor.tolist()}")
+                                      f"{our_com} vs {com}, tensor {ours.inertia.tolist()} vs {tensor.tolist()}")
                 info = pb.getDynamicsInfo(body, index, physicsClientId=bullet)
                 if ours.mass != pytest.approx(info[0], rel=REL_TOLERANCE, abs=0):
                     mismatches.append(f"{relative}: {name} mass {ours.mass} kg, PyBullet's {info[0]} kg")
                 elif info[0] > 0 and scaling == 1.0:
-                    eigen = np.sort(np.linalg.eigvalsh(inertia_tensor(ours)))
+                    eigen = np.sort(np.linalg.eigvalsh(ours.inertia))
                     theirs = np.sort(np.asarray(info[2]))
                     if np.abs(eigen - theirs).max() > PYBULLET_REL_TOLERANCE * max(theirs.max(), 1e-300):
                         mismatches.append(f"{relative}: {name} principal moments {eigen}, PyBullet's {theirs}")
@@ -393,11 +386,11 @@ def test_inertia_from_geometry_primitives(client, scene_id, bullet, tmp_path):
         per_kg, _ = closed_form_inertia_per_kg(shape)
         ours = bodies[shape].inertial
         assert ours.mass == file_mass[shape]
-        np.testing.assert_allclose(inertia_tensor(ours), per_kg * ours.mass, rtol=REL_TOLERANCE, atol=1e-15,
+        np.testing.assert_allclose(ours.inertia, per_kg * ours.mass, rtol=REL_TOLERANCE, atol=1e-15,
                                    err_msg=shape)
         theirs = np.asarray(pb.getDynamicsInfo(body, links[shape], physicsClientId=bullet)[2])
         if shape != "cylinder":
-            np.testing.assert_allclose(np.diag(inertia_tensor(ours)), theirs, rtol=REL_TOLERANCE,
+            np.testing.assert_allclose(np.diag(ours.inertia), theirs, rtol=REL_TOLERANCE,
                                        err_msg=f"{shape}: PyBullet's default inertia")
 
     density = 750.0
@@ -407,7 +400,7 @@ def test_inertia_from_geometry_primitives(client, scene_id, bullet, tmp_path):
         per_kg, volume = closed_form_inertia_per_kg(shape)
         ours = bodies[shape].inertial
         assert ours.mass == pytest.approx(density * volume, rel=REL_TOLERANCE), shape
-        np.testing.assert_allclose(inertia_tensor(ours), per_kg * density * volume, rtol=REL_TOLERANCE,
+        np.testing.assert_allclose(ours.inertia, per_kg * density * volume, rtol=REL_TOLERANCE,
                                    atol=1e-15, err_msg=shape)
 
 
@@ -454,9 +447,9 @@ def test_inertia_from_geometry_meshes_equal_trimesh(client, scene_id):
         mesh.density = density
         ours = bodies[link.get("name")].inertial
         assert ours.mass == pytest.approx(mesh.mass, rel=1e-5), link.get("name")
-        com = np.array([ours.center_of_mass.x, ours.center_of_mass.y, ours.center_of_mass.z])
+        com = ours.center_of_mass
         np.testing.assert_allclose(com, mesh.center_mass, rtol=0, atol=1e-5 * np.ptp(mesh.bounds, axis=0).max())
-        np.testing.assert_allclose(inertia_tensor(ours), mesh.moment_inertia, rtol=0,
+        np.testing.assert_allclose(ours.inertia, mesh.moment_inertia, rtol=0,
                                    atol=1e-5 * np.abs(mesh.moment_inertia).max(), err_msg=link.get("name"))
         checked += 1
     assert checked >= 6, f"only {checked} closed collision meshes checked"
@@ -514,7 +507,7 @@ def test_static_object_needs_no_mass(client, scene_id):
     assert wall.id == "wall"
     box = client.add_object(scene_id, "box", box=(0.1, 0.2, 0.3), density=500.0, pose=[0, 0, 1, 1, 0, 0, 0])
     assert box.inertial.mass == pytest.approx(500.0 * 0.1 * 0.2 * 0.3, rel=REL_TOLERANCE)
-    np.testing.assert_allclose(np.diag(inertia_tensor(box.inertial)),
+    np.testing.assert_allclose(np.diag(box.inertial.inertia),
                                box.inertial.mass / 12 * np.array([0.13, 0.10, 0.05]), rtol=REL_TOLERANCE)
     assert box.warnings, "inertia taken from the geometry must be reported"
     for options in (dict(inertia_source="from_file"), dict(strict=True)):
@@ -628,7 +621,7 @@ def test_fk_matches_mujocos_urdf_compiler(client, scene_id, robot):
     added = client.add_robot(scene_id, robot, path=DATA / ROBOTS[robot], base_pose=BASE_POSE)
     ours = {j.id.split("/", 1)[1]: j for j in added.joints}
     leaders = {name: j for name, j in ours.items()
-               if j.type != common_pb2.JOINT_TYPE_FIXED and not j.HasField("mimic")}
+               if j.type != "fixed" and j.mimic is None}
     bodies = [model.body(i).name for i in range(1, model.nbody)]
     assert {f"{robot}/{name}" for name in bodies} <= {b.id for b in added.bodies}
     base = np.eye(4)
@@ -639,13 +632,13 @@ def test_fk_matches_mujocos_urdf_compiler(client, scene_id, robot):
     for _ in range(CONFIGURATIONS):
         q = {}
         for name, joint in leaders.items():
-            limited = joint.type in (common_pb2.JOINT_TYPE_REVOLUTE, common_pb2.JOINT_TYPE_PRISMATIC)
+            limited = joint.type in ("revolute", "prismatic")
             lower, upper = (joint.lower, joint.upper) if limited else (-math.pi, math.pi)
             q[name] = float(rng.uniform(lower, upper))
         client.set_joint_positions(scene_id, {f"{robot}/{name}": value for name, value in q.items()})
         data.qpos[:] = 0
         for name, joint in ours.items():
-            if joint.type == common_pb2.JOINT_TYPE_FIXED:
+            if joint.type == "fixed":
                 continue
             value = q[name] if name in q else \
                 joint.mimic.multiplier * q[joint.mimic.joint_id.split("/", 1)[1]] + joint.mimic.offset

@@ -129,11 +129,9 @@ def check_masses(model, added, path: Path):
         inertial = ours[f"r/{name}"].inertial
         where = f"{path.name} body {name}"
         assert abs(inertial.mass - mass) < 1e-7 * max(1.0, mass), f"{where}: mass {inertial.mass} != {mass}"
-        com = np.array([inertial.center_of_mass.x, inertial.center_of_mass.y, inertial.center_of_mass.z])
+        com = inertial.center_of_mass
         assert np.linalg.norm(com - model.body_ipos[b]) < 1e-7, f"{where}: centre of mass {com} != {model.body_ipos[b]}"
-        tensor = np.array([[inertial.ixx, inertial.ixy, inertial.ixz], [inertial.ixy, inertial.iyy, inertial.iyz],
-                           [inertial.ixz, inertial.iyz, inertial.izz]])
-        moments, expected = np.linalg.eigvalsh(tensor), np.sort(model.body_inertia[b])
+        moments, expected = np.linalg.eigvalsh(inertial.inertia), np.sort(model.body_inertia[b])
         assert np.all(np.abs(moments - expected) <= 1e-6 * max(expected.max(), 1e-12)), \
             f"{where}: principal moments {moments} != {expected}"
 

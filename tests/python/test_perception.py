@@ -76,8 +76,7 @@ def test_completed_mesh_becomes_a_scene_object(client, view):
     body = next(b for b in client.get_scene(scene.id).bodies if b.id == "can")
     assert body.inertial.mass == pytest.approx(0.3)
     # The body frame sits at the solid's centroid: about the cylinder's centre.
-    p = body.pose.position
-    np.testing.assert_allclose([p.x, p.y, p.z], [0, 0, HEIGHT / 2], atol=0.005)
+    np.testing.assert_allclose(body.pose.position, [0, 0, HEIGHT / 2], atol=0.005)
 
 
 def test_segment_scene_finds_table_and_objects(client):

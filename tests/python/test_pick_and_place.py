@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import graspsim
-from _support import assert_rejected, scene_bytes
+from _support import assert_rejected, whole_scene
 
 FP, IA, NF = grpc.StatusCode.FAILED_PRECONDITION, grpc.StatusCode.INVALID_ARGUMENT, grpc.StatusCode.NOT_FOUND
 TABLE = 0.75
@@ -60,6 +60,9 @@ def test_the_cube_ends_at_the_goal(client, cell):
             lo, hi = limits[joint]
             assert np.all(m.waypoints[:, k] >= lo - 1e-9) and np.all(m.waypoints[:, k] <= hi + 1e-9)
     assert len(result.grasp_set_id) == 64  # the SHA-256 key of the stored set
+    # The grasp that succeeded: a row of the set's structured array, its contacts beside it (object frame).
+    assert result.grasp["outcome"] == "grasp" and result.grasp["force_closure"]
+    assert len(result.grasp_contacts) == result.grasp["contact_count"] > 0
 
 
 def test_an_unreachable_goal_is_named_and_changes_nothing(client, cell):
@@ -101,7 +104,7 @@ def test_an_unknown_scene_is_not_found(client):
 
 
 def test_cancel_stops_the_job_and_changes_nothing(client, cell):
-    before = scene_bytes(client, cell)
+    before = whole_scene(client, cell)
     stream = client.pick_and_place_stream(cell, "kr5", "cube", GOAL)
     seen = []
     for message in stream:
@@ -110,6 +113,6 @@ def test_cancel_stops_the_job_and_changes_nothing(client, cell):
             stream.cancel()
     assert "done" not in seen and seen, seen
     # The job stops at its next progress call; the scene never took a state from it.
-    assert scene_bytes(client, cell) == before
+    assert whole_scene(client, cell) == before
     # And the server is free for the next request at once.
     assert client.get_body_poses(cell, ["cube"])["cube"] is not None

@@ -12,6 +12,7 @@ import time
 from collections import Counter, defaultdict
 from pathlib import Path
 
+import cbor2
 import grpc
 import numpy as np
 import pytest
@@ -86,7 +87,7 @@ def test_file_opens_with_the_mcap_reader_and_every_message_decodes_with_its_embe
 
 
 def test_edits_and_scene_come_first(recorded):
-    """"/graspsim/edit" holds the scene's edits in order, before the first frame, as their request messages;
+    """"/graspsim/edit" holds the scene's edits in order, before the first frame, as their journal records;
     "/graspsim/scene" is GetScene with geometry (bodies, joints, robots, tactile arrays) and its body list does not
     change during the cycle, so it is there once."""
     with open(recorded.local, "rb") as f:
@@ -96,19 +97,20 @@ def test_edits_and_scene_come_first(recorded):
         scenes = [(m.log_time, scene_pb2.Scene.FromString(m.data))
                   for _, _, m in reader.iter_messages(topics=["/graspsim/scene"], log_time_order=False)]
     assert len(scenes) == 1 and scenes[0][0] <= recorded.data.log_times[0]
-    before, recorded_scene = recorded.scene_before, scenes[0][1]
+    # The recorded message read as get_scene's reply: the dataclasses compare every value, arrays included.
+    before, recorded_scene = recorded.scene_before, graspsim.Scene.from_proto(scenes[0][1])
     for field in ("bodies", "robots", "tactile_arrays"):
-        assert [m.SerializeToString(deterministic=True) for m in getattr(recorded_scene, field)] == \
-            [m.SerializeToString(deterministic=True) for m in getattr(before, field)], field
+        assert getattr(recorded_scene, field) == getattr(before, field), field
     assert [j.id for j in recorded_scene.joints] == [j.id for j in before.joints]
     assert all(b.collision for b in recorded_scene.bodies if b.id in ("table", "cube")), "with their shapes"
     assert [e.kind for _, e in edits] == ["AddObject", "AddObject", "AddRobot"], [e.kind for _, e in edits]
     assert max(t for t, _ in edits) <= recorded.data.log_times[0]
-    names = [scene_pb2.AddObjectRequest.FromString(edits[0][1].request).name,
-             scene_pb2.AddObjectRequest.FromString(edits[1][1].request).name,
-             scene_pb2.AddRobotRequest.FromString(edits[2][1].request).name]
-    assert names == ["table", "cube", "cell"]
-    assert scene_pb2.AddRobotRequest.FromString(edits[2][1].request).builtin == "schunk_pg70_on_z_axis"
+    # Each edit is its journal record: "GSEDIT", format version 2, then its fields by name in CBOR.
+    assert all(e.request.startswith(b"GSEDIT\x02") for _, e in edits)
+    records = [cbor2.loads(e.request[7:]) for _, e in edits]
+    assert [r["name"] for r in records] == ["table", "cube", "cell"]
+    assert records[2]["format"] == "builtin" and records[2]["source"] == "schunk_pg70_on_z_axis"
+    assert records[1]["builtin"] == "cube_5cm"
 
 
 def test_foxglove_channels_decode_with_foxglove_classes_and_match_the_snapshots(recorded):

@@ -3,7 +3,6 @@ import numpy as np
 import pytest
 
 import graspsim
-from graspsim.v1 import common_pb2
 from _support import cube_stl, two_link_urdf
 
 LEFT, RIGHT = "pg70/finger_left_joint", "pg70/finger_right_joint"
@@ -23,9 +22,9 @@ def test_pg70_structure(client, scene_id, pg70):
     assert set(pg70.robot.joint_ids) == {LEFT, RIGHT}
     scene = client.get_scene(scene_id)
     assert {b.id for b in scene.bodies} == bodies
-    assert all(b.motion == common_pb2.BODY_MOTION_ARTICULATED and b.robot_id == "pg70" for b in scene.bodies)
+    assert all(b.motion == "articulated" and b.robot_id == "pg70" for b in scene.bodies)
     joints = {j.id: j for j in scene.joints}
-    assert joints[LEFT].type == common_pb2.JOINT_TYPE_PRISMATIC
+    assert joints[LEFT].type == "prismatic"
     assert (joints[LEFT].lower, joints[LEFT].upper) == pytest.approx((0.0, 0.035))
     assert joints[RIGHT].mimic.joint_id == LEFT and joints[RIGHT].mimic.multiplier == pytest.approx(1.0)
     pads = {a.id: a for a in scene.tactile_arrays}
@@ -36,7 +35,7 @@ def test_pg70_structure(client, scene_id, pg70):
         assert (pad.subdivision, pad.elements, pad.bend_radius_x, pad.bend_radius_y) == (1, "vertices", 0, 0)
         assert pad.body_id in {"pg70/finger_left", "pg70/finger_right"}
     assert scene.summary.robot_count == 1 and [r.id for r in scene.robots] == ["pg70"]
-    base = graspsim.Pose.from_proto({b.id: b for b in scene.bodies}["pg70/base_link"].pose)
+    base = {b.id: b for b in scene.bodies}["pg70/base_link"].pose
     np.testing.assert_allclose(base.as_array(), BASE_POSE.as_array(), atol=1e-12)
 
 

@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
     uint64_t candidates = 0, missed = 0, collisions = 0, simulated = 0, fc = 0;
     double wall = 0, cpu = 0, epsilon_sum = 0;
     for (const auto& [name, mesh] : meshes) {
-      g::GraspPlanner planner(hand, mesh, {}, g::SimulationParams());
+      g::GraspPlanner planner(hand, mesh, {}, g::ClosingParams());
       g::CandidateParams params;
       params.spacing = 0.01;
       params.rolls = 4;

@@ -28,13 +28,13 @@
 #include <string>
 #include <vector>
 
-#include "collision/tactile_rays.h"
 #include "cpp/physics/pad_stand.h"
 #include "core/error.h"
 #include "physics/actuators.h"
 #include "physics/simulation.h"
-#include "sensors/readings.h"
 #include "stress/sweep.h"
+#include "tactile/ray_caster.h"
+#include "tactile/tactile_frame.h"
 #include "workcycle/work_cycle.h"
 #include "import/robot_import.h"
 #include "world/loaders.h"

@@ -43,7 +43,6 @@ import hardware_gateway  # examples/hardware_gateway.py, next to this file
 import pick_and_place  # examples/pick_and_place.py, next to this file
 import shape_completion  # examples/shape_completion.py, next to this file
 import tactile_cycle  # examples/tactile_cycle.py, next to this file
-from graspsim.v1 import common_pb2
 
 REPO = Path(__file__).resolve().parents[3]
 
@@ -64,11 +63,11 @@ def list_models(client: graspsim.Client) -> None:
 
 def build_scene(client: graspsim.Client) -> str:
     """Creates scene "demo": the table, the cube resting on it, the gripper around the cube; returns its id."""
-    scene = client.create_scene("demo")
-    client.add_object(scene.id, "table", builtin="table")
-    client.add_object(scene.id, "cube_5cm", builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
+    scene = client.create_scene("demo")  # a SceneSummary: passed on as the scene itself
+    client.add_object(scene, "table", builtin="table")
+    client.add_object(scene, "cube_5cm", builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
     gripper_pose = graspsim.Pose([0, 0, TABLE_TOP_Z + GRIPPER_HEIGHT], POINTING_DOWN)
-    client.add_robot(scene.id, "pg70", builtin="schunk_pg70", base_pose=gripper_pose)
+    client.add_robot(scene, "pg70", builtin="schunk_pg70", base_pose=gripper_pose)
     print(f"\nscene {scene.name!r} created: id {scene.id}")
     return scene.id
 
@@ -83,25 +82,22 @@ def format_pose(pose: graspsim.Pose) -> str:
     return f"p=({x:+.4f}, {y:+.4f}, {z:+.4f}) m  q=({', '.join(f'{v:+.3f}' for v in pose.orientation)})"
 
 
-def print_bodies(scene) -> None:
+def print_bodies(scene: graspsim.Scene) -> None:
     print(f"\nbodies ({len(scene.bodies)}):")
     for body in scene.bodies:
-        motion = common_pb2.BodyMotion.Name(body.motion).removeprefix("BODY_MOTION_").lower()
-        pose = graspsim.Pose.from_proto(body.pose)
-        print(f"  {body.id:<18} {motion:<11} {body.inertial.mass:7.3f} kg  {format_pose(pose)}")
+        print(f"  {body.id:<18} {body.motion:<11} {body.inertial.mass:7.3f} kg  {format_pose(body.pose)}")
 
 
-def print_joints(scene) -> None:
+def print_joints(scene: graspsim.Scene) -> None:
     print(f"\njoints ({len(scene.joints)}):")
     for joint in scene.joints:
-        kind = common_pb2.JointType.Name(joint.type).removeprefix("JOINT_TYPE_").lower()
-        unit = "m" if joint.type == common_pb2.JOINT_TYPE_PRISMATIC else "rad"
-        follows = f"  mimics {joint.mimic.joint_id}" if joint.mimic.joint_id else ""
+        unit = "m" if joint.type == "prismatic" else "rad"
+        follows = f"  mimics {joint.mimic.joint_id}" if joint.mimic else ""
         limits = f"[{joint.lower:.4f}, {joint.upper:.4f}]"
-        print(f"  {joint.id:<24} {kind:<9} {joint.position:.4f} {unit}  limits {limits}{follows}")
+        print(f"  {joint.id:<24} {joint.type:<9} {joint.position:.4f} {unit}  limits {limits}{follows}")
 
 
-def print_tactile_arrays(scene) -> None:
+def print_tactile_arrays(scene: graspsim.Scene) -> None:
     print(f"\ntactile arrays ({len(scene.tactile_arrays)}):")
     for pad in scene.tactile_arrays:
         shape = "curved" if pad.bend_radius_x or pad.bend_radius_y else "flat"
@@ -144,7 +140,7 @@ def show_viewer(http_url: str, scene_id: str) -> None:
 
 def cube_state(client: graspsim.Client, scene_id: str):
     cube = next(b for b in client.get_scene(scene_id).bodies if b.id == "cube_5cm")
-    return cube.pose.position.z, cube.sleeping
+    return cube.pose.position[2], cube.sleeping
 
 
 def simulate_grasp(client: graspsim.Client, scene_id: str) -> None:

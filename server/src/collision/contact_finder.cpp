@@ -156,7 +156,6 @@ struct ContactFinder::Impl {
   };
   std::vector<BodyInfo> bodies;
   ContactFinderOptions options;
-  collision::EmbreeDevice device;
   std::map<const TriangleMesh*, std::unique_ptr<collision::MeshBvh>> meshes;  // one BVH per distinct mesh
   std::vector<collision::BodySamples> samples;  // per body
   std::vector<std::vector<Shape>> shapes;       // per body
@@ -245,7 +244,7 @@ ContactFinder::ContactFinder(const SceneModel& model, const ContactFinderOptions
       shape.position = geometry.origin.position;
       if (geometry.kind == Geometry::Kind::kMesh) {
         auto& bvh = m.meshes[geometry.mesh.get()];
-        if (!bvh) bvh = std::make_unique<collision::MeshBvh>(m.device.get(), geometry.mesh);
+        if (!bvh) bvh = std::make_unique<collision::MeshBvh>(geometry.mesh);
         shape.mesh = bvh.get();
       }
       bounds.Add(collision::TransformAabb(local, shape.rotation, shape.position));

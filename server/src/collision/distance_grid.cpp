@@ -26,8 +26,7 @@ DistanceGrid::DistanceGrid(std::shared_ptr<const TriangleMesh> mesh, double cell
   origin_ = lo;
   last_ = Vec3(nx_ - 1, ny_ - 1, nz_ - 1);
   half_diagonal_ = 0.5 * std::sqrt(3.0) * cell;
-  collision::EmbreeDevice device;
-  const collision::MeshBvh bvh(device.get(), std::move(mesh));
+  const collision::MeshBvh bvh(std::move(mesh));
   const double reach = 2 * (hi - lo).norm();  // every node finds its closest point
   values_.resize(static_cast<size_t>(nx_) * ny_ * nz_);
   size_t index = 0;

@@ -5,10 +5,7 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
-#include <string>
 #include <utility>
-
-#include "core/error.h"
 
 namespace graspsim::collision {
 namespace {
@@ -28,11 +25,6 @@ Vec3 RayDirection(const Vec3& p, const Vec3& centre) {
   const double length = away.norm();
   const Vec3 d = length > 0 ? Vec3(away / length + 0.5 * kSkew) : kSkew;
   return d.squaredNorm() > 1e-6 ? Vec3(d.normalized()) : kSkew;
-}
-
-[[noreturn]] void ThrowEmbree(RTCDevice device, const char* what) {
-  throw Error(ErrorCode::kInternal,
-              std::string("embree: ") + what + " failed (error " + std::to_string(rtcGetDeviceError(device)) + ")");
 }
 
 bool VisitTriangle(RTCPointQueryFunctionArguments* args) {
@@ -83,14 +75,10 @@ Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const V
   return a + (vb / sum) * ab + (vc / sum) * ac;  // inside the face, barycentric (u, v, w)
 }
 
-EmbreeDevice::EmbreeDevice() {
-  device_ = rtcNewDevice(nullptr);
-  if (device_ == nullptr) ThrowEmbree(nullptr, "rtcNewDevice");
-}
-
-EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
-
-MeshBvh::MeshBvh(RTCDevice device, std::shared_ptr<const TriangleMesh> shared) : mesh_(std::move(shared)) {
+// Medium (Embree's default) build quality: a BVH is built for every model a scene's edits make, so building
+// counts as much as querying.
+MeshBvh::MeshBvh(std::shared_ptr<const TriangleMesh> shared)
+    : mesh_(std::move(shared)), scene_(*mesh_, RTC_BUILD_QUALITY_MEDIUM) {
   const TriangleMesh& mesh = *mesh_;
   double extent = 0;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -116,37 +104,7 @@ MeshBvh::MeshBvh(RTCDevice device, std::shared_ptr<const TriangleMesh> shared) :
   grid_cells_ = ((hi - lo) / cell_size_).array().ceil().cast<int>().cwiseMax(1);
   clearance_ = std::make_unique<std::atomic<float>[]>(static_cast<size_t>(grid_cells_.prod()));
   for (int64_t i = 0; i < grid_cells_.prod(); ++i) clearance_[i].store(kUnknown, std::memory_order_relaxed);
-
-  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  if (geometry == nullptr) ThrowEmbree(device, "rtcNewGeometry");
-  auto* vertex_buffer = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
-  auto* index_buffer = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), mesh.triangles.size()));
-  if (vertex_buffer == nullptr || index_buffer == nullptr) {
-    rtcReleaseGeometry(geometry);
-    ThrowEmbree(device, "rtcSetNewGeometryBuffer");
-  }
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    for (int k = 0; k < 3; ++k) vertex_buffer[3 * i + k] = mesh.vertices[i][k];
-  }
-  for (size_t i = 0; i < mesh.triangles.size(); ++i) {
-    for (int k = 0; k < 3; ++k) index_buffer[3 * i + k] = mesh.triangles[i][k];
-  }
-  rtcCommitGeometry(geometry);
-  scene_ = rtcNewScene(device);
-  // Robust traversal does not lose hits on shared edges, which would break the crossing parity.
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-  rtcAttachGeometry(scene_, geometry);
-  rtcReleaseGeometry(geometry);
-  rtcCommitScene(scene_);
-  if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
-    rtcReleaseScene(scene_);
-    ThrowEmbree(device, "building a mesh BVH");
-  }
 }
-
-MeshBvh::~MeshBvh() { rtcReleaseScene(scene_); }
 
 int MeshBvh::Crossings(const Vec3& p, float* first_hit) const {
   // Count the surface crossings of a ray from p. Each cast returns the nearest hit beyond tnear; restarting just
@@ -155,26 +113,15 @@ int MeshBvh::Crossings(const Vec3& p, float* first_hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit ray_hit;
+  SetRay(&ray_hit, p, RayDirection(p, centre_), kInfinity, 0);
   RTCRay& ray = ray_hit.ray;
-  ray.org_x = static_cast<float>(p.x());
-  ray.org_y = static_cast<float>(p.y());
-  ray.org_z = static_cast<float>(p.z());
-  const Vec3 direction = RayDirection(p, centre_);
-  ray.dir_x = static_cast<float>(direction.x());
-  ray.dir_y = static_cast<float>(direction.y());
-  ray.dir_z = static_cast<float>(direction.z());
-  ray.tnear = 0;
-  ray.time = 0;
-  ray.mask = 0xffffffffu;
-  ray.id = 0;
-  ray.flags = 0;
   int crossings = 0;
   *first_hit = kInfinity;
   for (;;) {
     ray.tfar = kInfinity;
     ray_hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     ray_hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, &context, &ray_hit);
+    rtcIntersect1(scene_.handle(), &context, &ray_hit);
     if (ray_hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
     if (crossings++ == 0) *first_hit = ray.tfar;
     ray.tnear = std::nextafter(ray.tfar, kInfinity);
@@ -193,7 +140,7 @@ ClosestSearch MeshBvh::Closest(const Vec3& p, float radius) const {
   RTCPointQueryContext query_context;
   rtcInitPointQueryContext(&query_context);
   ClosestSearch search{mesh_.get(), &normals_, p, static_cast<double>(radius) * radius};
-  rtcPointQuery(scene_, &query, &query_context, VisitTriangle, &search);
+  rtcPointQuery(scene_.handle(), &query, &query_context, VisitTriangle, &search);
   return search;
 }
 

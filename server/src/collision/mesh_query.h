@@ -2,14 +2,13 @@
 // for every pose (queries come in the mesh's own frame).
 #pragma once
 
-#include <embree3/rtcore.h>
-
 #include <atomic>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <vector>
 
+#include "collision/embree.h"
 #include "core/math.h"
 #include "core/mesh.h"
 
@@ -18,19 +17,6 @@ namespace graspsim::collision {
 // The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, §5.1.5): Voronoi
 // regions of the vertices, then of the edges, else the face. Degenerate triangles fall into a vertex or edge.
 Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
-
-// One Embree device; owned by a ContactFinder so its scenes die with it.
-class EmbreeDevice {
- public:
-  EmbreeDevice();
-  ~EmbreeDevice();
-  EmbreeDevice(const EmbreeDevice&) = delete;
-  EmbreeDevice& operator=(const EmbreeDevice&) = delete;
-  RTCDevice get() const { return device_; }
-
- private:
-  RTCDevice device_ = nullptr;
-};
 
 // Search state of one closest-point query, passed to Embree's callback through userPtr.
 struct ClosestSearch {
@@ -44,12 +30,8 @@ struct ClosestSearch {
 
 class MeshBvh {
  public:
-  // Copies the mesh into Embree buffers (Embree pads them for its vector loads) and builds the BVH; keeps a
-  // reference to the mesh for the exact closest-point arithmetic.
-  MeshBvh(RTCDevice device, std::shared_ptr<const TriangleMesh> mesh);
-  ~MeshBvh();
-  MeshBvh(const MeshBvh&) = delete;
-  MeshBvh& operator=(const MeshBvh&) = delete;
+  // Builds the BVH; keeps a reference to the mesh for the exact closest-point arithmetic.
+  explicit MeshBvh(std::shared_ptr<const TriangleMesh> mesh);
 
   // Penetration of p (mesh frame, m) into the closed mesh: *depth > 0 inside (distance to the surface), < 0
   // outside. Returns false, leaving the outputs alone, when p is outside and not closer than `margin` (or
@@ -63,8 +45,8 @@ class MeshBvh {
   // A lower bound on p's distance outside the surface from p's cell of a grid over the bounding box (0: none).
   double Clearance(const Vec3& p) const;
 
-  RTCScene scene_ = nullptr;
   std::shared_ptr<const TriangleMesh> mesh_;
+  EmbreeScene scene_;                        // declared after mesh_: built from it
   std::vector<Vec3> normals_;                // unit face normals; zero for degenerate triangles
   Vec3 centre_ = Vec3::Zero();               // of the bounding box: parity rays point away from it
   double near_surface_ = 0;                  // m: below this, float rounding can flip a ray's parity

@@ -3,40 +3,13 @@
 #pragma once
 
 #include <cstdint>
-#include <limits>
 #include <vector>
 
+#include "collision/aabb.h"
 #include "core/math.h"
 #include "world/model.h"
 
 namespace graspsim::collision {
-
-// An axis-aligned box, m. Empty when lo > hi on any axis.
-struct Aabb {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-  Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
-
-  bool Empty() const { return (lo.array() > hi.array()).any(); }
-  void Add(const Vec3& p) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  void Add(const Aabb& b) {
-    lo = lo.cwiseMin(b.lo);
-    hi = hi.cwiseMax(b.hi);
-  }
-  bool Overlaps(const Aabb& b) const {
-    return (lo.array() <= b.hi.array()).all() && (b.lo.array() <= hi.array()).all();
-  }
-};
-
-// The box that holds `box` after the rigid map x -> rotation * x + translation.
-inline Aabb TransformAabb(const Aabb& box, const Mat3& rotation, const Vec3& translation) {
-  if (box.Empty()) return box;
-  const Vec3 centre = rotation * (0.5 * (box.lo + box.hi)) + translation;
-  const Vec3 extent = rotation.cwiseAbs() * (0.5 * (box.hi - box.lo));
-  return {centre - extent, centre + extent};
-}
 
 // A run of consecutive samples [begin, end) of one geometry and their bounds in the body frame.
 struct SampleBlock {

@@ -1,4 +1,4 @@
-// Closed triangle meshes of the collision primitives, for ray casting against them (collision/tactile_rays):
+// Closed triangle meshes of the collision primitives, for ray casting against them (tactile/ray_caster):
 // boxes exactly, spheres and cylinders inscribed within a chord error of 0.1 mm, counter-clockwise from outside.
 #pragma once
 

@@ -1,6 +1,9 @@
 #include "gateway/action_prediction.h"
 
 #include <cmath>
+#include <string>
+
+#include "core/error.h"
 
 namespace graspsim::gateway {
 namespace {
@@ -13,6 +16,25 @@ double Surprise(const GripperSample& predicted, const GripperSample& measured, c
   const double opening = (predicted.opening - measured.opening) / limits.max_opening;
   const double current = (predicted.current - measured.current) / limits.max_current;
   return std::sqrt((opening * opening + current * current) / 2);
+}
+
+PredictionTiming PredictionTimingFrom(double timeout, double rate_hz) {
+  PredictionTiming timing;
+  if (timeout != 0) timing.timeout = timeout;
+  if (!(timing.timeout > 0 && timing.timeout <= 60)) {
+    ThrowInvalidArgument("timeout: " + std::to_string(timeout) + " s is outside (0, 60]");
+  }
+  if (rate_hz != 0) timing.rate_hz = rate_hz;
+  if (!(timing.rate_hz > 0 && timing.rate_hz <= 1000)) {
+    ThrowInvalidArgument("rate_hz: " + std::to_string(rate_hz) + " is outside (0, 1000]");
+  }
+  return timing;
+}
+
+bool SampleGate::Due(const PredictionSample& sample) {
+  if (!(sample.done || sample.time == 0 || sample.time >= next_time_)) return false;
+  next_time_ = sample.time + interval_;
+  return true;
 }
 
 ActionPrediction::ActionPrediction(std::unique_ptr<SimulatedGripper> twin, const DeviceLimits& limits,
@@ -40,6 +62,12 @@ bool ActionPrediction::Finished(const DeviceReading& measured) {
   }
   return seen_moving_ || measured.object_detected || !measured.fault.empty() ||
          std::abs(measured.opening - move_.opening) < kAtTarget;
+}
+
+PredictionSample ActionPrediction::Next(const DeviceReading& measured) {
+  PredictionSample sample = Sample(measured);
+  sample.done = Finished(measured);
+  return sample;
 }
 
 }  // namespace graspsim::gateway

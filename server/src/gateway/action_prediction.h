@@ -29,6 +29,25 @@ struct PredictionSample {
 
 double Surprise(const GripperSample& predicted, const GripperSample& measured, const DeviceLimits& limits);
 
+// How long a prediction may wait for the real fingers to stop, and how often it reports (PredictAction).
+struct PredictionTiming {
+  double timeout = 5;   // s of wall time, (0, 60]
+  double rate_hz = 50;  // samples per second of the action's time at most, (0, 1000]
+};
+// 0 keeps a default; a value outside its range is Error(kInvalidArgument) naming "timeout" or "rate_hz".
+PredictionTiming PredictionTimingFrom(double timeout, double rate_hz);
+
+// Which samples a prediction reports: at most one per 1 / rate_hz of the action's time, the first (time 0) and
+// the last (done) always.
+class SampleGate {
+ public:
+  explicit SampleGate(double rate_hz) : interval_(1.0 / rate_hz) {}
+  bool Due(const PredictionSample& sample);
+
+ private:
+  double interval_, next_time_ = 0;
+};
+
 class ActionPrediction {
  public:
   // Puts the twin at the start reading's opening and starts `move` on it; `start.time` is the action's time 0.
@@ -38,6 +57,8 @@ class ActionPrediction {
   PredictionSample Sample(const DeviceReading& measured);
   // The real action is over: not moving after it started (or at the target), or stopped on an object.
   bool Finished(const DeviceReading& measured);
+  // Sample, with `done` set when the reading is the action's last (Finished).
+  PredictionSample Next(const DeviceReading& measured);
   double start_time() const { return start_time_; }
 
  private:

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "physics/builtin_drives.h"
 #include "sensors/readings.h"
+#include "tactile/tactile_frame.h"
 
 namespace graspsim::gateway {
 namespace {

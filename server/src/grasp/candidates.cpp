@@ -38,7 +38,7 @@ Vec3 Perpendicular(const Vec3& v, const Vec3& preferred, const Vec3& fallback) {
 void BoundingBoxApproaches(const GraspObject& object, const CandidateParams& params, SplitMix* random,
                            std::vector<Approach>* out) {
   const Vec3 lo = object.lo() - Vec3::Constant(params.padding), hi = object.hi() + Vec3::Constant(params.padding);
-  RayBatch rays;
+  collision::RayBatch rays;
   for (int axis = 0; axis < 3; ++axis) {
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;
     const int nu = std::max(1, static_cast<int>(std::ceil((hi[u] - lo[u]) / params.spacing)));
@@ -61,10 +61,9 @@ void BoundingBoxApproaches(const GraspObject& object, const CandidateParams& par
   const Mat3& axes = object.principal_axes();
   for (size_t r = 0; r < rays.size(); ++r) {
     if (!rays.Hit(r)) continue;
-    const RTCRay& ray = rays.rays[r].ray;
     const Vec3 normal = object.face_normals()[rays.Triangle(r)];
     if (normal.isZero()) continue;
-    const Vec3 hit = Vec3(ray.org_x, ray.org_y, ray.org_z) + ray.tfar * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+    const Vec3 hit = rays.Origin(r) + rays.T(r) * rays.Direction(r);
     const Vec3 direction = -normal;
     out->push_back({direction, hit, Perpendicular(direction, axes.col(0), axes.col(1))});
   }
@@ -77,7 +76,7 @@ void GraspPointApproaches(const GraspObject& object, const CandidateParams& para
   } else {  // detected: where the minor axis through the centroid leaves the surface on both sides
     const Vec3 minor = object.principal_axes().col(2);
     const double far = 2 * object.characteristic_length() + 0.01;
-    RayBatch rays;
+    collision::RayBatch rays;
     rays.Add(object.centroid() + far * minor, -minor, 2 * far, 0);
     rays.Add(object.centroid() - far * minor, minor, 2 * far, 1);
     object.bvh().Intersect(&rays);

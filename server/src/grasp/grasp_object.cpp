@@ -22,10 +22,10 @@ constexpr size_t kClusterSize = 16;
 
 }  // namespace
 
-GraspObject::GraspObject(std::shared_ptr<const TriangleMesh> mesh, std::vector<ObstacleBox> obstacles, RTCDevice device)
+GraspObject::GraspObject(std::shared_ptr<const TriangleMesh> mesh, std::vector<ObstacleBox> obstacles)
     : mesh_(std::move(mesh)), obstacles_(std::move(obstacles)) {
   const TriangleMesh& m = *mesh_;
-  bvh_ = std::make_unique<RayScene>(device, m);
+  bvh_ = std::make_unique<collision::EmbreeScene>(m, RTC_BUILD_QUALITY_HIGH);  // built once, cast millions of times
   lo_ = Vec3::Constant(std::numeric_limits<double>::infinity());
   hi_ = -lo_;
   for (const auto& v : m.vertices) {

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "collision/embree.h"
 #include "core/math.h"
 #include "core/mesh.h"
 #include "grasp/hand_model.h"
-#include "grasp/ray_scene.h"
 
 namespace graspsim::grasp {
 
@@ -21,10 +21,10 @@ using ObstacleBox = LinkBox;
 class GraspObject {
  public:
   // `mesh` must be validated (non-empty, finite, indices in range); obstacles are in the object frame.
-  GraspObject(std::shared_ptr<const TriangleMesh> mesh, std::vector<ObstacleBox> obstacles, RTCDevice device);
+  GraspObject(std::shared_ptr<const TriangleMesh> mesh, std::vector<ObstacleBox> obstacles);
 
   const TriangleMesh& mesh() const { return *mesh_; }
-  const RayScene& bvh() const { return *bvh_; }
+  const collision::EmbreeScene& bvh() const { return *bvh_; }
   const std::vector<Vec3>& face_normals() const { return face_normals_; }  // outward unit, per triangle
   const std::vector<Vec3>& sharp_vertices() const { return sharp_; }
   // The sharp vertices in small spatial clusters (a ball each, indices into sharp_vertices() ascending), so a
@@ -46,7 +46,7 @@ class GraspObject {
   void BuildClusters();
 
   std::shared_ptr<const TriangleMesh> mesh_;
-  std::unique_ptr<RayScene> bvh_;
+  std::unique_ptr<collision::EmbreeScene> bvh_;
   std::vector<Vec3> face_normals_, sharp_;
   std::vector<ObstacleBox> obstacles_;
   std::vector<VertexCluster> clusters_;

@@ -145,7 +145,7 @@ void AddGeometry(const Geometry& g, double spacing, collision::LocalMesh* surfac
 
 }  // namespace
 
-HandModel::HandModel(const HandSpec& spec, RTCDevice device, double sample_spacing)
+HandModel::HandModel(const HandSpec& spec, double sample_spacing)
     : name_(spec.name), roll_period_(spec.roll_period) {
   const RobotDescription& robot = spec.robot;
   std::map<std::string, int> link_index, joint_index;
@@ -166,7 +166,10 @@ HandModel::HandModel(const HandSpec& spec, RTCDevice device, double sample_spaci
       run.radius = 0.5 * (hi - lo).norm();
     }
     if (surface.triangles.empty()) continue;
-    link.bvh = std::make_unique<RayScene>(device, surface.vertices, surface.triangles);
+    TriangleMesh mesh;  // in float, as Embree casts
+    for (const Vec3& v : surface.vertices) mesh.vertices.push_back(v.cast<float>());
+    mesh.triangles = surface.triangles;
+    link.bvh = std::make_unique<collision::EmbreeScene>(mesh, RTC_BUILD_QUALITY_HIGH);  // built once per planner
     for (const auto& t : surface.triangles) {
       const Vec3 n = (surface.vertices[t[1]] - surface.vertices[t[0]]).cross(surface.vertices[t[2]] - surface.vertices[t[0]]);
       link.face_normals.push_back(n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero());

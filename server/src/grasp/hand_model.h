@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "core/math.h"
+#include "collision/embree.h"
 #include "grasp/hand.h"
-#include "grasp/ray_scene.h"
 
 namespace graspsim::grasp {
 
@@ -36,7 +36,7 @@ struct HandLink {
   std::vector<Vec3> normals;      // outward unit normals of the samples
   std::vector<SampleRun> runs;    // the samples in runs of one normal, in order
   std::vector<LinkBox> boxes;     // bounding boxes of the collision geometries, link frame
-  std::unique_ptr<RayScene> bvh;  // the link's surface, link frame; null for a link without geometry
+  std::unique_ptr<collision::EmbreeScene> bvh;  // the link's surface, link frame; null for a link without geometry
   std::vector<Vec3> face_normals; // outward unit normals of the BVH's triangles, link frame
   double reach = 0;               // largest distance of a sample from the link origin, m
 };
@@ -65,7 +65,7 @@ struct HandFinger {
 class HandModel {
  public:
   // Samples every link surface at `sample_spacing` (m).
-  HandModel(const HandSpec& spec, RTCDevice device, double sample_spacing);
+  HandModel(const HandSpec& spec, double sample_spacing);
 
   const std::string& name() const { return name_; }
   const std::vector<HandLink>& links() const { return links_; }

@@ -20,7 +20,7 @@ struct PlanJob {
   std::shared_ptr<const TriangleMesh> mesh;
   std::vector<ObstacleBox> obstacles;
   CandidateParams candidates;
-  SimulationParams simulation;
+  ClosingParams simulation;
   size_t max_grasps = 50;
 };
 

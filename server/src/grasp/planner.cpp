@@ -44,7 +44,7 @@ void CheckCount(const std::string& field, int64_t value, int64_t lo, int64_t hi)
 
 }  // namespace
 
-void ValidateSimulationParams(const SimulationParams& p) {
+void ValidateClosingParams(const ClosingParams& p) {
   if (!std::isfinite(p.friction) || p.friction <= 0) {
     ThrowInvalidArgument("friction: " + FormatNumber(p.friction) + "; give a finite friction coefficient > 0");
   }
@@ -64,7 +64,7 @@ void ValidateSimulationParams(const SimulationParams& p) {
     }
     CheckRange(field + ".friction", pair.friction, 0, 10, "");
     for (size_t j = 0; j < i; ++j) {
-      SimulationParams earlier;  // μ of this pair under the earlier pair alone: > 0 when it is the same pair
+      ClosingParams earlier;  // μ of this pair under the earlier pair alone: > 0 when it is the same pair
       earlier.friction = -1;
       earlier.friction_pairs = {p.friction_pairs[j]};
       if (PairFriction(earlier, pair.material_a, pair.material_b) > 0) {
@@ -81,6 +81,10 @@ void ValidateCandidateParams(const CandidateParams& p) {
   CheckCount("circle_samples", p.circle_samples, 1, 3600);
   CheckCount("rolls", p.rolls, 1, 360);
   if (p.standoffs.empty()) ThrowInvalidArgument("standoffs: empty; give at least one standoff (m)");
+  if (p.standoffs.size() > kMaxStandoffs) {
+    ThrowInvalidArgument("standoffs: " + std::to_string(p.standoffs.size()) + " values; at most " +
+                         std::to_string(kMaxStandoffs));
+  }
   for (size_t i = 0; i < p.standoffs.size(); ++i) {
     CheckRange("standoffs[" + std::to_string(i) + "]", p.standoffs[i], 0, 0.2, " m");
   }
@@ -96,10 +100,10 @@ void ValidateCandidateParams(const CandidateParams& p) {
 }
 
 GraspPlanner::GraspPlanner(const std::string& hand, std::shared_ptr<const TriangleMesh> mesh,
-                           std::vector<ObstacleBox> obstacles, const SimulationParams& params)
-    : hand_spec_(LoadHand("hand", hand)), device_(std::make_unique<RayDevice>()) {
-  ValidateSimulationParams(params);
-  hand_model_ = std::make_unique<HandModel>(hand_spec_, device_->get(), params.sample_spacing);
+                           std::vector<ObstacleBox> obstacles, const ClosingParams& params)
+    : hand_spec_(LoadHand("hand", hand)) {
+  ValidateClosingParams(params);
+  hand_model_ = std::make_unique<HandModel>(hand_spec_, params.sample_spacing);
   for (const auto& entry : params.link_materials) {
     const std::string& link = entry.first;  // not a structured binding: clang 14 cannot capture one in a lambda
     const auto& links = hand_model_->links();
@@ -110,16 +114,11 @@ GraspPlanner::GraspPlanner(const std::string& hand, std::shared_ptr<const Triang
                            " (" + names + ")");
     }
   }
-  object_ = std::make_unique<GraspObject>(std::move(mesh), std::move(obstacles), device_->get());
+  object_ = std::make_unique<GraspObject>(std::move(mesh), std::move(obstacles));
   simulator_ = std::make_unique<GraspSimulator>(*hand_model_, *object_, params);
 }
 
-// BVHs before their device.
-GraspPlanner::~GraspPlanner() {
-  simulator_.reset();
-  object_.reset();
-  hand_model_.reset();
-}
+GraspPlanner::~GraspPlanner() = default;
 
 std::vector<Candidate> GraspPlanner::Candidates(const CandidateParams& params) const {
   ValidateCandidateParams(params);
@@ -135,7 +134,7 @@ std::vector<Candidate> GraspPlanner::Candidates(const CandidateParams& params) c
 void GraspPlanner::AddVolumes(std::vector<PlannedGrasp>* grasps, size_t width) const {
   // Whole hulls are the slow part of a plan's answer (~10-100 ms each): the kept grasps are shared out.
   const size_t count = std::min(grasps->size(), kMaxVolumes);
-  const SimulationParams& p = simulator_->params();
+  const ClosingParams& p = simulator_->params();
   std::atomic<size_t> next{0};
   ComputePool::Shared().Run(std::min(width, count), [&](size_t) {
     std::vector<Wrench> wrenches;

@@ -40,9 +40,10 @@ struct GraspSet {
 
 // Throws Error(kInvalidArgument) naming the field: friction must be finite and > 0, cone_edges 3..64,
 // contact_tolerance and sample_spacing in (0, 0.05] m, contacts_per_link 1..4.
-void ValidateSimulationParams(const SimulationParams& params);
+void ValidateClosingParams(const ClosingParams& params);
 // spacing in [1 mm, 1 m], padding in [0, 1 m], circle_samples 1..3600, rolls 1..360, standoffs each in [0, 0.2] m
-// (at least one), pre-shapes at least one, grasp points finite and distinct.
+// (at least one, at most kMaxStandoffs), pre-shapes at least one, grasp points finite and distinct.
+constexpr size_t kMaxStandoffs = 64;
 void ValidateCandidateParams(const CandidateParams& params);
 
 class GraspPlanner {
@@ -50,7 +51,7 @@ class GraspPlanner {
   // `hand`: one of HandNames() (else kInvalidArgument naming "hand"). `mesh`: validated by the caller;
   // obstacles in the object frame.
   GraspPlanner(const std::string& hand, std::shared_ptr<const TriangleMesh> mesh, std::vector<ObstacleBox> obstacles,
-               const SimulationParams& params);
+               const ClosingParams& params);
   ~GraspPlanner();
 
   const HandModel& hand() const { return *hand_model_; }
@@ -74,7 +75,6 @@ class GraspPlanner {
   void AddVolumes(std::vector<PlannedGrasp>* grasps, size_t width) const;
 
   HandSpec hand_spec_;
-  std::unique_ptr<RayDevice> device_;
   std::unique_ptr<HandModel> hand_model_;
   std::unique_ptr<GraspObject> object_;
   std::unique_ptr<GraspSimulator> simulator_;

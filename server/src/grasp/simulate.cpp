@@ -68,7 +68,7 @@ bool BallMeetsBox(const Vec3& centre, double radius, const Vec3& lo, const Vec3&
 
 }  // namespace
 
-GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object, const SimulationParams& params)
+GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object, const ClosingParams& params)
     : hand_(hand), object_(object), params_(params), link_moves_(hand.links().size(), false),
       self_collision_(hand, -params.contact_tolerance) {
   std::vector<Pose> poses(hand.links().size());
@@ -89,7 +89,7 @@ GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object,
   }
 }
 
-double PairFriction(const SimulationParams& params, const std::string& a, const std::string& b) {
+double PairFriction(const ClosingParams& params, const std::string& a, const std::string& b) {
   const std::string& x = a.empty() ? kDefaultMaterial : a;
   const std::string& y = b.empty() ? kDefaultMaterial : b;
   for (const FrictionPair& pair : params.friction_pairs) {
@@ -211,10 +211,10 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
       object_.bvh().Intersect(&w->rays);
       for (size_t r = 0; r < w->rays.size(); ++r) {
         if (!w->rays.Hit(r)) continue;
-        const RTCRay& ray = w->rays.rays[r].ray;
-        const double t = ray.tfar;
-        const Vec3 point = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
-        w->link_hits.push_back({ray.id, t, w->ray_length[r], point, -object_.face_normals()[w->rays.Triangle(r)]});
+        const double t = w->rays.T(r);
+        const Vec3 point = w->rays.Origin(r) + t * w->rays.Direction(r);
+        const Vec3 normal = -object_.face_normals()[w->rays.Triangle(r)];
+        w->link_hits.push_back({w->rays.Id(r), t, w->ray_length[r], point, normal});
         best = std::min(best, t / w->ray_length[r]);
       }
     }
@@ -267,10 +267,9 @@ double GraspSimulator::Sweep(const std::vector<int>& links, SimulationWork* w) c
     link.bvh->Intersect(&w->rays);
     for (size_t r = 0; r < w->rays.size(); ++r) {
       if (!w->rays.Hit(r)) continue;
-      const RTCRay& ray = w->rays.rays[r].ray;
       // The contact is the object's vertex (the ray's origin in the world); the push is the link face's normal.
-      const Vec3 vertex = a * Vec3(ray.org_x, ray.org_y, ray.org_z);
-      record(ray.tfar, w->ray_length[r], vertex, ra * link.face_normals[w->rays.Triangle(r)], l);
+      const Vec3 vertex = a * w->rays.Origin(r);
+      record(w->rays.T(r), w->ray_length[r], vertex, ra * link.face_normals[w->rays.Triangle(r)], l);
 
     }
   }

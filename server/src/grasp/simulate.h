@@ -20,12 +20,12 @@
 #include <string>
 #include <vector>
 
+#include "collision/embree.h"
 #include "core/math.h"
 #include "grasp/grasp_object.h"
 #include "grasp/hand_collision.h"
 #include "grasp/hand_model.h"
 #include "grasp/quality.h"
-#include "grasp/ray_scene.h"
 
 namespace graspsim::grasp {
 
@@ -44,7 +44,8 @@ struct FrictionPair {
   double friction = 0.4;  // μ, dimensionless, > 0
 };
 
-struct SimulationParams {
+// The kinematic closing simulation's settings (not the physics engine's graspsim::SimulationParams).
+struct ClosingParams {
   double friction = 0.4;            // μ, dimensionless: every material pair not in friction_pairs
   int cone_edges = 8;
   double contact_tolerance = 1e-3;  // m: surfaces closer than this touch
@@ -58,7 +59,7 @@ struct SimulationParams {
 };
 
 // μ of one material pair under `params` (friction_pairs in either order, else params.friction).
-double PairFriction(const SimulationParams& params, const std::string& a, const std::string& b);
+double PairFriction(const ClosingParams& params, const std::string& a, const std::string& b);
 
 enum class Outcome : uint8_t {
   kGrasp,      // simulated and scored (force closure or not)
@@ -69,7 +70,7 @@ enum class Outcome : uint8_t {
 // Everything one simulation writes; reused between candidates (one per thread), so a warm one allocates nothing
 // but qhull's own memory.
 struct SimulationWork {
-  RayBatch rays;
+  collision::RayBatch rays;
   std::vector<float> ray_length;   // per ray: the chord length, m
   struct PendingRay {
     Vec3 origin, direction;        // world, unit direction
@@ -98,7 +99,7 @@ struct SimulationWork {
 
 class GraspSimulator {
  public:
-  GraspSimulator(const HandModel& hand, const GraspObject& object, const SimulationParams& params);
+  GraspSimulator(const HandModel& hand, const GraspObject& object, const ClosingParams& params);
 
   // Thread-safe; results in *work (contacts, hand_pose, joints, quality).
   Outcome Simulate(const Candidate& candidate, SimulationWork* work) const;
@@ -106,8 +107,8 @@ class GraspSimulator {
   // The hand's orientation for a candidate: z = approach, x = reference turned by roll.
   static Quat HandOrientation(const Candidate& candidate);
 
-  const SimulationParams& params() const { return params_; }
-  // μ of each hand link against the object (SimulationParams' materials).
+  const ClosingParams& params() const { return params_; }
+  // μ of each hand link against the object (ClosingParams' materials).
   const std::vector<double>& link_friction() const { return link_friction_; }
 
  private:
@@ -124,7 +125,7 @@ class GraspSimulator {
 
   const HandModel& hand_;
   const GraspObject& object_;
-  const SimulationParams params_;
+  const ClosingParams params_;
   std::vector<double> preshape_reach_;  // per pre-shape: farthest hand sample from the hand origin, m
   std::vector<bool> link_moves_;        // per link: moved by some finger
   std::vector<int> all_links_;

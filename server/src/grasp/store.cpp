@@ -126,7 +126,7 @@ std::string MeshHash(const TriangleMesh& mesh) {
 
 GraspSetKey MakeGraspSetKey(const std::string& hand, const std::string& mesh_hash,
                             const std::vector<ObstacleBox>& obstacles, const CandidateParams& c,
-                            const SimulationParams& s, size_t max_grasps) {
+                            const ClosingParams& s, size_t max_grasps) {
   std::ostringstream text;
   text << "format=" << kFormat << "\nhand=" << hand << "\nhand_urdf_sha256=" << Sha256Hex(HandUrdf(hand))
        << "\nmesh_sha256=" << mesh_hash << "\nmethod=" << CandidateMethodName(c.method)

@@ -27,7 +27,7 @@ struct GraspSetKey {
 };
 GraspSetKey MakeGraspSetKey(const std::string& hand, const std::string& mesh_hash,
                             const std::vector<ObstacleBox>& obstacles, const CandidateParams& candidates,
-                            const SimulationParams& simulation, size_t max_grasps);
+                            const ClosingParams& simulation, size_t max_grasps);
 
 struct StoredGraspSet {
   std::string key, hand, mesh_hash, params_text;

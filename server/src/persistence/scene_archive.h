@@ -1,6 +1,6 @@
 // A whole scene as one byte string (ExportScene/ImportScene): its name, the edits that built its model (the
 // requests as received, uploaded files whole), its state and revision. Moving a scene to another server is
-// replaying its edits there, as a restart does (rpc/scene_replay.h), so the copy is built and validated
+// replaying its edits there, as a restart does (edits/scene_restore.h), so the copy is built and validated
 // exactly like the original. docs/scaling.md: scenes move by archive when a fleet grows.
 #pragma once
 

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/validate.h"
+#include "tactile/pad_contacts.h"
 
 namespace graspsim {
 namespace {
@@ -70,13 +71,7 @@ Simulation::Simulation(std::shared_ptr<const SceneModel> model)
       pads_(*model_) {
   for (const BodySpec& body : model_->bodies) body_params_.push_back(BodyContactParams(body.material, params_.contact));
   for (const TactileArraySpec& pad : model_->tactile_arrays) {
-    // Spring, damper and bristle constants are per texel: a texel's elements share them.
-    ContactParams law = pad.contact;
-    const double share = 1.0 / pad.ElementsPerTexel();
-    for (double* x : {&law.stiffness, &law.damping, &law.bristle_stiffness, &law.bristle_damping, &law.viscous_friction}) {
-      *x *= share;
-    }
-    pad_params_.push_back(law);
+    pad_params_.push_back(ElementContactParams(pad));
     pad_links_.push_back(static_cast<uint32_t>(model_->body_index.at(pad.body_id)));
   }
 }

@@ -16,20 +16,15 @@
 #include <vector>
 
 #include "collision/contact_finder.h"
-#include "collision/tactile_rays.h"
 #include "physics/actuators.h"
 #include "physics/contact_law.h"
 #include "physics/engine.h"
 #include "physics/multibody.h"
+#include "tactile/ray_caster.h"
 #include "world/model.h"
 #include "world/state.h"
 
 namespace graspsim {
-
-// The contact feature of a tactile pad's sensing element: the top bit keeps it apart from surface samples.
-constexpr uint64_t PadFeature(uint32_t pad, uint32_t element) {
-  return (uint64_t{1} << 63) | (uint64_t{pad} << 32) | element;
-}
 
 // Checks a parameter set at the boundary; throws Error(kInvalidArgument) naming the field.
 void ValidateSimulationParams(const SimulationParams& params);
@@ -48,7 +43,7 @@ class Simulation : public PhysicsEngine {
   StepStats Step(SceneState* state, int steps) override;
 
   // The contact points and their forces (on body_a, world, N) of the last sub-step. Tactile pad contacts are
-  // among them: body_a the touching body, body_b the pad's link, feature = PadFeature(pad, element).
+  // among them: body_a the touching body, body_b the pad's link, feature = PadFeature(pad, element) (tactile/pad_contacts.h).
   const std::vector<ContactPoint>& contacts() const override { return contacts_; }
   const std::vector<Vec3>& contact_forces() const override { return forces_; }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "physics/simulation.h"
+#include "tactile/pad_contacts.h"
 
 namespace graspsim {
 namespace {
@@ -112,10 +113,8 @@ void Simulation::RecordPadForces(SceneState* state) const {
   // The reaction on the pad (body_b) of each element's contact force; elements without contact read zero.
   for (std::vector<Vec3>& pad : state->pad_forces) std::fill(pad.begin(), pad.end(), Vec3::Zero());
   for (size_t i = 0; i < contacts_.size(); ++i) {
-    const uint64_t feature = contacts_[i].feature;
-    if ((feature >> 63) == 0) continue;
-    const auto pad = static_cast<uint32_t>((feature >> 32) & 0x7fffffff), element = static_cast<uint32_t>(feature);
-    state->pad_forces[pad][element] = -forces_[i];
+    const std::optional<PadElementRef> element = PadElementOf(contacts_[i].feature);
+    if (element) state->pad_forces[element->pad][element->element] = -forces_[i];
   }
 }
 

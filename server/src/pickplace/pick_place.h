@@ -2,8 +2,8 @@
 // grasps the arm can reach within its joint limits without collision, and for each of them in order of ε plan
 // the whole motion (start → pre-grasp, straight approach, close, lift, transfer, straight place, release,
 // retreat), execute it in the dynamic simulation on a copy of the scene state, and stop at the first one whose
-// object ends at the goal. Nothing here touches a Scene: the caller commits the final state (rpc/
-// pick_and_place_stream.cpp does on success only), so failed attempts leave the user's scene as it was.
+// object ends at the goal. Nothing here touches a Scene: the caller commits the final state
+// (PickAndPlaceInScene in scene_pick_place.h does on success only), so failed attempts leave the user's scene as it was.
 //
 // Frames: the hand's root link is the arm's tip (every built-in hand sits on the flange by an identity joint);
 // a grasp's hand_pose is in the object frame, so the hand's world pose is object_pose · hand_pose, and at the

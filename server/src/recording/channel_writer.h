@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "recording/mcap_writer.h"
-#include "sensors/readings.h"
+#include "tactile/tactile_frame.h"
 #include "world/snapshot_hub.h"
 
 namespace graspsim::recording {

@@ -4,6 +4,7 @@
 
 #include "recording/ros2_messages.h"
 #include "sensors/readings.h"
+#include "tactile/tactile_frame.h"
 #include "world/model.h"
 #include "world/state.h"
 

@@ -1,16 +1,11 @@
 #include "rpc/convert.h"
 
-#include <bit>
-#include <cstring>
-
 #include "core/error.h"
 #include "core/format.h"
 #include "core/validate.h"
+#include "rpc/packed_arrays.h"
 
 namespace graspsim::rpc {
-
-// The wire carries little-endian arrays; memcpy is a correct decode only on little-endian hosts.
-static_assert(std::endian::native == std::endian::little, "graspsim's packed arrays assume a little-endian host");
 
 Vec3 FromProto(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -59,102 +54,24 @@ void ToProto(const ImportWarning& warning, v1::ImportWarning* out) {
   out->set_action(warning.action);
 }
 
-Material MaterialFromProto(const std::string& field, const v1::Material& material, const Material& base) {
-  Material out = base;
-  if (material.has_static_friction()) out.static_friction = material.static_friction();
-  if (material.has_dynamic_friction()) out.dynamic_friction = material.dynamic_friction();
-  CheckNonNegative(field + ".dynamic_friction", out.dynamic_friction);
-  CheckNonNegative(field + ".static_friction", out.static_friction);
-  if (out.static_friction < out.dynamic_friction) {
-    ThrowInvalidArgument(field + ": static_friction " + FormatNumber(out.static_friction) +
-                         " is below dynamic_friction " + FormatNumber(out.dynamic_friction));
+TriangleMesh UnpackMesh(const std::string& field, const v1::MeshData& mesh, const Limits& limits) {
+  constexpr char kVertex[] = "three float32 per vertex", kTriangle[] = "three uint32 per triangle";
+  PackedCount(field + ".vertices", mesh.vertices().size(), 12, kVertex);
+  const size_t triangles = PackedCount(field + ".triangles", mesh.triangles().size(), 12, kTriangle);
+  // Checked before allocating, so an oversized mesh costs nothing.
+  if (triangles > limits.max_triangles_per_mesh) {
+    ThrowResourceExhausted(field + ": mesh has " + std::to_string(triangles) + " triangles, above the limit of " +
+                           std::to_string(limits.max_triangles_per_mesh));
   }
-  const std::pair<const char*, double*> contact[] = {
-      {"contact_stiffness", &out.contact_stiffness}, {"contact_damping", &out.contact_damping},
-      {"bristle_stiffness", &out.bristle_stiffness}, {"bristle_damping", &out.bristle_damping},
-      {"viscous_friction", &out.viscous_friction},   {"stribeck_velocity", &out.stribeck_velocity}};
-  const double values[] = {material.contact_stiffness(), material.contact_damping(), material.bristle_stiffness(),
-                           material.bristle_damping(),   material.viscous_friction(), material.stribeck_velocity()};
-  for (size_t i = 0; i < std::size(values); ++i) {
-    CheckNonNegative(field + "." + contact[i].first, values[i]);
-    *contact[i].second = values[i];
-  }
+  TriangleMesh out;
+  out.vertices = Unpack<Eigen::Vector3f>(field + ".vertices", mesh.vertices(), kVertex);
+  out.triangles = Unpack<std::array<uint32_t, 3>>(field + ".triangles", mesh.triangles(), kTriangle);
   return out;
 }
 
 TriangleMesh MeshFromProto(const std::string& field, const v1::MeshData& mesh, const Limits& limits) {
-  const std::string& vertices = mesh.vertices();
-  const std::string& triangles = mesh.triangles();
-  if (vertices.size() % 12 != 0) {
-    ThrowInvalidArgument(field + ".vertices: " + std::to_string(vertices.size()) +
-                         " bytes is not a multiple of 12 (three float32 per vertex)");
-  }
-  if (triangles.size() % 12 != 0) {
-    ThrowInvalidArgument(field + ".triangles: " + std::to_string(triangles.size()) +
-                         " bytes is not a multiple of 12 (three uint32 per triangle)");
-  }
-  // Checked before allocating, so an oversized mesh costs nothing.
-  if (triangles.size() / 12 > limits.max_triangles_per_mesh) {
-    ThrowResourceExhausted(field + ": mesh has " + std::to_string(triangles.size() / 12) +
-                           " triangles, above the limit of " + std::to_string(limits.max_triangles_per_mesh));
-  }
-  TriangleMesh out;
-  out.vertices.resize(vertices.size() / 12);
-  out.triangles.resize(triangles.size() / 12);
-  // Empty arrays have no data pointer to copy to (memcpy with nullptr is undefined even for 0 bytes).
-  if (!vertices.empty()) std::memcpy(out.vertices.data(), vertices.data(), vertices.size());
-  if (!triangles.empty()) std::memcpy(out.triangles.data(), triangles.data(), triangles.size());
+  TriangleMesh out = UnpackMesh(field, mesh, limits);
   ValidateMesh(out, field, limits.max_triangles_per_mesh);
-  return out;
-}
-
-Geometry GeometryFromProto(const std::string& field, const v1::Geometry& geometry, const FileLookup& files,
-                           const Limits& limits) {
-  Geometry out;
-  out.origin = PoseFromProto(field + ".origin", geometry.origin());
-  Vec3 scale = Vec3::Ones();
-  if (geometry.has_scale()) {
-    scale = FromProto(geometry.scale());
-    for (int i = 0; i < 3; ++i) CheckPositive(field + ".scale." + "xyz"[i], scale[i]);
-  }
-  switch (geometry.shape_case()) {
-    case v1::Geometry::kBox:
-      out.kind = Geometry::Kind::kBox;
-      out.box_size = FromProto(geometry.box().size());
-      for (int i = 0; i < 3; ++i) CheckPositive(field + ".box.size." + "xyz"[i], out.box_size[i]);
-      break;
-    case v1::Geometry::kSphere:
-      out.kind = Geometry::Kind::kSphere;
-      CheckPositive(field + ".sphere.radius", geometry.sphere().radius());
-      out.radius = geometry.sphere().radius();
-      break;
-    case v1::Geometry::kCylinder:
-      out.kind = Geometry::Kind::kCylinder;
-      CheckPositive(field + ".cylinder.radius", geometry.cylinder().radius());
-      CheckPositive(field + ".cylinder.length", geometry.cylinder().length());
-      out.radius = geometry.cylinder().radius();
-      out.length = geometry.cylinder().length();
-      break;
-    case v1::Geometry::kMesh: {
-      out.kind = Geometry::Kind::kMesh;
-      TriangleMesh mesh = MeshFromProto(field + ".mesh", geometry.mesh(), limits);
-      for (auto& v : mesh.vertices) v = v.cwiseProduct(scale.cast<float>());
-      out.mesh = std::make_shared<const TriangleMesh>(std::move(mesh));
-      break;
-    }
-    case v1::Geometry::kMeshFile: {
-      out.kind = Geometry::Kind::kMesh;
-      const std::string& path = geometry.mesh_file();
-      CheckRelativePath(field + ".mesh_file", path);
-      const std::string* bytes = files(path);
-      if (!bytes) ThrowInvalidArgument(field + ".mesh_file: '" + path + "' was not uploaded to this scene");
-      out.mesh = LoadSharedMeshFile(field + ".mesh_file", path, *bytes, scale, limits);
-      out.mesh_file = path;
-      break;
-    }
-    case v1::Geometry::SHAPE_NOT_SET:
-      ThrowInvalidArgument(field + ": no shape given (box, sphere, cylinder, mesh or mesh_file)");
-  }
   return out;
 }
 
@@ -174,9 +91,8 @@ void ToProto(const Pose& pose, v1::Pose* out) {
 }
 
 void ToProto(const TriangleMesh& mesh, v1::MeshData* out) {
-  out->mutable_vertices()->assign(reinterpret_cast<const char*>(mesh.vertices.data()), 12 * mesh.vertices.size());
-  out->mutable_triangles()->assign(reinterpret_cast<const char*>(mesh.triangles.data()),
-                                   12 * mesh.triangles.size());
+  out->set_vertices(Pack(mesh.vertices));
+  out->set_triangles(Pack(mesh.triangles));
 }
 
 namespace {

@@ -16,12 +16,10 @@ Vec3 FromProto(const v1::Vec3& v);
 // An absent orientation is the identity; a present one must be within 1e-3 of unit norm and is normalised.
 Pose PoseFromProto(const std::string& field, const v1::Pose& pose);
 Inertial InertialFromProto(const std::string& field, const v1::Inertial& inertial);
-// Fields the message leaves unset keep `base`'s values.
-Material MaterialFromProto(const std::string& field, const v1::Material& material, const Material& base);
+// The arrays unpacked, their sizes and the triangle limit checked (before allocating); MeshFromProto checks the
+// mesh too (ValidateMesh). The edit API checks the meshes of its records itself, so AddObject only unpacks.
+TriangleMesh UnpackMesh(const std::string& field, const v1::MeshData& mesh, const Limits& limits);
 TriangleMesh MeshFromProto(const std::string& field, const v1::MeshData& mesh, const Limits& limits);
-// Loads mesh_file geometry from the scene's files.
-Geometry GeometryFromProto(const std::string& field, const v1::Geometry& geometry, const FileLookup& files,
-                           const Limits& limits);
 
 // Robot and object import options (docs/import.md); density 0 = 1000 kg/m^3.
 ImportOptions ImportOptionsFromProto(const std::string& field, const v1::ImportOptions& options);

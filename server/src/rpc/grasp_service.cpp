@@ -1,11 +1,10 @@
 #include "rpc/grasp_service.h"
 
-#include <cmath>
+#include <algorithm>
 
 #include "core/error.h"
-#include "core/format.h"
-#include "core/validate.h"
 #include "grasp/hand.h"
+#include "grasp/plan_request.h"
 #include "grasp/scene_object.h"
 #include "rpc/call.h"
 #include "rpc/failed_call.h"
@@ -14,9 +13,6 @@
 
 namespace graspsim::rpc {
 namespace {
-
-constexpr size_t kDefaultMaxGrasps = 50;
-constexpr uint32_t kMaxGraspsLimit = 10000;
 
 struct ResolvedObject {
   std::shared_ptr<const TriangleMesh> mesh;
@@ -41,48 +37,23 @@ ResolvedObject ObjectFromProto(const v1::GraspTarget& target, const SceneRegistr
   return out;
 }
 
-// PlanGraspsRequest and EvaluateGraspRequest share these fields.
+// PlanGraspsRequest and EvaluateGraspRequest share these fields (checked by grasp::ValidateClosingParams).
 template <class Request>
-grasp::SimulationParams SimulationFromProto(const Request& r) {
-  grasp::SimulationParams params;
-  if (r.has_friction()) {
-    if (!std::isfinite(r.friction()) || r.friction() <= 0) {
-      ThrowInvalidArgument("friction: " + FormatNumber(r.friction()) +
-                           "; give a friction coefficient > 0 (absent = 0.4)");
-    }
-    params.friction = r.friction();
-  }
+grasp::ClosingParams SimulationFromProto(const Request& r) {
+  grasp::ClosingParams params;
+  if (r.has_friction()) params.friction = r.friction();
   params.object_material = r.object_material();
   for (const auto& [link, material] : r.link_materials()) params.link_materials[link] = material;
   for (const v1::FrictionPair& pair : r.friction_pairs()) {
     params.friction_pairs.push_back({pair.material_a(), pair.material_b(), pair.friction()});
   }
-  grasp::ValidateSimulationParams(params);
+  grasp::ValidateClosingParams(params);
   return params;
 }
 
 grasp::Candidate CandidateFromProto(const v1::GraspCandidate& c, const grasp::HandSpec& hand) {
-  grasp::Candidate out;
-  const Vec3 approach = FromProto(c.approach());
-  CheckFinite("candidate.approach", approach);
-  if (approach.norm() < 1e-9) ThrowInvalidArgument("candidate.approach: zero; give a direction");
-  out.approach = approach.normalized();
-  Vec3 reference = FromProto(c.reference());
-  CheckFinite("candidate.reference", reference);
-  reference -= reference.dot(out.approach) * out.approach;
-  if (reference.norm() < 1e-6) reference = out.approach.unitOrthogonal();  // absent or along the approach
-  out.reference = reference.normalized();
-  out.target = FromProto(c.target());
-  CheckFinite("candidate.target", out.target);
-  CheckFinite("candidate.roll", c.roll());
-  out.roll = c.roll();
-  if (!std::isfinite(c.standoff()) || c.standoff() < 0 || c.standoff() > 0.2) {
-    ThrowInvalidArgument("candidate.standoff: " + FormatNumber(c.standoff()) + " m is outside [0, 0.2] m");
-  }
-  out.standoff = c.standoff();
-  const grasp::Preshape& preshape = grasp::FindPreshape(hand, "candidate.preshape", c.preshape());
-  out.preshape = static_cast<uint32_t>(&preshape - hand.preshapes.data());
-  return out;
+  return grasp::CandidateFrom(hand, {FromProto(c.approach()), FromProto(c.reference()), FromProto(c.target()), c.roll(),
+                                     c.standoff(), c.preshape()});
 }
 
 void CandidateToProto(const grasp::Candidate& c, const std::vector<std::string>& preshapes, v1::GraspCandidate* out) {
@@ -129,22 +100,8 @@ GraspPlanJob PlanJobFromProto(const v1::PlanGraspsRequest& r, const SceneRegistr
   job.hand = r.hand();
   job.simulation = SimulationFromProto(r);
   grasp::CandidateParams& c = job.candidates;
-  const std::string method = r.method().empty() ? "bounding_box" : r.method();
-  const auto parsed = grasp::ParseCandidateMethod(method);
-  if (!parsed) {
-    ThrowInvalidArgument("method: '" + method.substr(0, 80) +
-                         "' is not one of bounding_box, grasp_points, centroid_circles");
-  }
-  c.method = *parsed;
-  c.preshapes.clear();
-  for (int i = 0; i < r.preshapes_size(); ++i) {
-    const grasp::Preshape& p = grasp::FindPreshape(hand, "preshapes[" + std::to_string(i) + "]", r.preshapes(i));
-    c.preshapes.push_back(static_cast<uint32_t>(&p - hand.preshapes.data()));
-  }
-  if (c.preshapes.empty()) {
-    for (uint32_t p = 0; p < hand.preshapes.size(); ++p) c.preshapes.push_back(p);
-  }
-  if (r.standoffs_size() > 64) ThrowInvalidArgument("standoffs: " + std::to_string(r.standoffs_size()) + " values; at most 64");
+  c.method = grasp::CandidateMethodNamed("method", r.method());
+  c.preshapes = grasp::PreshapeIndices(hand, {r.preshapes().begin(), r.preshapes().end()});
   if (r.standoffs_size() > 0) c.standoffs.assign(r.standoffs().begin(), r.standoffs().end());
   if (r.has_rolls()) c.rolls = static_cast<int>(std::min<uint32_t>(r.rolls(), 1u << 20));
   if (r.has_spacing()) c.spacing = r.spacing();
@@ -156,10 +113,7 @@ GraspPlanJob PlanJobFromProto(const v1::PlanGraspsRequest& r, const SceneRegistr
   if (r.has_grasp_point_a()) c.grasp_points = std::make_pair(FromProto(r.grasp_point_a()), FromProto(r.grasp_point_b()));
   if (r.has_seed()) c.seed = r.seed();
   c.max_candidates = r.max_candidates();
-  if (r.max_grasps() > kMaxGraspsLimit) {
-    ThrowInvalidArgument("max_grasps: " + std::to_string(r.max_grasps()) + "; at most " + std::to_string(kMaxGraspsLimit));
-  }
-  job.max_grasps = r.max_grasps() == 0 ? kDefaultMaxGrasps : r.max_grasps();
+  job.max_grasps = grasp::MaxGrasps("max_grasps", r.max_grasps());
   job.recompute = r.recompute();
   grasp::ValidateCandidateParams(c);
   ResolvedObject object = ObjectFromProto(r.object(), registry);
@@ -195,14 +149,8 @@ grpc::ServerWriteReactor<v1::PlanGraspsProgress>* GraspServiceImpl::PlanGrasps(C
 grpc::ServerUnaryReactor* GraspServiceImpl::GetGraspSet(Context* context, const v1::GetGraspSetRequest* request,
                                                         v1::GraspSet* response) {
   return RunUnary(context, "GraspService/GetGraspSet", pool_, [=, this] {
-    const std::string& id = request->set_id();
-    if (id.size() != 64 || id.find_first_not_of("0123456789abcdef") != std::string::npos) {
-      ThrowInvalidArgument("set_id: '" + id.substr(0, 80) + "' is not a grasp-set id (64 lowercase hex digits)");
-    }
-    if (!store_) throw Error(ErrorCode::kFailedPrecondition, "set_id: the server stores no grasp sets (--grasp-data-dir=off)");
-    const auto stored = store_->Find(id);
-    if (!stored) ThrowNotFound("set_id: no stored grasp set '" + id + "'");
-    ToProto(stored->set, *stored, true, response);
+    const grasp::StoredGraspSet stored = grasp::FindStoredSet(store_.get(), "set_id", request->set_id());
+    ToProto(stored.set, stored, true, response);
   });
 }
 
@@ -210,7 +158,7 @@ grpc::ServerUnaryReactor* GraspServiceImpl::EvaluateGrasp(Context* context, cons
                                                           v1::Grasp* response) {
   return RunUnary(context, "GraspService/EvaluateGrasp", pool_, [=, this] {
     const grasp::HandSpec hand = grasp::LoadHand("hand", request->hand());
-    const grasp::SimulationParams params = SimulationFromProto(*request);
+    const grasp::ClosingParams params = SimulationFromProto(*request);
     if (!request->has_candidate()) ThrowInvalidArgument("candidate: absent; give the candidate to simulate");
     const grasp::Candidate candidate = CandidateFromProto(request->candidate(), hand);
     ResolvedObject object = ObjectFromProto(request->object(), *registry_);

@@ -23,6 +23,7 @@
 #include "rpc/call.h"
 #include "rpc/event_feed.h"
 #include "rpc/http_json.h"
+#include "rpc/packed_arrays.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -159,13 +160,6 @@ void ServeFeed(std::unique_ptr<FeedTicket> ticket, double max_seconds, httplib::
   });
 }
 
-template <typename T>
-std::vector<T> Unpack(const std::string& bytes) {
-  std::vector<T> values(bytes.size() / sizeof(T));
-  if (!values.empty()) std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));  // no nullptr to memcpy
-  return values;
-}
-
 std::string Base64(const void* data, size_t size) {
   static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   const auto* bytes = static_cast<const unsigned char*>(data);
@@ -185,10 +179,10 @@ std::string Base64(const void* data, size_t size) {
 // a held object has hundreds of contact points: formatting them as JSON numbers for every viewer cost the
 // server more than the simulation (tests/bench/run viewers).
 std::string ContactsJson(const v1::SceneSnapshot& snapshot) {
-  const std::vector<double> values = Unpack<double>(snapshot.contacts());
-  std::vector<float> packed(values.begin(), values.end());
+  const std::vector<double> values = Unpack<double>("contacts", snapshot.contacts());
+  const std::string packed = Pack(std::vector<float>(values.begin(), values.end()));
   const std::string& bodies = snapshot.contact_bodies();
-  return ",\"contacts_f32\":\"" + Base64(packed.data(), packed.size() * sizeof(float)) + "\",\"contact_bodies_u32\":\"" +
+  return ",\"contacts_f32\":\"" + Base64(packed.data(), packed.size()) + "\",\"contact_bodies_u32\":\"" +
          Base64(bodies.data(), bodies.size()) + "\"";
 }
 
@@ -209,7 +203,7 @@ std::function<void(const v1::SceneSnapshot&, FeedEvent*)> SnapshotEncoder(bool c
       *last_ids = std::move(ids);
       ++*epoch;
     }
-    const std::vector<double> poses = Unpack<double>(snapshot.body_poses());
+    const std::vector<double> poses = Unpack<double>("body_poses", snapshot.body_poses());
     std::string body = ",\"poses\":[";
     for (size_t i = 0; i < poses.size(); ++i) body += (i ? "," : "") + JsonNumber(poses[i]);
     body += "]";
@@ -226,11 +220,8 @@ std::string TactileEvent(const v1::SensorReading& reading) {
   std::string json = "{\"sensor_id\":" + JsonString(reading.sensor_id()) + ",\"time\":" + JsonNumber(reading.time()) +
                      ",\"rows\":" + std::to_string(tactile.rows()) + ",\"cols\":" + std::to_string(tactile.cols()) +
                      ",\"intensity_sum\":" + std::to_string(tactile.intensity_sum()) + ",\"intensities\":[";
-  const std::string& bytes = tactile.intensities();
-  for (size_t i = 0; i + 1 < bytes.size(); i += 2) {
-    const unsigned value = static_cast<unsigned char>(bytes[i]) | (static_cast<unsigned char>(bytes[i + 1]) << 8);
-    json += (i ? "," : "") + std::to_string(value);
-  }
+  const std::vector<uint16_t> intensities = Unpack<uint16_t>("intensities", tactile.intensities());
+  for (size_t i = 0; i < intensities.size(); ++i) json += (i ? "," : "") + std::to_string(intensities[i]);
   return SseEvent("reading", json + "]}");
 }
 

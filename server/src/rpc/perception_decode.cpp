@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "core/error.h"
 #include "core/format.h"
 #include "rpc/convert.h"
+#include "rpc/packed_arrays.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -24,20 +24,12 @@ void TableFromProto(const v1::CompleteShapeRequest& request, CompletionOptions* 
 
 // Packed float32 x y z triplets → points.
 std::vector<Vec3> PointsFromBytes(const std::string& field, const std::string& bytes, size_t max_points) {
-  if (bytes.size() % 12 != 0) {
-    ThrowInvalidArgument(field + ": " + std::to_string(bytes.size()) + " bytes is not a whole number of float32 x y z "
-                         "triplets (12 bytes each)");
-  }
-  const size_t n = bytes.size() / 12;
-  if (n > max_points) {
+  const size_t n = PackedCount(field, bytes.size(), 12, "float32 x y z per point");
+  if (n > max_points) {  // checked before allocating
     ThrowResourceExhausted(field + ": " + std::to_string(n) + " points exceed the limit of " +
                            std::to_string(max_points) + " (--max-cloud-points)");
   }
-  std::vector<Vec3> points(n);
-  std::vector<float> raw(3 * n);
-  if (!raw.empty()) std::memcpy(raw.data(), bytes.data(), bytes.size());  // no memcpy to an empty vector's nullptr
-  for (size_t i = 0; i < n; ++i) points[i] = Vec3(raw[3 * i], raw[3 * i + 1], raw[3 * i + 2]);
-  return points;
+  return UnpackFloat32Xyz<Vec3>(field, bytes);
 }
 
 DepthImage ImageFromProto(const v1::DepthImage& in, size_t max_points) {
@@ -51,12 +43,7 @@ DepthImage ImageFromProto(const v1::DepthImage& in, size_t max_points) {
                            std::to_string(pixels) + " pixels exceed the limit of " + std::to_string(max_points) +
                            " (--max-cloud-points)");
   }
-  if (in.depth().size() % 4 != 0) {
-    ThrowInvalidArgument("depth_image.depth: " + std::to_string(in.depth().size()) + " bytes is not a whole number "
-                         "of float32 values");
-  }
-  image.depth.resize(in.depth().size() / 4);
-  if (!image.depth.empty()) std::memcpy(image.depth.data(), in.depth().data(), in.depth().size());
+  image.depth = Unpack<float>("depth_image.depth", in.depth());
   image.mask.assign(in.mask().begin(), in.mask().end());
   return image;
 }

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/validate.h"
+#include "edits/scene_edits.h"
 #include "perception/mesh_metrics.h"
 #include "perception/observation.h"
 #include "perception/segmentation.h"
@@ -19,46 +20,15 @@
 #include "rpc/failed_call.h"
 #include "rpc/perception_decode.h"
 #include "rpc/convert.h"
+#include "rpc/packed_arrays.h"
 #include "rpc/progress_run.h"
 #include "rpc/run_reactor.h"
-#include "rpc/scene_edits.h"
 
 namespace graspsim::rpc {
 namespace {
 
 constexpr char kCompleteShape[] = "PerceptionService/CompleteShape";
 constexpr double kDefaultMass = 0.1;  // kg
-
-// The completed mesh as a free object: body frame at the solid's centroid, uniform density. Added as the
-// AddObject request it amounts to (inline mesh, inertial, pose), through AddObject's own code, so the scene's
-// journal stores it like any other object and a restart rebuilds it the same way.
-std::string AddToScene(Scene* scene, const std::string& requested_name, double mass, const TriangleMesh& mesh,
-                       const Limits& limits) {
-  static std::atomic<uint64_t> counter{0};
-  const std::string name = requested_name.empty() ? "completed_" + std::to_string(++counter) : requested_name;
-  const SolidProperties solid = ComputeSolidProperties(mesh);
-  if (!(solid.volume > 0)) ThrowInvalidArgument("add_to_scene_id: the completed mesh encloses no volume");
-  TriangleMesh local = mesh;
-  for (auto& v : local.vertices) v -= solid.centroid.cast<float>();
-  const double density = mass / solid.volume;
-  const Mat3 inertia = density * (solid.second_moment.trace() * Mat3::Identity() - solid.second_moment);
-  v1::AddObjectRequest request;
-  request.set_name(name);
-  ToProto(local, request.mutable_geometry()->mutable_mesh());
-  auto* inertial = request.mutable_inertial();
-  inertial->set_mass(mass);
-  inertial->set_ixx(inertia(0, 0));
-  inertial->set_iyy(inertia(1, 1));
-  inertial->set_izz(inertia(2, 2));
-  inertial->set_ixy(inertia(0, 1));
-  inertial->set_ixz(inertia(0, 2));
-  inertial->set_iyz(inertia(1, 2));
-  Pose pose;
-  pose.position = solid.centroid;
-  ToProto(pose, request.mutable_pose());
-  AddObjectFromRequest(scene, request, limits, nullptr);
-  return name;
-}
 
 v1::CompleteShapeProgress Stage(const std::string& stage, double fraction) {
   v1::CompleteShapeProgress message;
@@ -131,7 +101,11 @@ void RunCompletion(const v1::CompleteShapeRequest& request, SceneRegistry* regis
       if (recordings) {  // what the camera saw, in the scene's recording (if any) beside the object it became
         recordings->AppendPointCloud(scene->id(), "/completion/points", Observe(view, options.max_points).points);
       }
-      last.set_body_id(AddToScene(scene.get(), request.object_name(), mass, result->mesh, limits));
+      static std::atomic<uint64_t> completed{0};
+      const std::string name =
+          request.object_name().empty() ? "completed_" + std::to_string(++completed) : request.object_name();
+      edits::AddObject(scene.get(), edits::UniformSolidObject("add_to_scene_id", name, result->mesh, mass), limits);
+      last.set_body_id(name);
       if (overlays && result->plane) {
         overlays->SetCompletion(request.add_to_scene_id(), CompletionOverlay(*result, last.body_id()));
       }
@@ -167,12 +141,7 @@ grpc::ServerUnaryReactor* PerceptionServiceImpl::SegmentScene(Context* context, 
     const SceneSegmentation segmentation = graspsim::SegmentScene(points, params);
     ToProto(segmentation.table_normal, response->mutable_table_normal());
     response->set_table_offset(segmentation.table_offset);
-    for (const auto& object : segmentation.objects) {
-      std::vector<float> raw;
-      raw.reserve(3 * object.size());
-      for (const Vec3& p : object) raw.insert(raw.end(), {float(p.x()), float(p.y()), float(p.z())});
-      response->add_objects()->set_points(std::string(reinterpret_cast<const char*>(raw.data()), raw.size() * 4));
-    }
+    for (const auto& object : segmentation.objects) response->add_objects()->set_points(PackFloat32Xyz(object));
   });
 }
 

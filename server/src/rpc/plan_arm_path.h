@@ -1,4 +1,4 @@
-// GraspService.PlanArmPath(s): request -> motion::PlanPath / PlanPathToPose -> response (translation only).
+// GraspService.PlanArmPath(s): request -> motion::PlanArmPathInScene (motion/arm_path_request.h) -> response.
 #pragma once
 
 #include <functional>

@@ -34,7 +34,7 @@ class PredictionRun : public std::enable_shared_from_this<PredictionRun> {
       : reactor_(reactor), context_(context), hub_(hub), pool_(pool), begun_(std::chrono::steady_clock::now()) {}
 
   // Validated request; builds the twin on the pool (a Simulation samples surfaces), then starts the action.
-  void Start(std::string device_id, gateway::DeviceLimits limits, gateway::Move move, double timeout, double rate_hz,
+  void Start(std::string device_id, gateway::DeviceLimits limits, gateway::Move move, gateway::PredictionTiming timing,
              std::shared_ptr<const SceneModel> model, SceneState state, std::string gripper_id,
              RecordingLog* recordings, std::string scene_id) {
     recordings_ = recordings;
@@ -42,7 +42,8 @@ class PredictionRun : public std::enable_shared_from_this<PredictionRun> {
     device_id_ = std::move(device_id);
     limits_ = limits;
     move_ = move;
-    min_interval_ = 1.0 / rate_hz;
+    gate_ = gateway::SampleGate(timing.rate_hz);
+    const double timeout = timing.timeout;
     deadline_alarm_.Set(std::chrono::system_clock::now() + std::chrono::duration_cast<std::chrono::system_clock::duration>(
                                                                std::chrono::duration<double>(timeout)),
                         [self = shared_from_this(), timeout](bool fired) {
@@ -142,9 +143,7 @@ class PredictionRun : public std::enable_shared_from_this<PredictionRun> {
       self->busy_ = false;
       if (!self->reactor_ || self->finished_) return;
       try {
-        gateway::PredictionSample sample = self->prediction_->Sample(reading);
-        sample.done = self->prediction_->Finished(reading);
-        self->QueueLocked(sample);
+        self->QueueLocked(self->prediction_->Next(reading));
       } catch (const Error& error) {
         self->FinishLocked(ToStatus(error));
         return;
@@ -154,10 +153,7 @@ class PredictionRun : public std::enable_shared_from_this<PredictionRun> {
   }
 
   void QueueLocked(const gateway::PredictionSample& sample) {
-    // Rate gate on the action's time; the first and the last sample always go.
-    const bool due = sample.done || sample.time == 0 || sample.time >= next_time_;
-    if (!due) return;
-    next_time_ = sample.time + min_interval_;
+    if (!gate_.Due(sample)) return;
     v1::PredictionSample& out = queue_.emplace_back();
     out.set_time(sample.time);
     ToProto(sample.predicted, out.mutable_predicted());
@@ -220,7 +216,7 @@ class PredictionRun : public std::enable_shared_from_this<PredictionRun> {
   std::string device_id_;
   gateway::DeviceLimits limits_;
   gateway::Move move_;
-  double min_interval_ = 0.02, next_time_ = 0;
+  gateway::SampleGate gate_{50};
   grpc::Alarm deadline_alarm_;
   uint64_t subscription_ = 0;
   std::unique_ptr<gateway::SimulatedGripper> twin_;  // until the action starts
@@ -242,7 +238,7 @@ grpc::ServerWriteReactor<v1::PredictionSample>* StartPredictAction(grpc::Callbac
   std::optional<gateway::DeviceInfo> device;
   std::shared_ptr<Scene> scene;
   gateway::Move move;
-  double timeout = 0, rate_hz = 0;
+  gateway::PredictionTiming timing;
   const grpc::Status status = Handle(kMethod, *context, [&] {
     if (request->device_id().empty()) ThrowInvalidArgument("device_id: empty");
     device = hub->Find(request->device_id());
@@ -252,16 +248,13 @@ grpc::ServerWriteReactor<v1::PredictionSample>* StartPredictAction(grpc::Callbac
     if (request->gripper_id().empty()) ThrowInvalidArgument("gripper_id: empty");
     if (!request->has_move()) ThrowInvalidArgument("move: not set (the action's target opening, speed and force)");
     move = MoveFromProto("move", request->move());
-    timeout = request->timeout() == 0 ? 5 : request->timeout();
-    if (!(timeout > 0 && timeout <= 60)) ThrowInvalidArgument("timeout: " + std::to_string(request->timeout()) + " s is outside (0, 60]");
-    rate_hz = request->rate_hz() == 0 ? 50 : request->rate_hz();
-    if (!(rate_hz > 0 && rate_hz <= 1000)) ThrowInvalidArgument("rate_hz: " + std::to_string(request->rate_hz()) + " is outside (0, 1000]");
+    timing = gateway::PredictionTimingFrom(request->timeout(), request->rate_hz());
   });
   if (!status.ok()) return new FailedWriter<v1::PredictionSample>(status);
   auto* reactor = new PredictionReactor(context, hub, pool);
   SceneView view = scene->View();
   if (recordings) recordings->Append(scene->id(), "/graspsim/gateway/action", *request);
-  reactor->run()->Start(device->id, device->limits, move, timeout, rate_hz, std::move(view.model),
+  reactor->run()->Start(device->id, device->limits, move, timing, std::move(view.model),
                         std::move(view.state), request->gripper_id(), recordings, scene->id());
   return reactor;
 }

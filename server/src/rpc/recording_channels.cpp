@@ -1,7 +1,6 @@
 #include "rpc/recording_channels.h"
 
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <set>
 
@@ -15,6 +14,7 @@
 #include "graspsim/v1/tactile.pb.h"
 #include "persistence/state_codec.h"
 #include "rpc/convert.h"
+#include "rpc/packed_arrays.h"
 #include "rpc/sensor_readings.h"
 #include "rpc/watch_scene.h"
 #include "sensors/readings.h"
@@ -199,12 +199,7 @@ void ProtobufChannels::WritePointCloud(const std::string& topic, double time, co
       field->set_offset(4 * i);
       field->set_type(foxglove::PackedElementField::FLOAT32);
     }
-    std::string data(12 * points.size(), '\0');
-    for (size_t p = 0; p < points.size(); ++p) {
-      const float xyz[3] = {float(points[p].x()), float(points[p].y()), float(points[p].z())};
-      std::memcpy(data.data() + 12 * p, xyz, 12);
-    }
-    cloud->set_data(std::move(data));
+    cloud->set_data(PackFloat32Xyz(points));
   });
 }
 
@@ -300,7 +295,7 @@ void ProtobufChannels::Write(const SceneSnapshot& frame, recording::FrameReading
         image->set_height(reading.rows);
         image->set_encoding("mono16");  // little-endian 16-bit, the DSACON32's 12-bit intensities
         image->set_step(2 * reading.cols);
-        image->set_data(reinterpret_cast<const char*>(reading.intensities.data()), 2 * reading.intensities.size());
+        image->set_data(Pack(reading.intensities));
       });
     }
   }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "recording/channel_writer.h"
+#include "recording/recording_session.h"
 #include "world/scene.h"
 
 namespace google::protobuf {
@@ -24,19 +25,19 @@ struct ChannelGroups {
 // "graspsim", "foxglove", "ros2"; none: all. Throws Error(kInvalidArgument) naming `field` and the value.
 ChannelGroups ParseChannelGroups(const std::string& field, const std::vector<std::string>& names);
 
-class ProtobufChannels {
+class ProtobufChannels : public recording::FrameEncoder {
  public:
   ProtobufChannels(recording::ChannelWriter* writer, ChannelGroups groups, std::vector<std::string> force_torque_joints);
-  ~ProtobufChannels();
+  ~ProtobufChannels() override;
   // One frame (carrying its model, state and edits): edits not written yet go first. `readings`: its tactile
   // frames, shared with the other encoders of the frame.
-  void Write(const SceneSnapshot& frame, recording::FrameReadings& readings);
+  void Write(const SceneSnapshot& frame, recording::FrameReadings& readings) override;
   // Any API message on a graspsim channel of its own (graspsim group): a real gripper's action beside its twin.
   void WriteMessage(const std::string& topic, double time, const google::protobuf::Message& message);
   // A point cloud in the world frame as foxglove.PointCloud (foxglove group): float32 x y z, 12 bytes a point.
-  void WritePointCloud(const std::string& topic, double time, const std::vector<Vec3>& points);
+  void WritePointCloud(const std::string& topic, double time, const std::vector<Vec3>& points) override;
   // A line on "/log" (foxglove group).
-  void Log(double time, int level, const std::string& message);
+  void Log(double time, int level, const std::string& message) override;
 
  private:
   struct Channels;

@@ -6,7 +6,8 @@
 #include "persistence/scene_archive.h"
 #include "rpc/call.h"
 #include "rpc/convert.h"
-#include "rpc/scene_replay.h"
+#include "edits/scene_restore.h"
+#include "rpc/scene_edits.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -22,7 +23,7 @@ class ExportWriter : public grpc::ServerWriteReactor<v1::SceneArchiveChunk> {
       const grpc::Status status = Handle("ExportScene", *context, [&] {
         const auto scene = registry->Get(request->scene_id());
         id_ = scene->id();
-        bytes_ = persistence::EncodeSceneArchive(ArchiveOf(*scene));
+        bytes_ = persistence::EncodeSceneArchive(edits::ArchiveOf(*scene));
       });
       if (!status.ok()) return Finish(status);
       Next();
@@ -83,7 +84,7 @@ class ImportReader : public grpc::ServerReadReactor<v1::SceneArchiveChunk> {
   void Complete() {
     const persistence::SceneArchive archive = persistence::DecodeSceneArchive(bytes_, "data");
     bytes_.clear();
-    ToProto(ImportArchive(archive, id_, registry_)->View(), false, response_);
+    ToProto(edits::ImportArchive(archive, id_, registry_, LegacyEditReaderFor(registry_->limits()))->View(), false, response_);
   }
 
   grpc::CallbackServerContext* const context_;

@@ -1,5 +1,5 @@
 // SceneService.ExportScene and ImportScene: a scene's archive (persistence/scene_archive.h) streamed out in
-// chunks, and a scene rebuilt from the chunks streamed in (scene_replay.h: ArchiveOf, ImportArchive).
+// chunks, and a scene rebuilt from the chunks streamed in (edits/scene_restore.h: ArchiveOf, ImportArchive).
 #pragma once
 
 #include <grpcpp/grpcpp.h>

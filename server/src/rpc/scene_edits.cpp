@@ -2,121 +2,126 @@
 
 #include "core/error.h"
 #include "core/validate.h"
-#include "import/robot_import.h"
-#include "physics/simulation.h"
+#include "edits/scene_edits.h"
 #include "rpc/convert.h"
 
 namespace graspsim::rpc {
 namespace {
 
-// Built-in models carry no mesh files.
-const std::string* NoFile(const std::string&) { return nullptr; }
-
-FileLookup LookupIn(const std::map<std::string, StoredFile>& files) {
-  return [&files](const std::string& path) -> const std::string* {
-    auto it = files.find(path);
-    return it == files.end() ? nullptr : it->second.bytes.get();
-  };
+// Sizes, scale and the mesh are checked by the edit API (edits::ShapeGeometry), where stored records are too.
+edits::ShapeSpec ShapeFromProto(const std::string& field, const v1::Geometry& geometry, const Limits& limits) {
+  edits::ShapeSpec shape;
+  shape.origin = PoseFromProto(field + ".origin", geometry.origin());
+  if (geometry.has_scale()) shape.scale = FromProto(geometry.scale());
+  switch (geometry.shape_case()) {
+    case v1::Geometry::kBox:
+      shape.kind = Geometry::Kind::kBox;
+      shape.box_size = FromProto(geometry.box().size());
+      break;
+    case v1::Geometry::kSphere:
+      shape.kind = Geometry::Kind::kSphere;
+      shape.radius = geometry.sphere().radius();
+      break;
+    case v1::Geometry::kCylinder:
+      shape.kind = Geometry::Kind::kCylinder;
+      shape.radius = geometry.cylinder().radius();
+      shape.length = geometry.cylinder().length();
+      break;
+    case v1::Geometry::kMesh:
+      shape.kind = Geometry::Kind::kMesh;
+      shape.mesh = std::make_shared<const TriangleMesh>(UnpackMesh(field + ".mesh", geometry.mesh(), limits));
+      break;
+    case v1::Geometry::kMeshFile:
+      shape.kind = Geometry::Kind::kMesh;
+      shape.mesh_file = geometry.mesh_file();
+      break;
+    case v1::Geometry::SHAPE_NOT_SET:
+      ThrowInvalidArgument(field + ": no shape given (box, sphere, cylinder, mesh or mesh_file)");
+  }
+  return shape;
 }
 
-const BuiltinModelInfo& FindBuiltin(const std::string& name, const std::string& kind) {
-  for (const auto& info : BuiltinModels()) {
-    if (info.name != name) continue;
-    if (info.kind != kind) {
-      ThrowInvalidArgument("builtin: '" + name + "' is a " + info.kind + " model; add it with " +
-                           (info.kind == "robot" ? "AddRobot" : "AddObject"));
-    }
-    return info;
+edits::MaterialSpec MaterialFromProto(const v1::Material& m) {
+  edits::MaterialSpec spec;
+  if (m.has_static_friction()) spec.static_friction = m.static_friction();
+  if (m.has_dynamic_friction()) spec.dynamic_friction = m.dynamic_friction();
+  spec.contact_stiffness = m.contact_stiffness();
+  spec.contact_damping = m.contact_damping();
+  spec.bristle_stiffness = m.bristle_stiffness();
+  spec.bristle_damping = m.bristle_damping();
+  spec.viscous_friction = m.viscous_friction();
+  spec.stribeck_velocity = m.stribeck_velocity();
+  return spec;
+}
+
+edits::AddObjectEdit AddObjectEditFromProto(const v1::AddObjectRequest& request, const Limits& limits) {
+  edits::AddObjectEdit edit;
+  edit.name = request.name();
+  edit.pose = PoseFromProto("pose", request.pose());
+  edit.is_static = request.is_static();
+  edit.import_options = ImportOptionsFromProto("import_options", request.import_options());
+  switch (request.source_case()) {
+    case v1::AddObjectRequest::kGeometry:
+      edit.shape = ShapeFromProto("geometry", request.geometry(), limits);
+      break;
+    case v1::AddObjectRequest::kBuiltin:
+      edit.builtin = request.builtin();
+      break;
+    case v1::AddObjectRequest::SOURCE_NOT_SET:
+      break;  // refused by the edit API, naming `source`
   }
-  BuiltinModelUrdf(name);  // throws kNotFound listing the known models
-  ThrowNotFound("builtin: '" + name + "' is not known");
+  if (request.has_inertial()) edit.inertial = InertialFromProto("inertial", request.inertial());
+  if (request.has_material()) edit.material = MaterialFromProto(request.material());
+  return edit;
+}
+
+edits::AddRobotEdit AddRobotEditFromProto(const v1::AddRobotRequest& request) {
+  edits::AddRobotEdit edit;
+  edit.name = request.name();
+  edit.base_pose = PoseFromProto("base_pose", request.base_pose());
+  edit.import_options = ImportOptionsFromProto("import_options", request.import_options());
+  for (int i = 0; i < request.files_size(); ++i) {
+    const auto& file = request.files(i);
+    CheckRelativePath("files[" + std::to_string(i) + "].path", file.path());
+    edit.files[file.path()] = std::make_shared<const std::string>(file.data());
+  }
+  switch (request.source_case()) {
+    case v1::AddRobotRequest::kUrdf: edit.format = edits::RobotFormat::kUrdf; edit.source = request.urdf(); break;
+    case v1::AddRobotRequest::kMjcf: edit.format = edits::RobotFormat::kMjcf; edit.source = request.mjcf(); break;
+    case v1::AddRobotRequest::kSdf: edit.format = edits::RobotFormat::kSdf; edit.source = request.sdf(); break;
+    case v1::AddRobotRequest::kBuiltin:
+      edit.format = edits::RobotFormat::kBuiltin;
+      edit.source = request.builtin();
+      break;
+    case v1::AddRobotRequest::SOURCE_NOT_SET:
+      ThrowInvalidArgument("source: give urdf, mjcf, sdf or builtin");
+  }
+  return edit;
+}
+
+edits::SetSimulationParamsEdit SimulationParamsEditFromProto(const v1::SetSimulationParamsRequest& request) {
+  return {SimulationParamsFromProto("params", request.params(), SimulationParams())};
 }
 
 template <typename Request>
-SceneOp OpOf(const char* kind, const Request& request) {
-  SceneOp op;
-  op.kind = kind;
-  request.SerializeToString(&op.payload);
-  return op;
+Request Parse(const SceneOp& op) {
+  Request request;
+  if (!request.ParseFromString(op.payload)) throw Error(ErrorCode::kInternal, "the stored request does not parse");
+  return request;
 }
 
 }  // namespace
 
 void AddObjectFromRequest(Scene* scene, const v1::AddObjectRequest& request, const Limits& limits,
                           v1::Body* response) {
-  CheckName("name", request.name());
-  const Pose pose = PoseFromProto("pose", request.pose());
-  const ImportOptions options = ImportOptionsFromProto("import_options", request.import_options());
-  BodySpec body;
-  body.id = request.name();
-  body.motion = request.is_static() ? BodyMotion::kStatic : BodyMotion::kFree;
-  std::vector<ImportWarning> warnings;
-  switch (request.source_case()) {
-    case v1::AddObjectRequest::kGeometry: {
-      const auto files = scene->Files();  // meshes are parsed outside the scene's lock
-      body.collision.push_back(GeometryFromProto("geometry", request.geometry(), LookupIn(files), limits));
-      // A static body never moves: it needs no mass.
-      if (!request.has_inertial() && !request.is_static()) {
-        body.inertial = ObjectInertialFromGeometry("inertial", body.collision, options, &warnings);
-      }
-      break;
-    }
-    case v1::AddObjectRequest::kBuiltin: {
-      const BuiltinModelInfo& info = FindBuiltin(request.builtin(), "object");
-      RobotDescription model = LoadUrdf(BuiltinModelUrdf(info.name), NoFile, limits);
-      body.collision = std::move(model.links.front().collision);
-      body.inertial = model.links.front().inertial;
-      if (info.is_static) body.motion = BodyMotion::kStatic;
-      break;
-    }
-    case v1::AddObjectRequest::SOURCE_NOT_SET:
-      ThrowInvalidArgument("source: give geometry or builtin");
-  }
-  if (request.has_inertial()) body.inertial = InertialFromProto("inertial", request.inertial());
-  if (request.has_material()) body.material = MaterialFromProto("material", request.material(), body.material);
-  const SceneOp op = OpOf("AddObject", request);
-  const BodySpec added = scene->AddObject(std::move(body), pose, &op);
-  if (!response) return;
-  ToProto(added, pose, false, response);
-  for (const ImportWarning& warning : warnings) ToProto(warning, response->add_warnings());
+  const edits::AddedObject added = edits::AddObject(scene, AddObjectEditFromProto(request, limits), limits);
+  ToProto(added.body, added.pose, false, response);
+  for (const ImportWarning& warning : added.warnings) ToProto(warning, response->add_warnings());
 }
 
 void AddRobotFromRequest(Scene* scene, const v1::AddRobotRequest& request, const Limits& limits,
                          v1::AddRobotResponse* response) {
-  CheckName("name", request.name());
-  const Pose base_pose = PoseFromProto("base_pose", request.base_pose());
-  const ImportOptions options = ImportOptionsFromProto("import_options", request.import_options());
-  auto files = scene->Files();
-  for (int i = 0; i < request.files_size(); ++i) {
-    const auto& file = request.files(i);
-    CheckRelativePath("files[" + std::to_string(i) + "].path", file.path());
-    files[file.path()] = {std::make_shared<const std::string>(file.data()), ""};
-  }
-  std::string source;
-  ImportedRobot imported;
-  switch (request.source_case()) {
-    case v1::AddRobotRequest::kUrdf:
-      source = "urdf";
-      imported = ImportUrdf(request.urdf(), LookupIn(files), options, limits);
-      break;
-    case v1::AddRobotRequest::kMjcf:
-      source = "mjcf";
-      imported = ImportMjcf(request.mjcf(), LookupIn(files), options, limits);
-      break;
-    case v1::AddRobotRequest::kSdf:
-      source = "sdf";
-      imported = ImportSdf(request.sdf(), LookupIn(files), options, limits);
-      break;
-    case v1::AddRobotRequest::kBuiltin:
-      source = "builtin:" + FindBuiltin(request.builtin(), "robot").name;
-      imported.description = LoadUrdf(BuiltinModelUrdf(request.builtin()), LookupIn(files), limits);
-      break;
-    case v1::AddRobotRequest::SOURCE_NOT_SET:
-      ThrowInvalidArgument("source: give urdf, mjcf, sdf or builtin");
-  }
-  const SceneOp op = OpOf("AddRobot", request);
-  const AddedRobot added = scene->AddRobot(request.name(), source, imported.description, base_pose, &op);
-  if (!response) return;
+  const auto [added, warnings] = edits::AddRobot(scene, AddRobotEditFromProto(request), limits);
   // Report the placed links as the scene holds them now.
   const SceneView view = scene->View();
   ToProto(added.robot, response->mutable_robot());
@@ -127,22 +132,30 @@ void AddRobotFromRequest(Scene* scene, const v1::AddRobotRequest& request, const
     ToProto(joint, view.state.joint_positions[view.model->joint_index.at(joint.id)], response->add_joints());
   }
   for (const auto& pad : added.tactile_arrays) ToProto(pad, response->add_tactile_arrays());
-  for (const ImportWarning& warning : imported.warnings) ToProto(warning, response->add_warnings());
+  for (const ImportWarning& warning : warnings) ToProto(warning, response->add_warnings());
 }
 
 std::vector<std::string> RemoveBodyFromRequest(Scene* scene, const v1::RemoveBodyRequest& request) {
-  const SceneOp op = OpOf("RemoveBody", request);
-  return scene->Remove(request.id(), &op);
+  return edits::RemoveBody(scene, {request.id()});
 }
 
 void SetSimulationParamsFromRequest(Scene* scene, const v1::SetSimulationParamsRequest& request,
                                     v1::SimulationParams* response) {
-  const SimulationParams params = SimulationParamsFromProto("params", request.params(), SimulationParams());
-  ValidateSimulationParams(params);
-  CheckEngineSupports(*scene->View().model, params.engine);  // the engine must simulate what the scene holds
-  const SceneOp op = OpOf("SetSimulationParams", request);
-  scene->SetSimulationParams(params, &op);
-  if (response) ToProto(params, response);
+  const edits::SetSimulationParamsEdit edit = SimulationParamsEditFromProto(request);
+  edits::SetSimulationParams(scene, edit);
+  ToProto(edit.params, response);
+}
+
+edits::Edit LegacyEdit(const SceneOp& op, const Limits& limits) {
+  if (op.kind == "AddObject") return AddObjectEditFromProto(Parse<v1::AddObjectRequest>(op), limits);
+  if (op.kind == "AddRobot") return AddRobotEditFromProto(Parse<v1::AddRobotRequest>(op));
+  if (op.kind == "RemoveBody") return edits::RemoveBodyEdit{Parse<v1::RemoveBodyRequest>(op).id()};
+  if (op.kind == "SetSimulationParams") return SimulationParamsEditFromProto(Parse<v1::SetSimulationParamsRequest>(op));
+  throw Error(ErrorCode::kInternal, "unknown edit kind '" + op.kind + "'");
+}
+
+edits::LegacyEditReader LegacyEditReaderFor(const Limits& limits) {
+  return [limits](const SceneOp& op) { return LegacyEdit(op, limits); };
 }
 
 }  // namespace graspsim::rpc

@@ -1,63 +1,15 @@
 #include "rpc/sensor_readings.h"
 
-#include <algorithm>
-#include <bit>
-#include <cstring>
-#include <vector>
-
-#include "core/error.h"
 #include "rpc/convert.h"
-#include "sensors/readings.h"
+#include "rpc/packed_arrays.h"
 
 namespace graspsim::rpc {
-namespace {
-
-static_assert(std::endian::native == std::endian::little, "graspsim's packed arrays assume a little-endian host");
-
-constexpr char kGripperSuffix[] = "/gripper";
-constexpr size_t kListedSensors = 10;  // an error lists this many available sensors, then a count
-
-bool HasPrismaticJoint(const SceneModel& model, const RobotSpec& robot) {
-  return std::any_of(robot.joint_ids.begin(), robot.joint_ids.end(), [&](const std::string& id) {
-    return model.joints[model.joint_index.at(id)].type == JointType::kPrismatic;
-  });
-}
-
-std::string Shortened(const std::string& id) { return id.size() > 80 ? id.substr(0, 80) + "..." : id; }
-
-std::string AvailableSensors(const SceneModel& model) {
-  std::vector<std::string> ids;
-  for (const TactileArraySpec& pad : model.tactile_arrays) ids.push_back(pad.id);
-  for (const RobotSpec& robot : model.robots) {
-    if (HasPrismaticJoint(model, robot)) ids.push_back(robot.id + kGripperSuffix);
-  }
-  std::sort(ids.begin(), ids.end());
-  // Then the force/torque sensors: every joint of a robot (ids are in robot order).
-  for (const JointSpec& joint : model.joints) ids.push_back(joint.id);
-  if (ids.empty()) return "the scene has no sensors (tactile arrays, grippers and joints come with robots)";
-  std::string list;
-  for (size_t i = 0; i < std::min(ids.size(), kListedSensors); ++i) list += (i ? ", " : "") + ids[i];
-  if (ids.size() > kListedSensors) list += " and " + std::to_string(ids.size() - kListedSensors) + " more";
-  return "available: " + list;
-}
-
-template <typename T>
-std::string Packed(const std::vector<T>& values) {
-  std::string bytes(values.size() * sizeof(T), '\0');
-  if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
-  return bytes;
-}
-
-}  // namespace
 
 void ToProto(const TactileFrame& frame, v1::TactileReading* out) {
   out->set_rows(frame.rows);
   out->set_cols(frame.cols);
-  out->set_intensities(Packed(frame.intensities));
-  std::vector<float> forces;
-  forces.reserve(frame.forces.size() * 3);
-  for (const Vec3& f : frame.forces) forces.insert(forces.end(), {float(f.x()), float(f.y()), float(f.z())});
-  out->set_forces(Packed(forces));
+  out->set_intensities(Pack(frame.intensities));
+  out->set_forces(PackFloat32Xyz(frame.forces));
   out->set_intensity_sum(frame.intensity_sum);
   ToProto(frame.force_sum, out->mutable_force_sum());
 }
@@ -73,44 +25,16 @@ void ToProto(const ForceTorqueReading& reading, v1::ForceTorqueReading* out) {
   ToProto(reading.torque, out->mutable_torque());
 }
 
-SensorRef FindSensor(const SceneView& view, const std::string& field, const std::string& id) {
-  const SceneModel& model = *view.model;
-  if (id.empty()) ThrowInvalidArgument(field + ": empty; name a sensor (" + AvailableSensors(model) + ")");
-  if (const auto pad = model.tactile_index.find(id); pad != model.tactile_index.end()) {
-    return {SensorRef::Kind::kTactile, pad->second};
+void ToProto(const SensorReading& reading, v1::SensorReading* out) {
+  out->set_sensor_id(reading.sensor_id);
+  out->set_time(reading.time);
+  if (const auto* frame = std::get_if<TactileFrame>(&reading.value)) {
+    ToProto(*frame, out->mutable_tactile());
+  } else if (const auto* gripper = std::get_if<GripperReading>(&reading.value)) {
+    ToProto(*gripper, out->mutable_gripper());
+  } else if (const auto* force_torque = std::get_if<ForceTorqueReading>(&reading.value)) {
+    ToProto(*force_torque, out->mutable_force_torque());
   }
-  if (id.size() > std::strlen(kGripperSuffix) && id.ends_with(kGripperSuffix)) {
-    const std::string robot_id = id.substr(0, id.size() - std::strlen(kGripperSuffix));
-    if (const auto robot = model.robot_index.find(robot_id); robot != model.robot_index.end()) {
-      if (!HasPrismaticJoint(model, model.robots[robot->second])) {
-        ThrowNotFound(field + ": no sensor '" + Shortened(id) + "' in scene '" + view.id + "': robot '" + robot_id +
-                      "' has no prismatic joints, so no gripper state; " + AvailableSensors(model));
-      }
-      return {SensorRef::Kind::kGripper, robot->second};
-    }
-  }
-  if (const auto joint = model.joint_index.find(id); joint != model.joint_index.end()) {
-    return {SensorRef::Kind::kForceTorque, joint->second};
-  }
-  ThrowNotFound(field + ": no sensor '" + Shortened(id) + "' in scene '" + view.id + "'; " + AvailableSensors(model));
-}
-
-void ReadSensor(const SceneView& view, const SensorRef& sensor, const std::string& id, v1::SensorReading* out) {
-  const SceneModel& model = *view.model;
-  out->set_sensor_id(id);
-  out->set_time(view.state.time);
-  switch (sensor.kind) {
-    case SensorRef::Kind::kTactile:
-      ToProto(ReadTactileArray(model, view.state, sensor.index), out->mutable_tactile());
-      return;
-    case SensorRef::Kind::kGripper:
-      ToProto(ReadGripper(model, view.state, model.robots[sensor.index]), out->mutable_gripper());
-      return;
-    case SensorRef::Kind::kForceTorque:
-      ToProto(ReadForceTorque(model, view.state, sensor.index), out->mutable_force_torque());
-      return;
-  }
-  throw Error(ErrorCode::kInternal, "sensor '" + id + "': unknown sensor kind");
 }
 
 }  // namespace graspsim::rpc

@@ -4,6 +4,7 @@
 #include "rpc/run_reactor.h"
 #include "rpc/sensor_readings.h"
 #include "rpc/snapshot_stream.h"
+#include "sensors/sensor_registry.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -54,7 +55,7 @@ void SensorStream::Read(uint64_t last_revision, bool first) {
       batch.resize(ids_.size());
       for (size_t i = 0; i < ids_.size(); ++i) {
         const std::string field = "sensor_ids[" + std::to_string(i) + "]";
-        ReadSensor(view, FindSensor(view, field, ids_[i]), ids_[i], &batch[i]);
+        ToProto(ReadSensor(view, FindSensor(view, field, ids_[i]), ids_[i]), &batch[i]);
       }
     }
   } catch (const Error& error) {

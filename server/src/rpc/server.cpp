@@ -9,12 +9,13 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/log.h"
+#include "edits/scene_restore.h"
 #include "rpc/auth_service.h"
 #include "rpc/gateway_service.h"
 #include "rpc/grasp_service.h"
 #include "rpc/perception_service.h"
+#include "rpc/scene_edits.h"
 #include "rpc/foxglove_live.h"
-#include "rpc/scene_replay.h"
 #include "rpc/scene_service.h"
 #include "rpc/tactile_service.h"
 
@@ -75,7 +76,8 @@ GraspsimServer::GraspsimServer(const ServerOptions& options)
     // Before any service exists: a store that cannot be opened or replayed stops the start, naming the file.
     const auto start = std::chrono::steady_clock::now();
     scene_store_ = std::make_unique<persistence::SceneStore>(options.data_dir);
-    const size_t restored = RestoreScenes(scene_store_.get(), &registry_);
+    const size_t restored =
+        edits::RestoreScenes(scene_store_.get(), &registry_, LegacyEditReaderFor(registry_.limits()));
     Log(LogLevel::kInfo, "scenes restored",
         {{"path", scene_store_->path()}, {"scenes", std::to_string(restored)},
          {"ms", FormatNumber(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count())}});

@@ -11,7 +11,9 @@
 #include "rpc/sensor_readings.h"
 #include "rpc/sensor_stream.h"
 #include "rpc/work_cycle_stream.h"
-#include "sensors/readings.h"
+#include "sensors/sensor_registry.h"
+#include "tactile/heat_map.h"
+#include "tactile/tactile_frame.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -26,7 +28,7 @@ grpc::ServerUnaryReactor* TactileServiceImpl::Sample(Context* context, const v1:
   return RunUnary(context, "TactileService/Sample", pool_, [=, this] {
     const SceneView view = registry_->Get(request->scene_id())->View();
     const SensorRef sensor = FindSensor(view, "sensor_id", request->sensor_id());
-    ReadSensor(view, sensor, request->sensor_id(), response);
+    ToProto(ReadSensor(view, sensor, request->sensor_id()), response);
   });
 }
 

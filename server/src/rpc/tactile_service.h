@@ -1,4 +1,4 @@
-// graspsim.v1.TactileService: sensor readings of a scene's state (sensors/readings.h) as messages, and the grasp
+// graspsim.v1.TactileService: sensor readings of a scene's state (sensors/sensor_registry.h) as messages, and the grasp
 // work cycle (workcycle/work_cycle.h). Bodies run on the worker pool; Stream is a reactor per reader
 // (sensor_stream.h), RunWorkCycle one per run (work_cycle_stream.h).
 #pragma once

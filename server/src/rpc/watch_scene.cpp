@@ -1,6 +1,7 @@
 #include "rpc/watch_scene.h"
 
 #include "rpc/failed_call.h"
+#include "rpc/packed_arrays.h"
 #include "rpc/run_reactor.h"
 #include "rpc/snapshot_stream.h"
 
@@ -30,11 +31,11 @@ void ToProto(const SceneSnapshot& snapshot, v1::SceneSnapshot* out) {
   out->set_revision(snapshot.revision);
   out->set_time(snapshot.time);
   for (const auto& id : *snapshot.body_ids) out->add_body_ids(id);
-  out->set_body_poses(snapshot.body_poses.data(), snapshot.body_poses.size() * sizeof(double));
+  out->set_body_poses(Pack(snapshot.body_poses));
   for (const auto& id : *snapshot.joint_ids) out->add_joint_ids(id);
-  out->set_joint_positions(snapshot.joint_positions.data(), snapshot.joint_positions.size() * sizeof(double));
-  out->set_contacts(snapshot.contacts.data(), snapshot.contacts.size() * sizeof(double));
-  out->set_contact_bodies(snapshot.contact_bodies.data(), snapshot.contact_bodies.size() * sizeof(uint32_t));
+  out->set_joint_positions(Pack(snapshot.joint_positions));
+  out->set_contacts(Pack(snapshot.contacts));
+  out->set_contact_bodies(Pack(snapshot.contact_bodies));
 }
 
 grpc::ServerWriteReactor<v1::SceneSnapshot>* StartWatch(std::shared_ptr<Scene> scene,

@@ -1,8 +1,6 @@
 #include "rpc/work_cycle_stream.h"
 
-#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <deque>
 #include <mutex>
 #include <optional>
@@ -11,6 +9,7 @@
 #include "rpc/convert.h"
 #include "rpc/run_reactor.h"
 #include "rpc/sensor_readings.h"
+#include "workcycle/scene_work_cycle.h"
 
 namespace graspsim::rpc {
 namespace {
@@ -19,17 +18,6 @@ constexpr char kMethod[] = "TactileService/RunWorkCycle";
 // Frames simulated ahead of the writer before the simulation pauses: 64 frames are ~150 kB, and a chunk adds
 // at most one frame per step (17 at 1 ms steps and 1 kHz frames).
 constexpr size_t kMaxBuffered = kMaxFramesPerMessage;
-// Wall time one scene update may run chunks for: viewers still get a commit every few milliseconds.
-constexpr auto kChunkWallTime = std::chrono::milliseconds(4);
-// How much wall time of a long cycle a crash may lose at most.
-constexpr auto kCheckpointInterval = std::chrono::seconds(1);
-
-// As StepSimulation: the cycle advances in chunks of 1/60 s of simulated time, and the scene's writers' lock is
-// released and the state committed between updates (at least every kChunkWallTime), so viewers (WatchScene) see the cycle
-// and other requests are served.
-uint64_t StepsPerChunk(const SimulationParams& params) {
-  return std::max<uint64_t>(1, static_cast<uint64_t>(std::lround((1.0 / 60) / params.time_step)));
-}
 
 void FrameToProto(const WorkCycle& cycle, const WorkCycleFrame& frame, v1::WorkCycleProgress* out) {
   out->set_stage(StageName(frame.stage));
@@ -57,9 +45,8 @@ class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this
  public:
   WorkCycleRun(grpc::ServerWriteReactor<v1::WorkCycleProgress>* reactor, grpc::CallbackServerContext* context, std::shared_ptr<Scene> scene,
                WorkCycleRequest request, size_t frames_per_message, SimulationCache* simulations, WorkerPool* pool)
-      : reactor_(reactor), context_(context), scene_(std::move(scene)), request_(std::move(request)),
-        frames_per_message_(frames_per_message), simulations_(simulations), pool_(pool),
-        start_(std::chrono::steady_clock::now()) {}
+      : reactor_(reactor), context_(context), scene_(std::move(scene)), run_(scene_, std::move(request), simulations),
+        frames_per_message_(frames_per_message), pool_(pool), start_(std::chrono::steady_clock::now()) {}
 
   void Start() {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -107,13 +94,10 @@ class WorkCycleRun : public SnapshotWatcher, public std::enable_shared_from_this
   grpc::ServerWriteReactor<v1::WorkCycleProgress>* reactor_;
   grpc::CallbackServerContext* const context_;  // valid while reactor_ is set
   const std::shared_ptr<Scene> scene_;
-  const WorkCycleRequest request_;
+  SceneWorkCycle run_;  // only the one pool job in flight touches it
   const size_t frames_per_message_;
-  SimulationCache* const simulations_;
   WorkerPool* const pool_;
   const std::chrono::steady_clock::time_point start_;
-  std::chrono::steady_clock::time_point last_checkpoint_ = start_;  // pool jobs run one at a time
-  std::unique_ptr<WorkCycle> cycle_;  // only the one pool job in flight touches it
   std::deque<v1::WorkCycleProgress> pending_;
   v1::WorkCycleProgress message_;     // the frame being written; untouched until its write completes
   bool writing_ = false, simulating_ = false, finished_ = false;
@@ -159,38 +143,8 @@ void WorkCycleRun::Simulate() {
   grpc::Status status;
   bool done = false;
   try {
-    if (!cycle_) {  // the request against the scene as it is now; errors end the stream before any frame
-      const SceneView view = scene_->View();
-      cycle_ = std::make_unique<WorkCycle>(view.model, view.state, request_);
-    }
-    std::optional<Error> failure;
-    scene_->Update([&](const std::shared_ptr<const SceneModel>& model, SceneState* state) {
-      try {
-        // 1/60 s chunks of simulated time while they take less than kChunkWallTime together (a fast cycle at
-        // 100 × real time would otherwise commit and hop threads 6000 times a second) and the frames fit half
-        // the buffer. The frames do not depend on the chunking.
-        // Held, not borrowed: a DeleteScene meanwhile drops the cache's entry (a cancelled cycle's scene deleted at
-        // once freed the engine under this loop: a crash).
-        const std::shared_ptr<PhysicsEngine> simulation = simulations_->For(scene_->id(), model);
-        const auto until = std::chrono::steady_clock::now() + kChunkWallTime;
-        for (;;) {
-          cycle_->Advance(simulation.get(), state, StepsPerChunk(model->simulation), &frames);
-          if (cycle_->done() || frames.size() >= kMaxBuffered / 2 || std::chrono::steady_clock::now() >= until) break;
-          scene_->PublishDuringUpdate(*state);  // a recording gets every chunk, not only the committed ones
-        }
-      } catch (const Error& error) {
-        failure = error;  // commit the steps done before it: the scene then matches the frames sent
-      }
-    }, /*journal=*/false);
-    done = cycle_->done();
-    // The state is stored at the end of the cycle (before its last frame is sent), when it fails, and every
-    // kCheckpointInterval of a long cycle, not per chunk (docs/durability.md).
-    const auto now = std::chrono::steady_clock::now();
-    if (done || failure || now - last_checkpoint_ > kCheckpointInterval) {
-      scene_->Checkpoint();
-      last_checkpoint_ = now;
-    }
-    if (failure) throw *failure;
+    run_.Advance(&frames, kMaxBuffered / 2);
+    done = run_.done();
   } catch (const Error& error) {
     status = ToStatus(error);
   } catch (const std::bad_alloc&) {
@@ -199,7 +153,7 @@ void WorkCycleRun::Simulate() {
     status = grpc::Status(grpc::StatusCode::INTERNAL, std::string(kMethod) + ": " + error.what());
   }
   std::vector<v1::WorkCycleProgress> messages(frames.size());
-  for (size_t i = 0; i < frames.size(); ++i) FrameToProto(*cycle_, frames[i], &messages[i]);
+  for (size_t i = 0; i < frames.size(); ++i) FrameToProto(*run_.cycle(), frames[i], &messages[i]);
 
   std::lock_guard<std::mutex> lock(mutex_);
   simulating_ = false;

@@ -1,5 +1,5 @@
-// TactileService.RunWorkCycle as a callback-API server stream: the work cycle (workcycle/work_cycle.h) runs on
-// the worker pool in chunks under the scene's writers' lock, and its frames are written in order, every one of them.
+// TactileService.RunWorkCycle as a callback-API server stream: the work cycle runs on the worker pool in chunks
+// under the scene's writers' lock (workcycle/scene_work_cycle.h), and its frames are written in order, every one.
 //
 // Flow control, not newest-wins: every frame is a sample of the run's time series, so none may be dropped.
 // The simulation runs ahead of the writer by at most a small buffer of frames; when the buffer is full the

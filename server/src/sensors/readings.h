@@ -1,32 +1,15 @@
-// Sensor readings as the real devices deliver them (PAPERS.md part B): a tactile pad's frame in the structure of
-// the Weiss DSACON32 controller, and the PG70's gripper state. Computed from a scene's model and state after a
-// simulation step; the physics fills SceneState::pad_forces (per sensing element, world frame) and
-// SceneState::joint_wrenches (per joint, child frame).
+// Sensor readings as the real devices deliver them (PAPERS.md part B), other than the tactile pads'
+// (tactile/tactile_frame.h): the PG70's gripper state and 6-axis force/torque on a joint. Computed from a scene's
+// model and state after a simulation step; the physics fills SceneState::joint_wrenches (per joint, child frame).
 #pragma once
 
-#include <cstdint>
-#include <string>
-#include <vector>
+#include <cstddef>
 
 #include "core/math.h"
 #include "world/model.h"
 #include "world/state.h"
 
 namespace graspsim {
-
-// One DSACON32-style frame: rows × cols texels, row-major (row along pad y, col along pad x).
-struct TactileFrame {
-  unsigned rows = 0, cols = 0;
-  std::vector<uint16_t> intensities;  // 0..max_intensity: round(intensity_per_newton · texel normal force), saturated
-  std::vector<Vec3> forces;           // per texel: the force the object exerts on the pad, pad frame, N
-  uint64_t intensity_sum = 0;
-  Vec3 force_sum = Vec3::Zero();      // pad frame, N
-};
-
-// The frame of tactile array `pad` (index into model.tactile_arrays) in `state`. The pad's +z points out of the
-// foam toward what it touches, so an object pressing on the pad pushes it along −z: the texel's normal force is
-// max(0, −z) of its force (a force along +z would pull the foam off and reads 0).
-TactileFrame ReadTactileArray(const SceneModel& model, const SceneState& state, size_t pad);
 
 // The Schunk PG70's own sensor: jaw opening, motor current, finger speed.
 struct GripperReading {
@@ -47,8 +30,5 @@ struct ForceTorqueReading {
   Vec3 torque = Vec3::Zero();  // N m, child frame, about its origin
 };
 ForceTorqueReading ReadForceTorque(const SceneModel& model, const SceneState& state, size_t joint);
-
-// A tactile frame as a PNG heat map (OpenCV colormap), `scale` pixels per texel.
-std::string TactileImagePng(const TactileFrame& frame, unsigned max_intensity, unsigned scale);
 
 }  // namespace graspsim

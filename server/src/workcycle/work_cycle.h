@@ -28,6 +28,7 @@
 
 #include "physics/simulation.h"
 #include "sensors/readings.h"
+#include "tactile/tactile_frame.h"
 #include "world/model.h"
 #include "world/state.h"
 

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "collision/tactile_rays.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "physics/builtin_drives.h"
+#include "tactile/pad_elements.h"
 #include "workcycle/work_cycle.h"
 
 namespace graspsim {

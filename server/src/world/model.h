@@ -84,7 +84,7 @@ struct JointSpec {
 // at z = 0 (the mounting surface), flat or bent into a curved fingertip (bend_radius). Sensing elements sit at
 // the mesh's vertices (the cell centres) or at the centres of its triangles (a grid whose vertices are the cell
 // corners, two triangles per cell); each casts a segment of length `thickness` along its normal and belongs to
-// the texel of its cell (collision/tactile_rays.h). Contact parameters are per texel: a pad with several
+// the texel of its cell (tactile/pad_elements.h). Contact parameters are per texel: a pad with several
 // elements per texel shares them out (ElementsPerTexel), so the pad as a whole keeps them.
 enum class PadElementPlacement { kVertices, kFaceCentres };
 

@@ -13,11 +13,11 @@
 namespace graspsim {
 
 // An edit of the model, as the layer that accepted it describes it. `payload` is opaque to the world library:
-// the RPC layer stores the request message it received and replays it through the same code on start
-// (rpc/scene_replay.h), so a restored scene is built exactly like the original.
+// the typed edit API stores its edit record (edits/edit_codec.h) and replays it through the same code on start
+// (edits/scene_restore.h), so a restored scene is built exactly like the original.
 struct SceneOp {
   std::string kind;     // "AddObject", "AddRobot", "RemoveBody", "SetSimulationParams", "UploadFile"
-  std::string payload;  // the serialized request (empty for UploadFile)
+  std::string payload;  // the edit record (empty for UploadFile)
   // UploadFile only: the file's path, SHA-256 (hex) and bytes (shared with the scene, not copied).
   std::string path, sha256;
   std::shared_ptr<const std::string> file;

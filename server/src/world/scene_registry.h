@@ -35,7 +35,7 @@ class SceneRegistry {
   std::vector<std::shared_ptr<Scene>> List() const;
   void Delete(const std::string& id);
 
-  // Start-up replay (rpc/scene_replay.h): a scene under its stored id and name, not journaled; later ids
+  // Start-up replay (edits/scene_restore.h): a scene under its stored id and name, not journaled; later ids
   // start at `next_id` (ids are never reused, even of deleted scenes).
   std::shared_ptr<Scene> Restore(const std::string& id, const std::string& name);
   void SetNextId(uint64_t next_id);

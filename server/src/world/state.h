@@ -40,7 +40,7 @@ struct SceneState {
   // ended (physics/simulation_contacts.cpp).
   std::vector<std::pair<ContactKey, Vec3>> bristles;
   std::map<size_t, JointActuator> actuators;  // by joint index: driven joints
-  // Per tactile array, per sensing element (collision/tactile_rays.h order): the force the touching object
+  // Per tactile array, per sensing element (tactile/pad_elements.h order): the force the touching object
   // exerts on the pad, N, world frame; all zero when nothing touches. Sized by the simulation.
   std::vector<std::vector<Vec3>> pad_forces;
   // Per joint: the wrench the joint transmits from its parent side to its child side in the last sub-step (what

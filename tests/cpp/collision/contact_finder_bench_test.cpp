@@ -68,9 +68,8 @@ TEST(ContactBench, DISABLED_MeshPointTests) {
   // A 10 000-triangle closed sphere mesh; query points uniform in its bounding box (about half inside).
   const double r = 0.05;
   const auto mesh = SphereMesh(r, 100, 51);
-  collision::EmbreeDevice device;
   const auto build_start = Clock::now();
-  const collision::MeshBvh bvh(device.get(), mesh);
+  const collision::MeshBvh bvh(mesh);
   const double build = Seconds(build_start);
   // Two point sets: uniform in the bounding box (deep points are the slow case: every facet is about equally
   // far) and within 5 mm of the surface (where contact samples are: penetrations are shallow).

@@ -83,8 +83,7 @@ TEST(ContactMeshQuery, SphereMeshDepthMatchesSphereWithinFacetError) {
   const double r = 0.05;
   const int slices = 64, stacks = 32;
   const double sag = r * (1 - std::cos(std::numbers::pi / stacks));  // facets lie at most this far inside
-  EmbreeDevice device;
-  const MeshBvh bvh(device.get(), SphereMesh(r, slices, stacks));
+  const MeshBvh bvh(SphereMesh(r, slices, stacks));
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> coordinate(-1.2 * r, 1.2 * r);
   int inside = 0;
@@ -113,8 +112,7 @@ TEST(ContactMeshQuery, SphereMeshDepthMatchesSphereWithinFacetError) {
 TEST(ContactMeshQuery, ClearanceGridChangesNoAnswer) {
   const double r = 0.05;
   const auto mesh = SphereMesh(r, 16, 8);
-  EmbreeDevice device;
-  const MeshBvh bvh(device.get(), mesh);
+  const MeshBvh bvh(mesh);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> coordinate(-1.1 * r, 1.1 * r);
   std::vector<Vec3> points(20000);
@@ -159,8 +157,7 @@ TEST(ContactMeshQuery, TwoCubesInOneMeshCountCrossingsNotHits) {
     for (auto& v : t) v += static_cast<uint32_t>(offset);
     mesh.triangles.push_back(t);
   }
-  EmbreeDevice device;
-  const MeshBvh bvh(device.get(), std::make_shared<const TriangleMesh>(std::move(mesh)));
+  const MeshBvh bvh(std::make_shared<const TriangleMesh>(std::move(mesh)));
   double depth = 0;
   Vec3 n;
   ASSERT_TRUE(bvh.Depth(Vec3(0.1, 0.1, 0.1), 0, &depth, &n));
@@ -176,9 +173,8 @@ TEST(ContactMeshQuery, TwoCubesInOneMeshCountCrossingsNotHits) {
 }
 
 TEST(ContactMeshQuery, PointsOnTheSurfaceAreNotInside) {
-  EmbreeDevice device;
   const auto mesh = BoxMesh(Vec3(1, 1, 1));
-  const MeshBvh bvh(device.get(), mesh);
+  const MeshBvh bvh(mesh);
   double depth = 0;
   Vec3 n;
   // Vertices, edge midpoints and face centres: never a contact with positive depth.

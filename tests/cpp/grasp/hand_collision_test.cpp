@@ -64,7 +64,7 @@ TEST(GraspHandCollisionTest, ApproachThroughAnObstacleIsDiscarded) {
   c.reference = Vec3::UnitZ();
   auto evaluate = [&](const Vec3& bar_centre, PlannedGrasp* grasp) {
     const LinkBox bar{bar_centre, Mat3::Identity(), Vec3(0.01, 0.1, 0.1)};
-    const GraspPlanner planner("schunk_pg70", cube, {bar}, SimulationParams());
+    const GraspPlanner planner("schunk_pg70", cube, {bar}, ClosingParams());
     return planner.Evaluate(c, grasp);
   };
   PlannedGrasp free, through, beside, behind;
@@ -73,7 +73,7 @@ TEST(GraspHandCollisionTest, ApproachThroughAnObstacleIsDiscarded) {
   EXPECT_EQ(evaluate(Vec3(0.2, 0.3, 0), &beside), Outcome::kGrasp);
   EXPECT_EQ(evaluate(Vec3(0.6, 0, 0), &behind), Outcome::kGrasp);
   // The grasp pose itself is clear of the bar: only the way there is blocked.
-  const GraspPlanner planner("schunk_pg70", cube, {}, SimulationParams());
+  const GraspPlanner planner("schunk_pg70", cube, {}, ClosingParams());
   std::vector<Pose> poses(planner.hand().links().size());
   planner.hand().LinkPoses(through.hand_pose, planner.hand().PreshapeJoints(0), &poses);
   EXPECT_FALSE(HandOverlapsObstacles(planner.hand(), poses, Vec3::Zero(),
@@ -96,7 +96,7 @@ bool SamplesInside(const HandModel& hand, const std::vector<Pose>& poses, int l,
 TEST(GraspHandCollisionTest, ClosedFingersOverlappingEachOtherAreFound) {
   auto cube = ToMesh(collision::BoxMesh(Vec3::Constant(0.025)));
   for (const char* name : {"schunk_pg70", "barrett_bh8_282", "schunk_sdh2"}) {
-    const GraspPlanner planner(name, cube, {}, SimulationParams());
+    const GraspPlanner planner(name, cube, {}, ClosingParams());
     const HandModel& hand = planner.hand();
     const SelfCollision self(hand, -1e-3);
     std::vector<Pose> poses(hand.links().size());

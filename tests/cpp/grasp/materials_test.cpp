@@ -44,7 +44,7 @@ TEST(GraspMaterialsTest, PerLinkWrenchesAreEachContactsOwnCone) {
 }
 
 TEST(GraspMaterialsTest, PairsResolveInEitherOrderElseTheDefault) {
-  SimulationParams p;
+  ClosingParams p;
   p.friction = 0.4;
   p.friction_pairs = {{"rubber", "wood", 0.8}, {"default", "steel", 0.25}};
   EXPECT_EQ(PairFriction(p, "wood", "rubber"), 0.8);
@@ -57,11 +57,11 @@ TEST(GraspMaterialsTest, PairsResolveInEitherOrderElseTheDefault) {
 TEST(GraspMaterialsTest, OnePairForEveryLinkEqualsThatFriction) {
   // Every PG70 link rubber on a wooden box at μ 0.8 is exactly the plan at friction 0.8; a table naming other
   // materials only changes nothing.
-  SimulationParams materials;
+  ClosingParams materials;
   materials.object_material = "wood";
   materials.link_materials = {{"base_link", "rubber"}, {"finger_left", "rubber"}, {"finger_right", "rubber"}};
   materials.friction_pairs = {{"wood", "rubber", 0.8}, {"steel", "rubber", 0.1}};
-  SimulationParams plain;
+  ClosingParams plain;
   plain.friction = 0.8;
   const GraspSet a = PlanSmallSet(GraspPlanner("schunk_pg70", Box(), {}, materials));
   const GraspSet b = PlanSmallSet(GraspPlanner("schunk_pg70", Box(), {}, plain));
@@ -77,7 +77,7 @@ TEST(GraspMaterialsTest, OnePairForEveryLinkEqualsThatFriction) {
 TEST(GraspMaterialsTest, OneSlipperyJawLowersEpsilonToTheReference) {
   // The left jaw steel (μ 0.1), the rest default (0.4): every kept grasp's ε is that of its own contacts with
   // those μ, and no grasp beats the same contacts at 0.4 everywhere.
-  SimulationParams params;
+  ClosingParams params;
   params.link_materials = {{"finger_left", "steel"}};
   params.friction_pairs = {{"steel", "default", 0.1}};
   const GraspPlanner planner("schunk_pg70", Box(), {}, params);
@@ -103,10 +103,10 @@ TEST(GraspMaterialsTest, OneSlipperyJawLowersEpsilonToTheReference) {
 TEST(GraspMaterialsTest, StoreKeyAndBadInput) {
   const auto mesh = Box();
   const CandidateParams candidates;
-  const SimulationParams plain;
-  SimulationParams materials;
+  const ClosingParams plain;
+  ClosingParams materials;
   materials.friction_pairs = {{"a", "b", 0.5}};
-  SimulationParams swapped;
+  ClosingParams swapped;
   swapped.friction_pairs = {{"b", "a", 0.5}};
   const std::string key = MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, candidates, plain, 0).key;
   EXPECT_EQ(MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, candidates, plain, 0).params_text.find("material"),
@@ -115,7 +115,7 @@ TEST(GraspMaterialsTest, StoreKeyAndBadInput) {
   EXPECT_NE(with, key);
   EXPECT_EQ(MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, candidates, swapped, 0).key, with);
 
-  auto message = [&](const SimulationParams& p) {
+  auto message = [&](const ClosingParams& p) {
     try {
       GraspPlanner("schunk_pg70", mesh, {}, p);
     } catch (const Error& e) {
@@ -124,7 +124,7 @@ TEST(GraspMaterialsTest, StoreKeyAndBadInput) {
     }
     return std::string("no error");
   };
-  SimulationParams bad;
+  ClosingParams bad;
   bad.friction_pairs = {{"a", "b", 0.0}};
   EXPECT_NE(message(bad).find("friction_pairs[0].friction: 0"), std::string::npos) << message(bad);
   bad.friction_pairs = {{"a", "b", 0.5}, {"b", "a", 0.6}};

@@ -35,7 +35,7 @@ bool SameGrasps(const GraspSet& a, const GraspSet& b) {
 }
 
 TEST(GraspPlannerTest, SameSeedGivesTheSameGraspSet) {
-  GraspPlanner planner("schunk_pg70", ToMesh(collision::BoxMesh(Vec3(0.02, 0.03, 0.025))), {}, SimulationParams());
+  GraspPlanner planner("schunk_pg70", ToMesh(collision::BoxMesh(Vec3(0.02, 0.03, 0.025))), {}, ClosingParams());
   const GraspSet a = PlanSmallSet(planner, 42), b = PlanSmallSet(planner, 42), c = PlanSmallSet(planner, 43);
   ASSERT_GT(a.grasps.size(), 3u);
   EXPECT_TRUE(SameGrasps(a, b));
@@ -45,7 +45,7 @@ TEST(GraspPlannerTest, SameSeedGivesTheSameGraspSet) {
 TEST(GraspPlannerTest, GraspsNeverOverlapTheTable) {
   // A 5 cm cube standing on a table top (z <= -0.025 in the cube's frame).
   const LinkBox table{Vec3(0, 0, -0.025 - 0.02), Mat3::Identity(), Vec3(0.6, 0.4, 0.02)};
-  SimulationParams params;
+  ClosingParams params;
   GraspPlanner planner("schunk_pg70", ToMesh(collision::BoxMesh(Vec3::Constant(0.025))), {table}, params);
   const GraspSet set = PlanSmallSet(planner, 1);
   EXPECT_GT(set.collisions, 0u);  // approaches from below and low sides were discarded
@@ -74,13 +74,13 @@ void ExpectInvalid(const std::function<void()>& call, const std::string& field) 
 
 TEST(GraspPlannerTest, BadParametersNameTheField) {
   auto mesh = ToMesh(collision::BoxMesh(Vec3::Constant(0.02)));
-  ExpectInvalid([&] { GraspPlanner("ur5", mesh, {}, SimulationParams()); }, "hand");
-  SimulationParams friction;
+  ExpectInvalid([&] { GraspPlanner("ur5", mesh, {}, ClosingParams()); }, "hand");
+  ClosingParams friction;
   friction.friction = 0;
   ExpectInvalid([&] { GraspPlanner("schunk_pg70", mesh, {}, friction); }, "friction");
   friction.friction = -0.3;
   ExpectInvalid([&] { GraspPlanner("schunk_pg70", mesh, {}, friction); }, "friction");
-  GraspPlanner planner("schunk_pg70", mesh, {}, SimulationParams());
+  GraspPlanner planner("schunk_pg70", mesh, {}, ClosingParams());
   CandidateParams zero;
   zero.circle_samples = 0;
   ExpectInvalid([&] { planner.Candidates(zero); }, "circle_samples");
@@ -93,7 +93,7 @@ TEST(GraspPlannerTest, BadParametersNameTheField) {
 }
 
 TEST(GraspPlannerTest, CancelStopsThePlan) {
-  GraspPlanner planner("schunk_pg70", ToMesh(collision::SphereMesh(0.03)), {}, SimulationParams());
+  GraspPlanner planner("schunk_pg70", ToMesh(collision::SphereMesh(0.03)), {}, ClosingParams());
   CandidateParams params;
   params.spacing = 0.005;
   const auto set = planner.Plan(planner.Candidates(params), 0, 0, [](size_t, size_t) { return false; });
@@ -105,11 +105,11 @@ TEST(GraspStoreTest, SetsSurviveReopeningAndKeysSeparateParameters) {
                            ("graspsim_store_test_" + std::to_string(::getpid()))).string();
   std::filesystem::remove_all(dir);
   auto mesh = ToMesh(collision::BoxMesh(Vec3(0.02, 0.03, 0.025)));
-  GraspPlanner planner("schunk_pg70", mesh, {}, SimulationParams());
+  GraspPlanner planner("schunk_pg70", mesh, {}, ClosingParams());
   const GraspSet set = PlanSmallSet(planner, 42);
   CandidateParams params;
   params.seed = 42;
-  const GraspSetKey key = MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, params, SimulationParams(), 0);
+  const GraspSetKey key = MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, params, ClosingParams(), 0);
   {
     GraspStore store(dir);
     EXPECT_FALSE(store.Find(key.key));
@@ -123,12 +123,12 @@ TEST(GraspStoreTest, SetsSurviveReopeningAndKeysSeparateParameters) {
   EXPECT_EQ(found->set.link_names, set.link_names);
   EXPECT_EQ(found->set.grasps[0].quality.volume, set.grasps[0].quality.volume);
   // Any parameter that decides the set changes the key.
-  SimulationParams other;
+  ClosingParams other;
   other.friction = 0.5;
   EXPECT_NE(MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, params, other, 0).key, key.key);
   params.seed = 43;
-  EXPECT_NE(MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, params, SimulationParams(), 0).key, key.key);
-  EXPECT_NE(MakeGraspSetKey("barrett_bh8_282", MeshHash(*mesh), {}, params, SimulationParams(), 0).key, key.key);
+  EXPECT_NE(MakeGraspSetKey("schunk_pg70", MeshHash(*mesh), {}, params, ClosingParams(), 0).key, key.key);
+  EXPECT_NE(MakeGraspSetKey("barrett_bh8_282", MeshHash(*mesh), {}, params, ClosingParams(), 0).key, key.key);
   std::filesystem::remove_all(dir);
 }
 

@@ -17,7 +17,7 @@ using testing::ToMesh;
 
 // The bound of simulate.h: contact tolerance + half the sample spacing, plus the sphere's and cylinder's chord
 // error (0.1 mm, their tessellation is inscribed) and the closing chords' sagitta (0.1 mm).
-double PenetrationBound(const SimulationParams& p) { return p.contact_tolerance + p.sample_spacing / 2 + 2e-4; }
+double PenetrationBound(const ClosingParams& p) { return p.contact_tolerance + p.sample_spacing / 2 + 2e-4; }
 
 std::vector<Vec3> SphereSurface(double r) {
   std::vector<Vec3> out;
@@ -31,7 +31,7 @@ std::vector<Vec3> SphereSurface(double r) {
 
 TEST(GraspSimulateTest, Pg70TopGraspOnASphereTouchesWithBothJaws) {
   const double r = 0.025;
-  GraspPlanner planner("schunk_pg70", ToMesh(collision::SphereMesh(r)), {}, SimulationParams());
+  GraspPlanner planner("schunk_pg70", ToMesh(collision::SphereMesh(r)), {}, ClosingParams());
   Candidate c;
   c.approach = Vec3(0, 0, -1);  // from above
   c.target = Vec3(0, 0, r);
@@ -52,7 +52,7 @@ TEST(GraspSimulateTest, Pg70TopGraspOnASphereTouchesWithBothJaws) {
   EXPECT_TRUE(left && right);
   const double depth = testing::MaxPenetration(
       planner, grasp, [&](const Vec3& p) { return p.norm() - r; }, SphereSurface(r));
-  EXPECT_LE(depth, PenetrationBound(SimulationParams()));
+  EXPECT_LE(depth, PenetrationBound(ClosingParams()));
 }
 
 TEST(GraspSimulateTest, PlannedGraspsDoNotPenetrateTheObject) {
@@ -75,7 +75,7 @@ TEST(GraspSimulateTest, PlannedGraspsDoNotPenetrateTheObject) {
        box_surface},
   };
   for (const Case& test : cases) {
-    SimulationParams params;
+    ClosingParams params;
     GraspPlanner planner(test.hand, test.mesh, {}, params);
     CandidateParams cp;
     cp.spacing = 0.02;

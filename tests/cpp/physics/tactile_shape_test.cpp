@@ -25,7 +25,8 @@
 #include "physics/holed_cube.h"
 #include "physics/pad_stand.h"
 #include "physics/simulation.h"
-#include "sensors/readings.h"
+#include "tactile/heat_map.h"
+#include "tactile/tactile_frame.h"
 
 namespace graspsim {
 namespace {

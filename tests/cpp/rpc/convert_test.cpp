@@ -13,8 +13,6 @@ namespace {
 
 using test_util::ExpectError;
 
-const std::string* NoFile(const std::string&) { return nullptr; }
-
 v1::MeshData PackedMesh(const std::vector<float>& vertices, const std::vector<uint32_t>& triangles) {
   v1::MeshData mesh;
   mesh.set_vertices(vertices.data(), vertices.size() * sizeof(float));
@@ -63,38 +61,6 @@ TEST(ConvertInertial, MassAndTensorChecked) {
   ExpectError([&] { InertialFromProto("inertial", inertial); }, ErrorCode::kInvalidArgument, {"nan"});
 }
 
-TEST(ConvertMaterial, StaticBelowDynamicRejected) {
-  v1::Material material;
-  material.set_static_friction(0.3);
-  material.set_dynamic_friction(0.5);
-  ExpectError([&] { MaterialFromProto("material", material, Material()); }, ErrorCode::kInvalidArgument,
-              {"static_friction", "dynamic_friction"});
-  material.set_dynamic_friction(-0.1);
-  ExpectError([&] { MaterialFromProto("material", material, Material()); }, ErrorCode::kInvalidArgument,
-              {"material.dynamic_friction"});
-}
-
-TEST(ConvertMaterial, UnsetFieldsKeepTheBodysOwn) {
-  v1::Material material;
-  material.set_contact_stiffness(2e4);  // contact fields only: friction stays the base's
-  Material base;
-  base.static_friction = 0.9;
-  base.dynamic_friction = 0.7;
-  Material out = MaterialFromProto("material", material, base);
-  EXPECT_EQ(out.static_friction, 0.9);
-  EXPECT_EQ(out.dynamic_friction, 0.7);
-  EXPECT_EQ(out.contact_stiffness, 2e4);
-  material.set_static_friction(0);  // explicitly frictionless
-  material.set_dynamic_friction(0);
-  out = MaterialFromProto("material", material, base);
-  EXPECT_EQ(out.static_friction, 0);
-  EXPECT_EQ(out.dynamic_friction, 0);
-  material.clear_dynamic_friction();  // 0.5 against the base's 0.7 dynamic: refused, naming both
-  material.set_static_friction(0.5);
-  ExpectError([&] { MaterialFromProto("material", material, base); }, ErrorCode::kInvalidArgument,
-              {"static_friction 0.5", "dynamic_friction 0.7"});
-}
-
 TEST(ConvertMesh, PackedArraysRoundTrip) {
   const v1::MeshData mesh = PackedMesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2});
   Limits limits;
@@ -121,43 +87,6 @@ TEST(ConvertMesh, EveryMalformedMeshIsRejected) {
   limits.max_triangles_per_mesh = 1;
   ExpectError([&] { MeshFromProto("g", PackedMesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 2, 1, 0}), limits); },
               ErrorCode::kResourceExhausted, {"2 triangles", "limit of 1"});
-}
-
-TEST(ConvertGeometry, PrimitivesMustBePositiveAndFilesUploaded) {
-  Limits limits;
-  v1::Geometry geometry;
-  ExpectError([&] { GeometryFromProto("geometry", geometry, NoFile, limits); }, ErrorCode::kInvalidArgument,
-              {"no shape"});
-  geometry.mutable_box()->mutable_size()->set_x(0.1);
-  geometry.mutable_box()->mutable_size()->set_y(0.1);
-  ExpectError([&] { GeometryFromProto("geometry", geometry, NoFile, limits); }, ErrorCode::kInvalidArgument,
-              {"geometry.box.size.z"});
-  geometry.mutable_sphere()->set_radius(NAN);
-  ExpectError([&] { GeometryFromProto("geometry", geometry, NoFile, limits); }, ErrorCode::kInvalidArgument,
-              {"geometry.sphere.radius", "nan"});
-  geometry.set_mesh_file("meshes/missing.stl");
-  ExpectError([&] { GeometryFromProto("geometry", geometry, NoFile, limits); }, ErrorCode::kInvalidArgument,
-              {"geometry.mesh_file", "meshes/missing.stl", "not uploaded"});
-  geometry.mutable_cylinder()->set_radius(0.02);
-  geometry.mutable_cylinder()->set_length(0.1);
-  const Geometry cylinder = GeometryFromProto("geometry", geometry, NoFile, limits);
-  EXPECT_EQ(cylinder.kind, Geometry::Kind::kCylinder);
-  EXPECT_DOUBLE_EQ(cylinder.length, 0.1);
-}
-
-TEST(ConvertGeometry, InlineMeshIsScaledPerAxis) {
-  Limits limits;
-  v1::Geometry geometry;
-  *geometry.mutable_mesh() = PackedMesh({0, 0, 0, 1, 0, 0, 0, 1, 1}, {0, 1, 2});
-  geometry.mutable_scale()->set_x(2);
-  geometry.mutable_scale()->set_y(3);
-  geometry.mutable_scale()->set_z(0.5);
-  const Geometry mesh = GeometryFromProto("geometry", geometry, NoFile, limits);
-  EXPECT_EQ(mesh.mesh->vertices[1], Eigen::Vector3f(2, 0, 0));
-  EXPECT_EQ(mesh.mesh->vertices[2], Eigen::Vector3f(0, 3, 0.5));
-  geometry.mutable_scale()->set_z(-1);
-  ExpectError([&] { GeometryFromProto("geometry", geometry, NoFile, limits); }, ErrorCode::kInvalidArgument,
-              {"geometry.scale.z"});
 }
 
 }  // namespace

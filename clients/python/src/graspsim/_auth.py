@@ -2,12 +2,14 @@
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from typing import Any, Dict, Iterator, Optional, Sequence, Tuple, Union
 
 import grpc
 from google.protobuf.message import Message
 
 from graspsim._errors import translated_errors
+from graspsim._ids import SceneLike, scene_id_of
 from graspsim._routing import (CallDetails, Continuation, SceneRouting, StreamStreamInterceptor, StreamUnaryInterceptor,
                                UnaryStreamInterceptor, UnaryUnaryInterceptor)
 from graspsim.v1 import auth_pb2, auth_pb2_grpc
@@ -67,6 +69,15 @@ def open_channel(target: str, options: Sequence[Tuple[str, Any]], *, token: Opti
     return grpc.intercept_channel(channel, *interceptors)
 
 
+@dataclass(frozen=True)
+class Identity:
+    """whoami's reply: the caller's token name and role (viewer, scripter, gateway or admin); both "" when the
+    server checks no tokens."""
+
+    name: str
+    role: str
+
+
 class AuthMethods:
     """AuthService: who the caller is, tokens and device grants (admin), sharing a scene (its owner)."""
 
@@ -78,10 +89,10 @@ class AuthMethods:
             stub = auth_pb2_grpc.AuthServiceStub(self.channel)
             return getattr(stub, method)(request, timeout=self.call_timeout)
 
-    def whoami(self) -> auth_pb2.WhoAmIResponse:
+    def whoami(self) -> Identity:
         """The caller's token name and role (both empty when the server checks no tokens)."""
-        response: auth_pb2.WhoAmIResponse = self._auth("WhoAmI", auth_pb2.WhoAmIRequest())
-        return response
+        response = self._auth("WhoAmI", auth_pb2.WhoAmIRequest())
+        return Identity(response.name, response.role)
 
     def add_token(self, role: str, name: str, token: str) -> None:
         """Adds a token (admin): role viewer, scripter, gateway or admin; token the secret (>= 16 characters)."""
@@ -95,6 +106,6 @@ class AuthMethods:
         """Lets the token `name` send commands to the device (admin)."""
         self._auth("GrantDevice", auth_pb2.GrantDeviceRequest(device_id=device_id, name=name))
 
-    def share_scene(self, scene_id: str, name: str) -> None:
+    def share_scene(self, scene_id: SceneLike, name: str) -> None:
         """Lets the token `name` read the scene (its owner or an admin)."""
-        self._auth("ShareScene", auth_pb2.ShareSceneRequest(scene_id=scene_id, name=name))
+        self._auth("ShareScene", auth_pb2.ShareSceneRequest(scene_id=scene_id_of(scene_id), name=name))

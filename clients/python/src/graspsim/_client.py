@@ -11,17 +11,21 @@ from numpy.typing import ArrayLike, NDArray
 
 from graspsim import _build, _robot_files
 from graspsim._auth import AuthMethods, PemLike, open_channel
+from graspsim._body import Body
 from graspsim._errors import GraspsimError, translated_errors
 from graspsim._gateway import GatewayMethods
-from graspsim._ids import accept_scene_objects
-from graspsim._grasp import FrictionPairs, GraspSetResult, MeshLike, grasps_to_arrays, set_materials, target_proto
+from graspsim._grasp import (CandidateLike, FrictionPairs, GraspSetResult, MeshLike, candidate_proto, grasps_to_arrays,
+                             set_materials, target_proto)
+from graspsim._ids import BodyLike, SceneLike, body_id_of, scene_id_of
 from graspsim._motion import MotionMethods
 from graspsim._perception import PerceptionMethods
 from graspsim._pose import Pose, PoseLike, Velocity, as_pose
 from graspsim._progress import advance, progress_bar
 from graspsim._recording import RecordingMethods
 from graspsim._robot_files import FilePath, PackageRoots
+from graspsim._scene import AddedRobot, BuiltinModel, FileInfo, Scene, SceneSummary
 from graspsim._sensors import Reading, SensorStream, reading_from_proto
+from graspsim._simulation import SimulationParams, StepResult, params_message
 from graspsim._stream import server_stream
 from graspsim._upload import FileData, upload_chunks
 from graspsim._watch import SceneWatch
@@ -67,14 +71,16 @@ def _own_mixin_methods(cls: type) -> type:
     return cls
 
 
-@accept_scene_objects
 @_own_mixin_methods
 class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, RecordingMethods):
     """A connection to one graspsim server (see connect()); a context manager that closes the channel.
 
     Units are SI: m, kg, s, rad; poses are Pose, [x y z qw qx qy qz] or (position, quaternion (w, x, y, z)).
-    Every method raises GraspsimError (gRPC code + server message) when the server refuses a request.
-    The raw stubs are available as `scene_stub` and `tactile_stub` for messages this class does not wrap.
+    Replies are dataclasses and numpy arrays, never the generated graspsim.v1 messages. Where a scene is expected,
+    its id or the object carrying it (SceneSummary, Scene, Replay, RecordingInfo: SceneLike) is taken; where a
+    body is, its id or the Body (BodyLike). Every method raises GraspsimError (gRPC code + server message) when the
+    server refuses a request. The raw stubs are available as `scene_stub`, `tactile_stub` and `grasp_stub` for
+    messages this class does not wrap.
     """
 
     def __init__(self, channel: grpc.Channel, call_timeout: float = 60.0, *, fleet: bool = False) -> None:
@@ -96,44 +102,42 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         self.close()
 
     def _unary(self, method: str, request: Message, stub: Any = None) -> Any:
-        # Any: the generated *_pb2_grpc stubs are untyped; the callers annotate the response they return
+        # Any: the generated *_pb2_grpc stubs are untyped; the callers turn the response into what they return
         with translated_errors():
             return getattr(stub or self.scene_stub, method)(request, timeout=self.call_timeout)
 
     # --- scenes -------------------------------------------------------------------------------------------
-    def create_scene(self, name: str = "scene", scene_id: Optional[str] = None) -> scene_pb2.SceneSummary:
+    def create_scene(self, name: str = "scene", scene_id: Optional[str] = None) -> SceneSummary:
         """Creates an empty scene; returns its summary (.id is the scene id). scene_id: the id to give it (1-64 of
         letters, digits, '-', '_', '.'; ALREADY_EXISTS when taken); None = the server's next "scene-<n>", or a
         random "s-<16 hex digits>" on a fleet connection (connect(fleet=True))."""
         if scene_id is None and self.fleet:
             scene_id = "s-" + secrets.token_hex(8)
         request = scene_pb2.CreateSceneRequest(name=name, scene_id=scene_id or "")
-        result: scene_pb2.SceneSummary = self._unary("CreateScene", request).summary
-        return result
+        return SceneSummary.from_proto(self._unary("CreateScene", request).summary)
 
-    def list_scenes(self) -> List[scene_pb2.SceneSummary]:
+    def list_scenes(self) -> List[SceneSummary]:
         """Summaries of every scene on the server."""
-        return list(self._unary("ListScenes", scene_pb2.ListScenesRequest()).scenes)
+        return [SceneSummary.from_proto(s) for s in self._unary("ListScenes", scene_pb2.ListScenesRequest()).scenes]
 
-    def get_scene(self, scene_id: str, include_geometry: bool = False) -> scene_pb2.Scene:
+    def get_scene(self, scene_id: SceneLike, include_geometry: bool = False) -> Scene:
         """The whole scene: bodies, joints, robots, tactile arrays, files (meshes only with include_geometry)."""
-        request = scene_pb2.GetSceneRequest(scene_id=scene_id, include_geometry=include_geometry)
-        result: scene_pb2.Scene = self._unary("GetScene", request)
-        return result
+        request = scene_pb2.GetSceneRequest(scene_id=scene_id_of(scene_id), include_geometry=include_geometry)
+        return Scene.from_proto(self._unary("GetScene", request))
 
-    def delete_scene(self, scene_id: str) -> None:
+    def delete_scene(self, scene_id: SceneLike) -> None:
         """Deletes a scene with everything in it."""
-        self._unary("DeleteScene", scene_pb2.DeleteSceneRequest(scene_id=scene_id))
+        self._unary("DeleteScene", scene_pb2.DeleteSceneRequest(scene_id=scene_id_of(scene_id)))
 
-    def export_scene(self, scene_id: str) -> bytes:
+    def export_scene(self, scene_id: SceneLike) -> bytes:
         """The whole scene as an archive (its edits as received, its files, its state), for import_scene on
         another server: how a fleet moves a scene (graspsim.fleet.rebalance, docs/scaling.md)."""
-        request = scene_pb2.ExportSceneRequest(scene_id=scene_id)
+        request = scene_pb2.ExportSceneRequest(scene_id=scene_id_of(scene_id))
         with server_stream(self.scene_stub.ExportScene(request, timeout=self.call_timeout)) as call:
             return b"".join(chunk.data for chunk in call)
 
     def import_scene(self, archive: bytes, scene_id: Optional[str] = None,
-                     chunk_size: int = 1 << 20) -> scene_pb2.SceneSummary:
+                     chunk_size: int = 1 << 20) -> SceneSummary:
         """A scene rebuilt from export_scene's archive, under scene_id (None = the id it had); ALREADY_EXISTS
         when the id is taken. Returns its summary. Through a fleet's balancer give scene_id: the import is
         routed by it (None goes to any replica)."""
@@ -147,35 +151,35 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
                 yield scene_pb2.SceneArchiveChunk(data=bytes(view[start:start + chunk_size]))
 
         with translated_errors():
-            summary: scene_pb2.SceneSummary = self.scene_stub.ImportScene(chunks(), timeout=self.call_timeout).summary
-            return summary
+            reply = self.scene_stub.ImportScene(chunks(), timeout=self.call_timeout)
+        return SceneSummary.from_proto(reply.summary)
 
     # --- files and models ---------------------------------------------------------------------------------
-    def upload_file(self, scene_id: str, path_in_scene: str, data: FileData,
-                    chunk_size: int = 1 << 20) -> common_pb2.FileInfo:
+    def upload_file(self, scene_id: SceneLike, path_in_scene: str, data: FileData,
+                    chunk_size: int = 1 << 20) -> FileInfo:
         """Uploads a file into a scene in chunks of chunk_size bytes, so files above the message limit pass.
 
         data is the content (bytes) or the path of a local file (str / os.PathLike). path_in_scene is how a
         URDF or Geometry.mesh_file names it (e.g. "meshes/finger.stl"). The server checks size and SHA-256.
         """
         with translated_errors():
-            result: common_pb2.FileInfo = self.scene_stub.UploadFile(
-                upload_chunks(scene_id, path_in_scene, data, chunk_size),
-                                              timeout=self.call_timeout)
-            return result
+            reply = self.scene_stub.UploadFile(upload_chunks(scene_id_of(scene_id), path_in_scene, data, chunk_size),
+                                               timeout=self.call_timeout)
+        return FileInfo.from_proto(reply)
 
-    def builtin_models(self) -> List[scene_pb2.BuiltinModel]:
+    def builtin_models(self) -> List[BuiltinModel]:
         """The server's built-in models (name, kind "robot"/"object", description)."""
-        return list(self._unary("ListBuiltinModels", scene_pb2.ListBuiltinModelsRequest()).models)
+        reply = self._unary("ListBuiltinModels", scene_pb2.ListBuiltinModelsRequest())
+        return [BuiltinModel(m.name, m.kind, m.description) for m in reply.models]
 
     # --- bodies and robots --------------------------------------------------------------------------------
-    def add_object(self, scene_id: str, name: str, *, builtin: Optional[str] = None,
+    def add_object(self, scene_id: SceneLike, name: str, *, builtin: Optional[str] = None,
                    box: Optional[Sequence[float]] = None, sphere: Optional[float] = None,
                    cylinder: Optional[Sequence[float]] = None, mesh: Optional[MeshLike] = None,
                    mesh_file: Optional[str] = None, mass: Optional[float] = None, inertia: Optional[ArrayLike] = None,
                    center_of_mass: Optional[Sequence[float]] = None, friction: Optional[Sequence[float]] = None,
                    pose: Optional[PoseLike] = None, is_static: bool = False, inertia_source: str = "auto",
-                   density: Optional[float] = None, strict: bool = False) -> common_pb2.Body:
+                   density: Optional[float] = None, strict: bool = False) -> Body:
         """Adds a rigid object; give exactly one shape:
 
         builtin="cube_5cm" (its own mass and friction unless given), box=(x, y, z) full edge lengths m,
@@ -194,7 +198,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         """
         kind, value = _build.pick_shape(dict(builtin=builtin, box=box, sphere=sphere, cylinder=cylinder,
                                              mesh=mesh, mesh_file=mesh_file))
-        request = scene_pb2.AddObjectRequest(scene_id=scene_id, name=name, is_static=is_static)
+        request = scene_pb2.AddObjectRequest(scene_id=scene_id_of(scene_id), name=name, is_static=is_static)
         request.import_options.CopyFrom(_build.import_options(inertia_source, density, strict))
         if kind == "builtin":
             request.builtin = value
@@ -208,15 +212,14 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             request.material.CopyFrom(material)
         if pose is not None:
             request.pose.CopyFrom(as_pose(pose).to_proto())
-        result: common_pb2.Body = self._unary("AddObject", request)
-        return result
+        return Body.from_proto(self._unary("AddObject", request))
 
-    def add_robot(self, scene_id: str, name: str, *, urdf: Optional[str] = None, builtin: Optional[str] = None,
+    def add_robot(self, scene_id: SceneLike, name: str, *, urdf: Optional[str] = None, builtin: Optional[str] = None,
                   mjcf: Optional[str] = None, sdf: Optional[str] = None, path: Optional[FilePath] = None,
                   package_roots: PackageRoots = None, base_pose: Optional[PoseLike] = None,
                   files: Optional[Mapping[str, bytes]] = None, inertia: str = "auto",
                   density: Optional[float] = None, strict: bool = False,
-                  model_name: str = "") -> scene_pb2.AddRobotResponse:
+                  model_name: str = "") -> AddedRobot:
         """Adds a robot from URDF, MJCF or SDF text, a file on this machine, or a built-in model ("schunk_pg70"),
         its root link at base_pose (world).
 
@@ -238,6 +241,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             raise ValueError("give exactly one of urdf, mjcf, sdf, builtin, path")
         if package_roots is not None and path is None:
             raise ValueError("package_roots applies to path= only")
+        scene_id = scene_id_of(scene_id)
         if path is not None:
             robot_files = _robot_files.collect(path, package_roots)
             _robot_files.upload_missing(self, scene_id, robot_files.files)
@@ -249,35 +253,36 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             request.base_pose.CopyFrom(as_pose(base_pose).to_proto())
         for file_path, data in (files or {}).items():
             request.files.add(path=file_path, data=bytes(data))
-        result: scene_pb2.AddRobotResponse = self._unary("AddRobot", request)
-        return result
+        return AddedRobot.from_proto(self._unary("AddRobot", request))
 
-    def remove_body(self, scene_id: str, id: str) -> List[str]:
+    def remove_body(self, scene_id: SceneLike, id: str) -> List[str]:
         """Removes an object, or a robot (by robot id) with its links; returns the removed body ids."""
-        return list(self._unary("RemoveBody", scene_pb2.RemoveBodyRequest(scene_id=scene_id, id=id)).removed_body_ids)
+        request = scene_pb2.RemoveBodyRequest(scene_id=scene_id_of(scene_id), id=id)
+        return list(self._unary("RemoveBody", request).removed_body_ids)
 
     # --- poses and joints ---------------------------------------------------------------------------------
-    def set_body_poses(self, scene_id: str, poses: Mapping[str, PoseLike]) -> int:
+    def set_body_poses(self, scene_id: SceneLike, poses: Mapping[str, PoseLike]) -> int:
         """Sets world poses by body id (object, robot id or robot base body), all or none; returns the revision."""
-        request = scene_pb2.SetBodyPosesRequest(scene_id=scene_id)
+        request = scene_pb2.SetBodyPosesRequest(scene_id=scene_id_of(scene_id))
         for body_id, pose in poses.items():
             request.poses.add(body_id=body_id, pose=as_pose(pose).to_proto())
         result: int = self._unary("SetBodyPoses", request).revision
         return result
 
-    def set_body_pose(self, scene_id: str, body_id: str, pose: PoseLike) -> int:
+    def set_body_pose(self, scene_id: SceneLike, body_id: BodyLike, pose: PoseLike) -> int:
         """Sets one world pose; returns the new scene revision."""
-        return self.set_body_poses(scene_id, {body_id: pose})
+        return self.set_body_poses(scene_id, {body_id_of(body_id): pose})
 
-    def get_body_poses(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, Pose]:
+    def get_body_poses(self, scene_id: SceneLike, ids: Optional[Iterable[str]] = None) -> Dict[str, Pose]:
         """World poses by body id (every body when ids is None)."""
-        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id, body_ids=list(ids or []))
+        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id_of(scene_id), body_ids=list(ids or []))
         return {p.body_id: Pose.from_proto(p.pose) for p in self._unary("GetBodyPoses", request).poses}
 
-    def set_body_velocities(self, scene_id: str, velocities: Mapping[str, Union[Velocity, Sequence[float]]]) -> int:
+    def set_body_velocities(self, scene_id: SceneLike,
+                            velocities: Mapping[str, Union[Velocity, Sequence[float]]]) -> int:
         """Sets free objects' velocities by id, all or none: a Velocity or 6 values (vx, vy, vz m/s of the centre
         of mass, wx, wy, wz rad/s), world frame. Poses stay. Returns the new scene revision."""
-        request = scene_pb2.SetBodyPosesRequest(scene_id=scene_id)
+        request = scene_pb2.SetBodyPosesRequest(scene_id=scene_id_of(scene_id))
         for body_id, velocity in velocities.items():
             if not isinstance(velocity, Velocity):
                 values = np.asarray(velocity, dtype=np.float64).reshape(-1)
@@ -289,14 +294,14 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         result: int = self._unary("SetBodyPoses", request).revision
         return result
 
-    def get_body_velocities(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, Velocity]:
+    def get_body_velocities(self, scene_id: SceneLike, ids: Optional[Iterable[str]] = None) -> Dict[str, Velocity]:
         """Free objects' velocities by id (world frame, centre of mass); every free object when ids is None.
         Static bodies and robot links have none of their own and are left out."""
-        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id, body_ids=list(ids or []))
+        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id_of(scene_id), body_ids=list(ids or []))
         return {p.body_id: Velocity.from_proto(p.velocity)
                 for p in self._unary("GetBodyPoses", request).poses if p.HasField("velocity")}
 
-    def set_joint_positions(self, scene_id: str, positions: Mapping[str, float],
+    def set_joint_positions(self, scene_id: SceneLike, positions: Mapping[str, float],
                             velocities: Optional[Mapping[str, float]] = None) -> int:
         """Sets joint positions (rad or m) by joint id, all or none; mimic joints follow. velocities (rad/s or m/s)
         are set for the joints named there (each needs a position too); the others keep theirs. Returns the
@@ -305,7 +310,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         unknown = sorted(set(velocities) - set(positions))
         if unknown:
             raise ValueError(f"velocities: {unknown} have no position given")
-        request = scene_pb2.SetJointPositionsRequest(scene_id=scene_id)
+        request = scene_pb2.SetJointPositionsRequest(scene_id=scene_id_of(scene_id))
         for joint_id, value in positions.items():
             entry = request.positions.add(joint_id=joint_id, position=float(value))
             if joint_id in velocities:
@@ -313,25 +318,25 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         result: int = self._unary("SetJointPositions", request).revision
         return result
 
-    def get_joint_positions(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, float]:
+    def get_joint_positions(self, scene_id: SceneLike, ids: Optional[Iterable[str]] = None) -> Dict[str, float]:
         """Joint positions (rad or m) by joint id (every joint when ids is None)."""
-        request = scene_pb2.GetJointPositionsRequest(scene_id=scene_id, joint_ids=list(ids or []))
+        request = scene_pb2.GetJointPositionsRequest(scene_id=scene_id_of(scene_id), joint_ids=list(ids or []))
         return {p.joint_id: p.position for p in self._unary("GetJointPositions", request).positions}
 
-    def get_joint_velocities(self, scene_id: str, ids: Optional[Iterable[str]] = None) -> Dict[str, float]:
+    def get_joint_velocities(self, scene_id: SceneLike, ids: Optional[Iterable[str]] = None) -> Dict[str, float]:
         """Joint velocities (rad/s or m/s) by joint id (every joint when ids is None)."""
-        request = scene_pb2.GetJointPositionsRequest(scene_id=scene_id, joint_ids=list(ids or []))
+        request = scene_pb2.GetJointPositionsRequest(scene_id=scene_id_of(scene_id), joint_ids=list(ids or []))
         return {p.joint_id: p.velocity for p in self._unary("GetJointPositions", request).positions}
 
     # --- streams and simulation ---------------------------------------------------------------------------
-    def watch_scene(self, scene_id: str, max_rate_hz: float = 0.0) -> SceneWatch:
+    def watch_scene(self, scene_id: SceneLike, max_rate_hz: float = 0.0) -> SceneWatch:
         """A live iterator of Snapshots: one at once, then one per change, at most max_rate_hz (0 = server
         default). Call cancel() on it (or use it in a with-block) to end the stream."""
-        request = scene_pb2.WatchSceneRequest(scene_id=scene_id, max_rate_hz=max_rate_hz)
+        request = scene_pb2.WatchSceneRequest(scene_id=scene_id_of(scene_id), max_rate_hz=max_rate_hz)
         return SceneWatch(self.scene_stub.WatchScene(request))
 
-    def step_simulation(self, scene_id: str, duration: Optional[float] = None, *, steps: Optional[int] = None,
-                        until_time: Optional[float] = None) -> scene_pb2.StepSimulationResponse:
+    def step_simulation(self, scene_id: SceneLike, duration: Optional[float] = None, *, steps: Optional[int] = None,
+                        until_time: Optional[float] = None) -> StepResult:
         """Advances the dynamic simulation by `duration` (s), a number of `steps`, or `until_time` (s).
 
         Returns the new simulation time (s), the steps taken, and the contact points and awake free bodies of the
@@ -340,48 +345,29 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         given = [x is not None for x in (duration, steps, until_time)]
         if sum(given) != 1:
             raise ValueError("give exactly one of duration, steps, until_time")
-        request = scene_pb2.StepSimulationRequest(scene_id=scene_id)
+        request = scene_pb2.StepSimulationRequest(scene_id=scene_id_of(scene_id))
         if duration is not None:
             request.duration = duration
         elif steps is not None:
             request.steps = steps
         elif until_time is not None:  # exactly one is given (checked above)
             request.until_time = until_time
-        result: scene_pb2.StepSimulationResponse = self._unary("StepSimulation", request)
-        return result
+        return StepResult.from_proto(self._unary("StepSimulation", request))
 
-    def set_simulation_params(self, scene_id: str, **params: Any) -> scene_pb2.SimulationParams:
+    def set_simulation_params(self, scene_id: SceneLike, **params: Any) -> SimulationParams:
         """Sets simulation parameters by SimulationParams field name (time_step s, substeps, integrator
-        "linearly_implicit_euler" | "semi_implicit_euler" | "velocity_verlet" | "runge_kutta_4", engine "graspsim" | "mujoco" |
-        "bullet" (docs/physics.md), gravity (3,) m/s², contact dict of ContactDefaults fields, sample_spacing m,
-        sleep_speed, sleep_time); fields not given keep their defaults."""
-        message = scene_pb2.SimulationParams()
-        for key, value in params.items():
-            if key == "integrator":
-                # protoc's .pyi types an enum field as its enum class, EnumTypeWrapper.Value as returning int
-                integrator = scene_pb2.Integrator.Value("INTEGRATOR_" + str(value).upper())
-                message.integrator = integrator  # type: ignore[assignment]
-            elif key == "engine":
-                engine = scene_pb2.PhysicsEngine.Value("PHYSICS_ENGINE_" + str(value).upper())
-                message.engine = engine  # type: ignore[assignment]  # (an enum field set from an int, as above)
-            elif key == "gravity":
-                message.gravity.x, message.gravity.y, message.gravity.z = (float(v) for v in value)
-            elif key == "contact":
-                for field, v in value.items():
-                    setattr(message.contact, field, float(v))
-            else:
-                setattr(message, key, value)
-        result: scene_pb2.SimulationParams = self._unary("SetSimulationParams",
-                           scene_pb2.SetSimulationParamsRequest(scene_id=scene_id, params=message))
-        return result
+        "linearly_implicit_euler" | "semi_implicit_euler" | "velocity_verlet" | "runge_kutta_4", engine "graspsim" |
+        "mujoco" | "bullet" (docs/physics.md), gravity (3,) m/s², contact dict of ContactDefaults fields,
+        sample_spacing m, sleep_speed, sleep_time); fields not given keep their values. Returns them all."""
+        request = scene_pb2.SetSimulationParamsRequest(scene_id=scene_id_of(scene_id), params=params_message(params))
+        return SimulationParams.from_proto(self._unary("SetSimulationParams", request))
 
-    def get_simulation_params(self, scene_id: str) -> scene_pb2.SimulationParams:
+    def get_simulation_params(self, scene_id: SceneLike) -> SimulationParams:
         """The scene's simulation parameters, defaults filled in."""
-        request = scene_pb2.GetSimulationParamsRequest(scene_id=scene_id)
-        result: scene_pb2.SimulationParams = self._unary("GetSimulationParams", request)
-        return result
+        request = scene_pb2.GetSimulationParamsRequest(scene_id=scene_id_of(scene_id))
+        return SimulationParams.from_proto(self._unary("GetSimulationParams", request))
 
-    def set_actuator(self, scene_id: str, joint_id: str, mode: str, value: float = 0.0,
+    def set_actuator(self, scene_id: SceneLike, joint_id: str, mode: str, value: float = 0.0,
                      current_limit: float = 0.0) -> None:
         """Drives a joint with its DC motor: mode "velocity" (value m/s or rad/s), "position" (m or rad),
         "voltage" (V) or "off"; current_limit (A) caps the motor current, i.e. the force (0 = the motor's own).
@@ -390,30 +376,31 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         mode_number = scene_pb2.ActuatorMode.Value("ACTUATOR_MODE_" + mode.upper())
         command = scene_pb2.ActuatorCommand(joint_id=joint_id, mode=mode_number,  # type: ignore[arg-type]
                                             value=value, current_limit=current_limit)
-        self._unary("SetActuators", scene_pb2.SetActuatorsRequest(scene_id=scene_id, commands=[command]))
+        self._unary("SetActuators", scene_pb2.SetActuatorsRequest(scene_id=scene_id_of(scene_id), commands=[command]))
     # --- sensors ------------------------------------------------------------------------------------------
-    def sample(self, scene_id: str, sensor_id: str) -> Reading:
+    def sample(self, scene_id: SceneLike, sensor_id: str) -> Reading:
         """One reading of a sensor in the scene's current state: a TactileFrame for a tactile array
         ("pg70/pad_left"), a GripperState for a robot's gripper ("pg70/gripper"), a ForceTorqueState for a
         joint's 6-axis force/torque sensor ("pg70/finger_left_joint")."""
-        request = tactile_pb2.SampleRequest(scene_id=scene_id, sensor_id=sensor_id)
+        request = tactile_pb2.SampleRequest(scene_id=scene_id_of(scene_id), sensor_id=sensor_id)
         return reading_from_proto(self._unary("Sample", request, self.tactile_stub))
 
-    def stream_sensors(self, scene_id: str, sensor_ids: Iterable[str], rate_hz: float) -> SensorStream:
+    def stream_sensors(self, scene_id: SceneLike, sensor_ids: Iterable[str], rate_hz: float) -> SensorStream:
         """A live iterator of readings (TactileFrame / GripperState / ForceTorqueState, one per sensor id in each
         round): at once, then whenever the scene changes, at most rate_hz rounds per second (the server caps it at its
         --watch-max-rate-hz), always of the newest state. cancel() it (or use a with-block) to end it."""
-        request = tactile_pb2.StreamRequest(scene_id=scene_id, sensor_ids=list(sensor_ids), rate_hz=rate_hz)
+        request = tactile_pb2.StreamRequest(scene_id=scene_id_of(scene_id), sensor_ids=list(sensor_ids),
+                                            rate_hz=rate_hz)
         return SensorStream(self.tactile_stub.Stream(request))
 
-    def tactile_image(self, scene_id: str, sensor_id: str, scale: int = 20) -> bytes:
+    def tactile_image(self, scene_id: SceneLike, sensor_id: str, scale: int = 20) -> bytes:
         """A tactile array's current reading as a PNG heat map (inferno colour map, black = no pressure),
         scale pixels per texel: a PG70 pad (6 x 14 texels) at scale 20 is 120 x 280 px (at most 4096 px a side)."""
-        request = tactile_pb2.GetTactileImageRequest(scene_id=scene_id, sensor_id=sensor_id, scale=scale)
+        request = tactile_pb2.GetTactileImageRequest(scene_id=scene_id_of(scene_id), sensor_id=sensor_id, scale=scale)
         result: bytes = self._unary("GetTactileImage", request, self.tactile_stub).png
         return result
 
-    def run_work_cycle(self, scene_id: str, gripper_id: str, object_id: str, *, tactile_setpoint: float = 0,
+    def run_work_cycle(self, scene_id: SceneLike, gripper_id: str, object_id: BodyLike, *, tactile_setpoint: float = 0,
                        lift_height: float = 0, coverage: float = 0, frame_rate_hz: float = 0, hold_time: float = 0,
                        on_frame: Optional[Callable[[WorkCycleFrame], None]] = None,
                        timeout: Optional[float] = None, progress: bool = True) -> WorkCycleResult:
@@ -429,8 +416,9 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         deadline). The server's refusals raise GraspsimError.
         """
         request = tactile_pb2.RunWorkCycleRequest(
-            scene_id=scene_id, gripper_id=gripper_id, object_id=object_id, tactile_setpoint=tactile_setpoint,
-            lift_height=lift_height, coverage=coverage, frame_rate_hz=frame_rate_hz, hold_time=hold_time,
+            scene_id=scene_id_of(scene_id), gripper_id=gripper_id, object_id=body_id_of(object_id, "object_id"),
+            tactile_setpoint=tactile_setpoint, lift_height=lift_height, coverage=coverage,
+            frame_rate_hz=frame_rate_hz, hold_time=hold_time,
             # A message may carry the frames that waited while this reader was busy: a fast cycle's frames then
             # cost one message per batch rather than one each.
             max_frames_per_message=64)
@@ -451,7 +439,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
                                            coverage=coverage)
 
     # --- grasp planning ----------------------------------------------------------------------------------
-    def plan_grasps(self, hand: str, *, scene_id: Optional[str] = None, body_id: Optional[str] = None,
+    def plan_grasps(self, hand: str, *, scene_id: Optional[SceneLike] = None, body_id: Optional[BodyLike] = None,
                     mesh: Optional[MeshLike] = None, method: str = "bounding_box", friction: Optional[float] = None,
                     preshapes: Sequence[str] = (), standoffs: Sequence[float] = (), rolls: Optional[int] = None,
                     spacing: Optional[float] = None, circle_samples: Optional[int] = None,
@@ -508,15 +496,17 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         return GraspSetResult.from_proto(
             self._unary("GetGraspSet", grasp_pb2.GetGraspSetRequest(set_id=set_id), self.grasp_stub))
 
-    def evaluate_grasp(self, hand: str, candidate: grasp_pb2.GraspCandidate, *, scene_id: Optional[str] = None,
-                       body_id: Optional[str] = None, mesh: Optional[MeshLike] = None, friction: Optional[float] = None,
-                       object_material: Optional[str] = None, link_materials: Optional[Dict[str, str]] = None,
+    def evaluate_grasp(self, hand: str, candidate: CandidateLike, *, scene_id: Optional[SceneLike] = None,
+                       body_id: Optional[BodyLike] = None, mesh: Optional[MeshLike] = None,
+                       friction: Optional[float] = None, object_material: Optional[str] = None,
+                       link_materials: Optional[Dict[str, str]] = None,
                        friction_pairs: Optional[FrictionPairs] = None) -> Tuple[np.void, NDArray[np.void]]:
-        """Simulates one candidate (a grasp_pb2.GraspCandidate, object frame); returns (grasp row, contacts) as
-        structured arrays of one grasp, whatever its outcome ("grasp", "missed", "collision"). Materials as in
+        """Simulates one candidate, object frame: a GraspCandidate, or a row of a grasp set (GraspSetResult.grasps[i])
+        to simulate again. The object as in plan_grasps. Returns (grasp row, contacts) as structured arrays of one
+        grasp (grasp_dtype, CONTACT_DTYPE), whatever its outcome ("grasp", "missed", "collision"). Materials as in
         plan_grasps."""
         request = grasp_pb2.EvaluateGraspRequest(object=target_proto(scene_id, body_id, mesh), hand=hand,
-                                                 candidate=candidate)
+                                                 candidate=candidate_proto(candidate))
         if friction is not None:
             request.friction = friction
         set_materials(request, object_material, link_materials, friction_pairs)

@@ -8,7 +8,9 @@ import grpc
 import numpy as np
 from numpy.typing import NDArray
 
+from graspsim._devices import CommandResult, Device, EmergencyStopResult, PredictionSample
 from graspsim._errors import translated_errors
+from graspsim._ids import SceneLike, scene_id_of
 from graspsim._stream import server_stream
 from graspsim.v1 import gateway_pb2, gateway_pb2_grpc
 
@@ -28,8 +30,8 @@ class PredictionResult:
     finished: bool  # the last sample says the real fingers stopped
 
     @classmethod
-    def from_samples(cls, samples: Sequence[gateway_pb2.PredictionSample]) -> "PredictionResult":
-        def column(get: Callable[[gateway_pb2.PredictionSample], float]) -> NDArray[np.float64]:
+    def from_samples(cls, samples: Sequence[PredictionSample]) -> "PredictionResult":
+        def column(get: Callable[[PredictionSample], float]) -> NDArray[np.float64]:
             return np.array([get(s) for s in samples], dtype=float)
         return cls(time=column(lambda s: s.time),
                    predicted_opening=column(lambda s: s.predicted.opening),
@@ -54,16 +56,16 @@ class GatewayMethods:
             stub = self.__dict__["_gateway_stub"] = gateway_pb2_grpc.GatewayServiceStub(self.channel)
         return stub
 
-    def list_devices(self) -> List[gateway_pb2.Device]:
+    def list_devices(self) -> List[Device]:
         """The real devices the connected gateways registered, each with its limits and newest reading."""
         with translated_errors():
-            return list(self.gateway_stub.ListDevices(gateway_pb2.ListDevicesRequest(),
-                                                      timeout=self.call_timeout).devices)
+            reply = self.gateway_stub.ListDevices(gateway_pb2.ListDevicesRequest(), timeout=self.call_timeout)
+        return [Device.from_proto(d) for d in reply.devices]
 
     def send_command(self, device_id: str, *, move: Optional[Sequence[float]] = None,
                      move_to: Optional[float] = None, velocity: Optional[float] = None,
                      max_force: Optional[float] = None, stop: bool = False, initialize: bool = False,
-                     estop: bool = False, read: bool = False, timeout: float = 0.0) -> gateway_pb2.CommandResult:
+                     estop: bool = False, read: bool = False, timeout: float = 0.0) -> CommandResult:
         """One command to a real device, relayed by the server to its gateway; exactly one of:
         move=(opening m, speed m/s, force N); move_to=opening m (at the velocity and max_force set last);
         velocity=m/s; max_force=N; stop; initialize (activate/reference, clears an e-stop); estop; read.
@@ -90,31 +92,32 @@ class GatewayMethods:
             setattr(request, chosen[0], True)
         deadline = (timeout or 5.0) + self.call_timeout
         with translated_errors():
-            result: gateway_pb2.CommandResult = self.gateway_stub.SendCommand(request, timeout=deadline)
-            return result
+            return CommandResult.from_proto(self.gateway_stub.SendCommand(request, timeout=deadline))
 
-    def emergency_stop(self, device_id: str = "") -> gateway_pb2.EmergencyStopResponse:
-        """Stops one device (or every device of every gateway) and latches the stop until `initialize`."""
+    def emergency_stop(self, device_id: str = "") -> EmergencyStopResult:
+        """Stops one device (or every device of every gateway) and latches the stop until `initialize`; returns the
+        devices stopped and the failures."""
         with translated_errors():
-            response: gateway_pb2.EmergencyStopResponse = self.gateway_stub.EmergencyStop(
-                gateway_pb2.EmergencyStopRequest(device_id=device_id), timeout=self.call_timeout)
-            return response
+            reply = self.gateway_stub.EmergencyStop(gateway_pb2.EmergencyStopRequest(device_id=device_id),
+                                                    timeout=self.call_timeout)
+        return EmergencyStopResult(list(reply.stopped), list(reply.failed))
 
-    def predict_action(self, device_id: str, scene_id: str, gripper_id: str, opening: float, speed: float,
+    def predict_action(self, device_id: str, scene_id: SceneLike, gripper_id: str, opening: float, speed: float,
                        force: float, *, timeout: float = 0.0, rate_hz: float = 0.0,
-                       on_sample: Optional[Callable[[gateway_pb2.PredictionSample], None]] = None
-                       ) -> PredictionResult:
+                       on_sample: Optional[Callable[[PredictionSample], None]] = None) -> PredictionResult:
         """Moves the real device to `opening` (m) at `speed` (m/s) with `force` (N) while the scene's simulated
         PG70 `gripper_id` runs the same move from the same opening; returns predicted and measured readings side
         by side with the surprise. timeout: s until the real fingers must stop (0 = 5; then DEADLINE_EXCEEDED
-        and a stop); rate_hz: samples per second (0 = 50). on_sample(sample) sees each sample as it arrives."""
+        and a stop); rate_hz: samples per second (0 = 50). on_sample(sample) sees each PredictionSample as it
+        arrives."""
         request = gateway_pb2.PredictActionRequest(
-            device_id=device_id, scene_id=scene_id, gripper_id=gripper_id,
+            device_id=device_id, scene_id=scene_id_of(scene_id), gripper_id=gripper_id,
             move=gateway_pb2.Move(opening=opening, speed=speed, force=force), timeout=timeout, rate_hz=rate_hz)
-        samples: List[gateway_pb2.PredictionSample] = []
+        samples: List[PredictionSample] = []
         deadline = (timeout or 5.0) + self.call_timeout
         with server_stream(self.gateway_stub.PredictAction(request, timeout=deadline)) as call:
-            for sample in call:
+            for message in call:
+                sample = PredictionSample.from_proto(message)
                 samples.append(sample)
                 if on_sample is not None:
                     on_sample(sample)

@@ -1,12 +1,15 @@
-"""Grasp planning results as numpy structured arrays (GraspService.PlanGrasps / GetGraspSet / EvaluateGrasp)."""
+"""Grasp planning results as numpy structured arrays (GraspService.PlanGrasps / GetGraspSet / EvaluateGrasp), and
+the GraspCandidate that evaluate_grasp simulates."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import TYPE_CHECKING, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from graspsim._equality import ValueEquality
+from graspsim._ids import BodyLike, SceneLike, body_id_of, scene_id_of
 from graspsim.v1 import common_pb2, grasp_pb2
 
 # an object given as a mesh: (vertices (n, 3) m, triangles (m, 3) vertex indices)
@@ -106,11 +109,73 @@ def set_materials(request: Union[grasp_pb2.PlanGraspsRequest, grasp_pb2.Evaluate
         request.friction_pairs.add(material_a=a, material_b=b, friction=float(mu))
 
 
-def target_proto(scene_id: Optional[str], body_id: Optional[str], mesh: Optional[MeshLike]) -> grasp_pb2.GraspTarget:
+def target_proto(scene_id: Optional[SceneLike], body_id: Optional[BodyLike],
+                 mesh: Optional[MeshLike]) -> grasp_pb2.GraspTarget:
     """The object: a scene's body, or a mesh (vertices (n, 3) m, triangles (m, 3) indices)."""
     if mesh is not None:
         vertices, triangles = mesh
         return grasp_pb2.GraspTarget(mesh=common_pb2.MeshData(
             vertices=np.ascontiguousarray(vertices, dtype="<f4").tobytes(),
             triangles=np.ascontiguousarray(triangles, dtype="<u4").tobytes()))
-    return grasp_pb2.GraspTarget(scene_id=scene_id or "", body_id=body_id or "")
+    return grasp_pb2.GraspTarget(scene_id="" if scene_id is None else scene_id_of(scene_id),
+                                 body_id="" if body_id is None else body_id_of(body_id))
+
+
+@dataclass(frozen=True, eq=False)
+class GraspCandidate(ValueEquality):
+    """A placement of the hand to simulate (evaluate_grasp), in the object's frame.
+
+    Attributes:
+        approach: (3,) unit: the direction the hand moves (the hand's +z).
+        target: (3,) m: a point of the approach line.
+        reference: (3,) unit, perpendicular to approach: the hand's +x at roll 0.
+        roll: rad about the approach; standoff: m (0..0.2), backed off after the first contact.
+        preshape: one of the hand's pre-shapes ("power", "pinch", "spherical"); "" = its first.
+    """
+
+    approach: NDArray[np.float64]
+    target: NDArray[np.float64]
+    reference: NDArray[np.float64]
+    roll: float = 0.0
+    standoff: float = 0.0
+    preshape: str = ""
+
+    if TYPE_CHECKING:  # the generated __init__ takes any 3 values: __post_init__ makes float64 arrays of them
+        def __init__(self, approach: ArrayLike, target: ArrayLike, reference: ArrayLike, roll: float = ...,
+                     standoff: float = ..., preshape: str = ...) -> None: ...
+
+    def __post_init__(self) -> None:
+        for name in ("approach", "target", "reference"):
+            values = np.array(getattr(self, name), dtype=np.float64).reshape(-1)
+            if values.shape != (3,):
+                raise ValueError(f"GraspCandidate.{name} needs 3 values, got {values.size}")
+            object.__setattr__(self, name, values)  # frozen: how __post_init__ may still set a field
+
+    @classmethod
+    def from_row(cls, row: np.void) -> GraspCandidate:
+        """The candidate of a planned or evaluated grasp (a row of GraspSetResult.grasps, grasp_dtype)."""
+        return cls(row["approach"], row["target"], row["reference"], float(row["roll"]), float(row["standoff"]),
+                   str(row["preshape"]))
+
+    def to_proto(self) -> grasp_pb2.GraspCandidate:
+        def vec(v: NDArray[np.float64]) -> common_pb2.Vec3:
+            return common_pb2.Vec3(x=float(v[0]), y=float(v[1]), z=float(v[2]))
+        return grasp_pb2.GraspCandidate(approach=vec(self.approach), target=vec(self.target),
+                                        reference=vec(self.reference), roll=float(self.roll),
+                                        standoff=float(self.standoff), preshape=self.preshape)
+
+
+# A candidate: a GraspCandidate, or a row of a grasp set (GraspSetResult.grasps[i]) to simulate again.
+CandidateLike = Union[GraspCandidate, np.void]
+
+
+def candidate_proto(candidate: CandidateLike) -> grasp_pb2.GraspCandidate:
+    """The GraspCandidate message of a candidate (the generated message itself is taken as it is)."""
+    if isinstance(candidate, grasp_pb2.GraspCandidate):
+        return candidate
+    if isinstance(candidate, np.void):
+        candidate = GraspCandidate.from_row(candidate)
+    if not isinstance(candidate, GraspCandidate):
+        raise TypeError(f"candidate: a GraspCandidate or a row of GraspSetResult.grasps is expected, got "
+                        f"{type(candidate).__name__}")
+    return candidate.to_proto()

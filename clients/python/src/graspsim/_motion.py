@@ -9,6 +9,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from graspsim._errors import GraspsimError, error_for_code, translated_errors
+from graspsim._grasp import grasps_to_arrays
+from graspsim._ids import BodyLike, SceneLike, body_id_of, scene_id_of
 from graspsim._pose import Pose, PoseLike, as_pose
 from graspsim._progress import advance, progress_bar
 from graspsim._stream import CancellableStream
@@ -42,11 +44,11 @@ def _arm_path(response: grasp_pb2.PlanArmPathResponse) -> ArmPath:
                    search_seconds=response.search_seconds)
 
 
-def _arm_path_request(scene_id: str, arm_id: str, goal: Optional[PoseLike], goal_positions: Optional[Iterable[float]],
-                      start_positions: Optional[Iterable[float]], tip_body: str, timeout: float, seed: Optional[int],
-                      planner: str) -> grasp_pb2.PlanArmPathRequest:
-    request = grasp_pb2.PlanArmPathRequest(scene_id=scene_id, arm_id=arm_id, tip_body=tip_body, timeout=timeout,
-                                           planner=planner)
+def _arm_path_request(scene_id: SceneLike, arm_id: str, goal: Optional[PoseLike],
+                      goal_positions: Optional[Iterable[float]], start_positions: Optional[Iterable[float]],
+                      tip_body: str, timeout: float, seed: Optional[int], planner: str) -> grasp_pb2.PlanArmPathRequest:
+    request = grasp_pb2.PlanArmPathRequest(scene_id=scene_id_of(scene_id), arm_id=arm_id, tip_body=tip_body,
+                                           timeout=timeout, planner=planner)
     if goal is not None:
         request.goal.CopyFrom(as_pose(goal).to_proto())
     if goal_positions is not None:
@@ -74,7 +76,8 @@ class PickAndPlaceResult:
     success: bool
     grasp_set_id: str
     grasp_index: int           # the successful grasp's index in the set
-    grasp: object              # its graspsim.v1.Grasp message (hand_pose in the object frame, epsilon, …)
+    grasp: np.void             # that grasp: a row of grasp_dtype (hand_pose in the object frame, epsilon, …)
+    grasp_contacts: NDArray[np.void]  # its contacts (CONTACT_DTYPE, object frame)
     reachable: int             # grasps that passed the reachability filter
     failures: List[str]        # why earlier attempts failed
     object_pose: Pose          # where the object ended, world
@@ -86,14 +89,30 @@ class PickAndPlaceResult:
     motions: List[ArmMotion]
 
 
+@dataclass(frozen=True)
+class PickAndPlaceProgress:
+    """One message of pick_and_place_stream: the stage ("planning_grasps", "filtering", "planning_path",
+    "approach", "close", "lift", …, "done"), the fraction 0..1 of the whole job done, and in the "done" message
+    the result."""
+    stage: str
+    fraction: float
+    result: Optional[PickAndPlaceResult] = None
+
+
 def _pick_result(message: grasp_pb2.PickAndPlaceProgress) -> PickAndPlaceResult:
     dof = len(message.joint_ids)
     motions = [ArmMotion(m.stage, np.frombuffer(m.waypoints, dtype="<f8").reshape(-1, max(dof, 1)).copy(),
                          np.frombuffer(m.times, dtype="<f8").copy(), m.closed) for m in message.motions]
-    return PickAndPlaceResult(message.success, message.grasp_set_id, message.grasp_index, message.grasp,
+    grasps, contacts = grasps_to_arrays([message.grasp], len(message.grasp.joint_positions))
+    return PickAndPlaceResult(message.success, message.grasp_set_id, message.grasp_index, grasps[0], contacts,
                               message.reachable, list(message.failures), Pose.from_proto(message.object_pose),
                               message.position_error, message.orientation_error, message.grip_force,
                               message.simulated_seconds, list(message.joint_ids), motions)
+
+
+def _pick_progress(message: grasp_pb2.PickAndPlaceProgress) -> PickAndPlaceProgress:
+    return PickAndPlaceProgress(message.stage, message.fraction,
+                                _pick_result(message) if message.stage == "done" else None)
 
 
 class MotionMethods:
@@ -102,7 +121,7 @@ class MotionMethods:
     channel: grpc.Channel
     call_timeout: float
 
-    def plan_arm_path(self, scene_id: str, arm_id: str, *, goal: Optional[PoseLike] = None,
+    def plan_arm_path(self, scene_id: SceneLike, arm_id: str, *, goal: Optional[PoseLike] = None,
                       goal_positions: Optional[Sequence[float]] = None,
                       start_positions: Optional[Sequence[float]] = None, tip_body: str = "",
                       timeout: float = 0.0, seed: Optional[int] = None, planner: str = "",
@@ -129,7 +148,8 @@ class MotionMethods:
                                 "timeout", "seed", "planner"}
             if unknown:
                 raise TypeError(f"problems[{i}]: unknown keys {sorted(unknown)}")
-            requests.append(_arm_path_request(p["scene_id"], p["arm_id"], p.get("goal"), p.get("goal_positions"),
+            scene_id = scene_id_of(p["scene_id"], f"problems[{i}]['scene_id']")
+            requests.append(_arm_path_request(scene_id, p["arm_id"], p.get("goal"), p.get("goal_positions"),
                                               p.get("start_positions"), p.get("tip_body", ""),
                                               p.get("timeout", 0.0), p.get("seed"), p.get("planner", "")))
         stub = grasp_pb2_grpc.GraspServiceStub(self.channel)
@@ -139,22 +159,22 @@ class MotionMethods:
         return [_arm_path(r.path) if r.status_code == 0 else error_for_code(r.status_code, r.error)
                 for r in response.results]
 
-    def pick_and_place_stream(self, scene_id: str, arm_id: str, body_id: str, goal: PoseLike, *,
+    def pick_and_place_stream(self, scene_id: SceneLike, arm_id: str, body_id: BodyLike, goal: PoseLike, *,
                               hand_id: str = "", grasp_set_id: str = "", max_attempts: int = 0,
                               seed: Optional[int] = None, call_timeout: Optional[float] = None
-                              ) -> CancellableStream[grasp_pb2.PickAndPlaceProgress]:
-        """The raw progress stream of pick_and_place (graspsim.v1.PickAndPlaceProgress messages: stage,
-        fraction, and the result in the last one); cancel(), leaving a with-block or dropping the stream stops the
-        server's job."""
-        request = grasp_pb2.PickAndPlaceRequest(scene_id=scene_id, arm_id=arm_id, hand_id=hand_id, body_id=body_id,
-                                                grasp_set_id=grasp_set_id, max_attempts=max_attempts)
+                              ) -> CancellableStream[PickAndPlaceProgress]:
+        """The progress stream of pick_and_place: PickAndPlaceProgress (stage, fraction, and the result in the
+        "done" one); cancel(), leaving a with-block or dropping the stream stops the server's job."""
+        request = grasp_pb2.PickAndPlaceRequest(scene_id=scene_id_of(scene_id), arm_id=arm_id, hand_id=hand_id,
+                                                body_id=body_id_of(body_id), grasp_set_id=grasp_set_id,
+                                                max_attempts=max_attempts)
         request.goal.CopyFrom(as_pose(goal).to_proto())
         if seed is not None:
             request.seed = seed
         stub = grasp_pb2_grpc.GraspServiceStub(self.channel)
-        return CancellableStream(stub.PickAndPlace(request, timeout=call_timeout), lambda m: m)
+        return CancellableStream(stub.PickAndPlace(request, timeout=call_timeout), _pick_progress)
 
-    def pick_and_place(self, scene_id: str, arm_id: str, body_id: str, goal: PoseLike, *, hand_id: str = "",
+    def pick_and_place(self, scene_id: SceneLike, arm_id: str, body_id: BodyLike, goal: PoseLike, *, hand_id: str = "",
                        grasp_set_id: str = "", max_attempts: int = 0, seed: Optional[int] = None,
                        on_progress: Optional[Callable[[str, float], None]] = None,
                        call_timeout: Optional[float] = None, progress: bool = True) -> PickAndPlaceResult:
@@ -175,6 +195,6 @@ class MotionMethods:
                 if on_progress is not None:
                     on_progress(message.stage, message.fraction)
                 last = message
-        if last is None or last.stage != "done":
+        if last is None or last.result is None:
             raise GraspsimError.for_code(grpc.StatusCode.INTERNAL, "PickAndPlace ended without a result")
-        return _pick_result(last)
+        return last.result

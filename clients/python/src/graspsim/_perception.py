@@ -8,9 +8,9 @@ from typing import Callable, Dict, List, Optional, Sequence
 import grpc
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from numpy.typing import ArrayLike
 
 from graspsim._errors import GraspsimError, translated_errors
+from graspsim._ids import SceneLike, scene_id_of
 from graspsim._pose import PoseLike, as_pose
 from graspsim._progress import advance, progress_bar
 from graspsim._stream import server_stream
@@ -88,7 +88,7 @@ class PerceptionMethods:
                        mask: Optional[ArrayLike] = None,
                        table_pose: Optional[PoseLike] = None, method: str = "mirror", orientations: int = 0,
                        shifts: int = 0, octree_depth: int = 0, refinements: int = 0, voxel_size: float = 0.0,
-                       add_to_scene_id: str = "", object_name: str = "", object_mass: float = 0.0,
+                       add_to_scene_id: SceneLike = "", object_name: str = "", object_mass: float = 0.0,
                        on_progress: Optional[Callable[[str, float], None]] = None,
                        timeout: Optional[float] = None, progress: bool = True) -> CompletedShape:
         """Completes one object seen from camera_pose (camera frame in the world: z forward, x right, y down).
@@ -106,7 +106,8 @@ class PerceptionMethods:
         request = perception_pb2.CompleteShapeRequest(
             camera_pose=as_pose(camera_pose).to_proto(), orientations=orientations, shifts=shifts,
             octree_depth=octree_depth, refinements=refinements, voxel_size=voxel_size,
-            add_to_scene_id=add_to_scene_id, object_name=object_name, object_mass=object_mass)
+            add_to_scene_id=scene_id_of(add_to_scene_id, "add_to_scene_id"), object_name=object_name,
+            object_mass=object_mass)
         if method not in METHODS:
             raise ValueError(f"method: {method!r} is not one of {sorted(METHODS)}")
         request.method = METHODS[method]

@@ -109,12 +109,13 @@ class Pose:
         return out
 
 
-PoseLike = Union[Pose, common_pb2.Pose, Sequence[float], "tuple[Sequence[float], Sequence[float]]",
-                 NDArray[np.float64]]
+# A pose: a Pose, 7 values [x y z qw qx qy qz] or a (position, quaternion) pair.
+PoseLike = Union[Pose, Sequence[float], "tuple[Sequence[float], Sequence[float]]", NDArray[np.float64]]
 
 
 def as_pose(value: PoseLike) -> Pose:
-    """Accepts a Pose, a graspsim.v1.Pose message, 7 values [x y z qw qx qy qz] or a (position, quaternion) pair."""
+    """Accepts a Pose, 7 values [x y z qw qx qy qz] or a (position, quaternion) pair; and, for code written
+    against the raw stubs, a graspsim.v1.Pose message."""
     if isinstance(value, Pose):
         return value
     if isinstance(value, common_pb2.Pose):

@@ -123,13 +123,13 @@ class RecordingMethods:
         GraspsimError(ALREADY_EXISTS).
         """
         request = recording_pb2.StartRecordingRequest(
-            scene_id=scene_id_of(scene), name=name or "", groups=list(groups or []), compression=compression or "",
-            force_torque_joints=list(force_torque_joints or []), rate_hz=rate_hz or 0.0)
+            scene_id=scene_id_of(scene, "scene"), name=name or "", groups=list(groups or []),
+            compression=compression or "", force_torque_joints=list(force_torque_joints or []), rate_hz=rate_hz or 0.0)
         return RecordingInfo.from_proto(self._recording_call("StartRecording", request))
 
     def stop_recording(self, scene: SceneLike) -> RecordingInfo:
         """Stops the scene's recording: the file is finished (summary, index) and closed."""
-        request = recording_pb2.StopRecordingRequest(scene_id=scene_id_of(scene))
+        request = recording_pb2.StopRecordingRequest(scene_id=scene_id_of(scene, "scene"))
         return RecordingInfo.from_proto(self._recording_call("StopRecording", request))
 
     def list_recordings(self) -> List[RecordingInfo]:
@@ -203,6 +203,6 @@ class RecordingMethods:
         every body, joint, velocity and contact. Returns (simulation time s, the scene's new revision)."""
         if int(frame) < 0:
             raise ValueError(f"frame must be >= 0, got {frame}")
-        request = recording_pb2.SeekReplayRequest(scene_id=scene_id_of(scene), name=name, frame=int(frame))
+        request = recording_pb2.SeekReplayRequest(scene_id=scene_id_of(scene, "scene"), name=name, frame=int(frame))
         reply = self._recording_call("SeekReplay", request)
         return reply.time, reply.revision

@@ -22,8 +22,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Dict, Iterable, List, Mapping, Optional, Sequence, Set, Tuple, Union
 
+from graspsim._scene import FileInfo
 from graspsim._upload import digest
-from graspsim.v1 import common_pb2
 
 if TYPE_CHECKING:
     from graspsim._client import Client
@@ -331,7 +331,7 @@ def collect(path: Union[str, os.PathLike[str]], package_roots: PackageRoots = No
 
 
 def upload_missing(client: Client, scene_id: str, files: Mapping[str, Path],
-                   present: Optional[Iterable[common_pb2.FileInfo]] = None) -> List[str]:
+                   present: Optional[Iterable[FileInfo]] = None) -> List[str]:
     """Uploads each file the scene does not already hold with the same SHA-256; returns the uploaded paths.
     present: the scene's FileInfo list if the caller has it (else get_scene is asked)."""
     if not files:

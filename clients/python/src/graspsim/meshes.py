@@ -5,7 +5,7 @@ Vertices are (N, 3) in m; triangles are (M, 3) vertex indices, counter-clockwise
 from __future__ import annotations
 
 import struct
-from typing import Any, Sequence, Tuple
+from typing import Any, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -46,7 +46,7 @@ def to_stl(vertices: ArrayLike, triangles: ArrayLike) -> bytes:
     return b"graspsim binary STL".ljust(80, b" ") + struct.pack("<I", len(t)) + body.tobytes()
 
 
-def box_mesh(size: Sequence[float]) -> Mesh:
+def box_mesh(size: ArrayLike) -> Mesh:
     """Closed box of full edge lengths size (m), centred on the origin: 8 vertices, 12 triangles."""
     half = np.asarray(size, dtype=np.float64) / 2.0
     corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=np.float64)

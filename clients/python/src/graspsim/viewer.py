@@ -9,15 +9,16 @@ The server serves the viewer on its HTTP port (--http-listen, default 127.0.0.1:
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, List, Optional, Tuple, Union
+from typing import TYPE_CHECKING, List, Optional, Tuple
 from urllib.parse import quote, urlencode
 
 import numpy as np
 from numpy.typing import NDArray
 
-from graspsim._pose import Pose
-from graspsim.meshes import box_mesh, unpack_mesh, uv_sphere
-from graspsim.v1 import common_pb2, scene_pb2
+from graspsim._body import Geometry
+from graspsim._ids import SceneLike, scene_id_of
+from graspsim._scene import Scene
+from graspsim.meshes import box_mesh, uv_sphere
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from mpl_toolkits.mplot3d import Axes3D
@@ -28,20 +29,17 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
 DEFAULT_HTTP_URL = "http://127.0.0.1:8080"
 
 
-def viewer_url(scene: Union[str, scene_pb2.SceneSummary, scene_pb2.Scene], http_url: str = DEFAULT_HTTP_URL, *,
-               grasp_set: Optional[str] = None, grasp_object: Optional[str] = None) -> str:
+def viewer_url(scene: SceneLike, http_url: str = DEFAULT_HTTP_URL, *, grasp_set: Optional[str] = None,
+               grasp_object: Optional[str] = None) -> str:
     """The viewer page of a scene (its id, SceneSummary or Scene) on the server's HTTP address.
 
     grasp_set: a set_id from plan_grasps, drawn as hand ghosts on grasp_object (default: the first object).
     """
-    if isinstance(scene, scene_pb2.Scene):
-        scene = scene.summary.id
-    elif isinstance(scene, scene_pb2.SceneSummary):
-        scene = scene.id
-    if not scene:
+    scene_id = scene_id_of(scene, "scene")
+    if not scene_id:
         raise ValueError("viewer_url: empty scene id")
     query = {key: value for key, value in (("grasp_set", grasp_set), ("grasp_object", grasp_object)) if value}
-    return f"{http_url.rstrip('/')}/view/{quote(scene, safe='')}" + (f"?{urlencode(query)}" if query else "")
+    return f"{http_url.rstrip('/')}/view/{quote(scene_id, safe='')}" + (f"?{urlencode(query)}" if query else "")
 
 
 def _cylinder_mesh(radius: float, length: float, segments: int = 24) -> Tuple[NDArray[np.float64], NDArray[np.uint32]]:
@@ -59,32 +57,29 @@ def _cylinder_mesh(radius: float, length: float, segments: int = 24) -> Tuple[ND
     return vertices, faces.astype(np.uint32)
 
 
-def geometry_mesh(geometry: common_pb2.Geometry) -> Optional[Tuple[NDArray[np.float64], NDArray[np.uint32]]]:
+def geometry_mesh(geometry: Geometry) -> Optional[Tuple[NDArray[np.float64], NDArray[np.uint32]]]:
     """A collision shape as (vertices (n, 3) m in the body frame, triangles (m, 3)); None for a mesh_file the
     server did not inline."""
-    shape = geometry.WhichOneof("shape")
-    if shape == "box":
-        vertices, triangles = box_mesh([geometry.box.size.x, geometry.box.size.y, geometry.box.size.z])
-    elif shape == "sphere":
-        vertices, triangles = uv_sphere(geometry.sphere.radius, 8, 16)
-    elif shape == "cylinder":
-        vertices, triangles = _cylinder_mesh(geometry.cylinder.radius, geometry.cylinder.length)
-    elif shape == "mesh":
-        vertices, triangles = unpack_mesh(geometry.mesh)
-        if geometry.HasField("scale"):
-            vertices = vertices * [geometry.scale.x, geometry.scale.y, geometry.scale.z]
+    if geometry.shape == "box":
+        vertices, triangles = box_mesh(geometry.size)
+    elif geometry.shape == "sphere":
+        vertices, triangles = uv_sphere(geometry.radius, 8, 16)
+    elif geometry.shape == "cylinder":
+        vertices, triangles = _cylinder_mesh(geometry.radius, geometry.length)
+    elif geometry.shape == "mesh":
+        vertices, triangles = geometry.vertices * geometry.scale, geometry.triangles
     else:
         return None
-    origin = Pose.from_proto(geometry.origin)
+    origin = geometry.origin
     return np.asarray(vertices, dtype=np.float64) @ origin.rotation_matrix().T + origin.position, triangles
 
 
-def world_meshes(scene: scene_pb2.Scene) -> List[Tuple[str, NDArray[np.float64], NDArray[np.uint32]]]:
-    """Every drawable shape of a scene (GetScene with include_geometry) in the world frame:
+def world_meshes(scene: Scene) -> List[Tuple[str, NDArray[np.float64], NDArray[np.uint32]]]:
+    """Every drawable shape of a scene (get_scene with include_geometry) in the world frame:
     (body id, vertices (n, 3) m, triangles (m, 3))."""
     out = []
     for body in scene.bodies:
-        pose = Pose.from_proto(body.pose)
+        pose = body.pose
         for geometry in body.collision:
             mesh = geometry_mesh(geometry)
             if mesh is not None:
@@ -92,12 +87,12 @@ def world_meshes(scene: scene_pb2.Scene) -> List[Tuple[str, NDArray[np.float64],
     return out
 
 
-def draw_scene(ax: Axes3D, scene: scene_pb2.Scene) -> List[str]:
+def draw_scene(ax: Axes3D, scene: Scene) -> List[str]:
     """Draws the scene's bodies into 3D axes (projection="3d") at their poses; returns the body id of each
     drawn shape, in drawing order."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    colours = {common_pb2.BODY_MOTION_STATIC: "#8a8f96", common_pb2.BODY_MOTION_ARTICULATED: "#5d7fa8"}
+    colours = {"static": "#8a8f96", "articulated": "#5d7fa8"}
     motion = {body.id: body.motion for body in scene.bodies}
     drawn, points = [], []
     for body_id, vertices, triangles in world_meshes(scene):
@@ -118,7 +113,7 @@ def draw_scene(ax: Axes3D, scene: scene_pb2.Scene) -> List[str]:
     return drawn
 
 
-def scene_figure(client: Client, scene_id: str, *, fig: Optional[Figure] = None) -> Figure:
+def scene_figure(client: Client, scene_id: SceneLike, *, fig: Optional[Figure] = None) -> Figure:
     """A figure of the scene as it is now (one GetScene with geometry): a snapshot, not a live view."""
     from graspsim.plot import new_figure
 

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Dict, List, Optional, Sequence
 
 if TYPE_CHECKING:
     from graspsim._client import Client
-    from graspsim.v1 import gateway_pb2
+    from graspsim._devices import Device
 
 KINDS = ("robotiq-tcp", "robotiq-rtu", "pg70")
 
@@ -96,7 +96,7 @@ class GatewayRig:
                  *self._device_flags, *self._gateway_flags],
                 stdout=log, stderr=subprocess.STDOUT, pass_fds=[f.fileno() for f in self._fds])
 
-    def wait_for_devices(self, client: Client, timeout: float = 20.0) -> List[gateway_pb2.Device]:
+    def wait_for_devices(self, client: Client, timeout: float = 20.0) -> List[Device]:
         """Waits until the server lists every device of this rig with a first reading; returns them."""
         deadline = time.monotonic() + timeout
         while True:

@@ -3,7 +3,7 @@
 // must match to 1e-6 m (float BVHs); spheres and cylinders are inscribed tessellations within 0.1 mm of the
 // surface radially, so along a ray at distance ρ from the centre (axis) they may read shallower by at most
 // sqrt(r² − ρ²) − sqrt((r − 0.1 mm)² − ρ²), never deeper.
-#include "collision/tactile_rays.h"
+#include "tactile/ray_caster.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "collision_fixtures.h"
+#include "collision/collision_fixtures.h"
 #include "test_util.h"
 
 namespace graspsim {

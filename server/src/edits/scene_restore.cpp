@@ -1,45 +1,28 @@
-#include "rpc/scene_replay.h"
+#include "edits/scene_restore.h"
 
 #include <algorithm>
 
 #include "core/error.h"
-#include "rpc/scene_edits.h"
+#include "edits/scene_edits.h"
 
-namespace graspsim::rpc {
-namespace {
+namespace graspsim::edits {
 
-template <typename Request>
-Request Parse(const SceneOp& op) {
-  Request request;
-  if (!request.ParseFromString(op.payload)) throw Error(ErrorCode::kInternal, "the stored request does not parse");
-  return request;
-}
-
-}  // namespace
-
-void ReplayEdit(Scene* scene, const SceneOp& op, const Limits& limits) {
+void ReplayEdit(Scene* scene, const SceneOp& op, const Limits& limits, const LegacyEditReader& legacy) {
   if (op.kind == "UploadFile") {
     scene->PutFile(op.path, op.file, op.sha256, &op);
-  } else if (op.kind == "AddObject") {
-    AddObjectFromRequest(scene, Parse<v1::AddObjectRequest>(op), limits, nullptr);
-  } else if (op.kind == "AddRobot") {
-    AddRobotFromRequest(scene, Parse<v1::AddRobotRequest>(op), limits, nullptr);
-  } else if (op.kind == "RemoveBody") {
-    RemoveBodyFromRequest(scene, Parse<v1::RemoveBodyRequest>(op));
-  } else if (op.kind == "SetSimulationParams") {
-    SetSimulationParamsFromRequest(scene, Parse<v1::SetSimulationParamsRequest>(op), nullptr);
-  } else {
-    throw Error(ErrorCode::kInternal, "unknown edit kind '" + op.kind + "'");
+    return;
   }
+  // A version-1 op is applied as its record, and journaled as one from then on.
+  Apply(scene, IsEditRecord(op) ? DecodeEdit(op) : legacy(op), limits);
 }
 
-size_t RestoreScenes(persistence::SceneStore* store, SceneRegistry* registry) {
+size_t RestoreScenes(persistence::SceneStore* store, SceneRegistry* registry, const LegacyEditReader& legacy) {
   persistence::StoredScenes stored = store->Load();
   for (persistence::StoredScene& saved : stored.scenes) {
     auto scene = registry->Restore(saved.id, saved.name);
     for (size_t i = 0; i < saved.ops.size(); ++i) {
       try {
-        ReplayEdit(scene.get(), saved.ops[i], registry->limits());
+        ReplayEdit(scene.get(), saved.ops[i], registry->limits(), legacy);
       } catch (const Error& error) {
         // A limit lowered since (--max-bodies-per-scene, --max-upload-bytes …) lands here too: the message says so.
         throw Error(ErrorCode::kFailedPrecondition, "scene store " + store->path() + ": scene '" + saved.id +
@@ -70,12 +53,12 @@ persistence::SceneArchive ArchiveOf(const Scene& scene) {
 }
 
 std::shared_ptr<Scene> ImportArchive(const persistence::SceneArchive& archive, const std::string& id,
-                                     SceneRegistry* registry) {
+                                     SceneRegistry* registry, const LegacyEditReader& legacy) {
   auto scene = registry->CreateMoved(archive.name, id.empty() ? archive.id : id);
   try {
     for (size_t i = 0; i < archive.ops.size(); ++i) {
       try {
-        ReplayEdit(scene.get(), archive.ops[i], registry->limits());
+        ReplayEdit(scene.get(), archive.ops[i], registry->limits(), legacy);
       } catch (const Error& error) {
         ThrowInvalidArgument("data: the archive's edit " + std::to_string(i + 1) + " (" + archive.ops[i].kind +
                              ") does not apply here: " + error.what());
@@ -96,4 +79,4 @@ std::shared_ptr<Scene> ImportArchive(const persistence::SceneArchive& archive, c
   return scene;
 }
 
-}  // namespace graspsim::rpc
+}  // namespace graspsim::edits

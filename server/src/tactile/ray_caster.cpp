@@ -1,16 +1,14 @@
-// Tactile pad elements and their segments cast into Embree BVHs of every body (see tactile_rays.h).
-#include "collision/tactile_rays.h"
-
-#include <embree3/rtcore.h>
+// Tactile pads' segments cast into Embree BVHs of every body (see ray_caster.h).
+#include "tactile/ray_caster.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
-#include <tuple>
 
-#include "collision/mesh_query.h"
-#include "collision/samples.h"
+#include "collision/aabb.h"
+#include "collision/embree.h"
 #include "collision/tessellation.h"
 #include "core/error.h"
 
@@ -25,29 +23,18 @@ using collision::SphereMesh;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-
-[[noreturn]] void ThrowEmbree(RTCDevice device, const std::string& what) {
-  throw Error(ErrorCode::kInternal,
-              "embree: " + what + " failed (error " + std::to_string(rtcGetDeviceError(device)) + ")");
-}
-
-struct SceneDeleter {
-  void operator()(RTCScene scene) const { rtcReleaseScene(scene); }
-};
-using ScenePtr = std::unique_ptr<RTCSceneTy, SceneDeleter>;
-
 // One body's collision geometry as the rays see it, in the body frame. A body that is a single box (a cube, a
 // table top) is met analytically by the slab test in double precision: exact, and several times cheaper per
 // segment than Embree's traversal of its 12 triangles. Everything else goes through Embree.
 struct Target {
-  ScenePtr scene;              // Embree's BVH, or null
+  std::optional<collision::EmbreeScene> scene;  // Embree's BVH, or none
   std::vector<Vec3> normals;   // unit, per Embree primitive: says whether a hit enters or leaves
   bool is_box = false;         // the single-box case: box_frame and box_extent instead of scene
   Pose box_frame;              // the box's frame in the body frame
   Aabb box_extent;             // the box in its own frame, ±half size
   Aabb bounds;                 // body frame: of the triangles, grown by float slack, or of the box
   std::string robot_id;
-  bool HasGeometry() const { return scene != nullptr || is_box; }
+  bool HasGeometry() const { return scene.has_value() || is_box; }
 };
 
 struct Pad {
@@ -93,86 +80,11 @@ bool Contains(const Aabb& box, const Vec3& p) {
 
 }  // namespace
 
-Vec3 PadSurfacePoint(const TactileArraySpec& pad, double x, double y) {
-  // Wrapping keeps arc length: x becomes the angle x / R on a circle of radius R whose top touches z = 0.
-  auto wrap = [](double radius, double u, double* along, double* drop) {
-    if (!(radius > 0)) {
-      *along = u;
-      return;
-    }
-    *along = radius * std::sin(u / radius);
-    *drop += radius * (1 - std::cos(u / radius));
-  };
-  Vec3 p(0, 0, 0);
-  double drop = 0;
-  wrap(pad.bend_radius_x, x, &p.x(), &drop);
-  wrap(pad.bend_radius_y, y, &p.y(), &drop);
-  p.z() = -drop;
-  return p;
-}
-
-std::vector<PadElement> MakePadElements(const TactileArraySpec& pad) {
-  const uint32_t s = std::max(pad.subdivision, 1u);
-  const uint32_t rows = pad.rows * s, cols = pad.cols * s;
-  const double cell = pad.pitch / s, x0 = -0.5 * pad.cols * pad.pitch, y0 = -0.5 * pad.rows * pad.pitch;
-  auto unit_normal = [](const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 n = (b - a).cross(c - a);
-    return n.squaredNorm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::Zero());
-  };
-  std::vector<PadElement> elements;
-  if (pad.placement == PadElementPlacement::kFaceCentres) {
-    // Vertices at the cell corners; per cell two counter-clockwise triangles (seen from +z), each an element at
-    // its centroid with its own normal.
-    auto corner = [&](uint32_t r, uint32_t c) { return PadSurfacePoint(pad, x0 + c * cell, y0 + r * cell); };
-    elements.reserve(size_t(rows) * cols * 2);
-    for (uint32_t r = 0; r < rows; ++r) {
-      for (uint32_t c = 0; c < cols; ++c) {
-        const Vec3 v00 = corner(r, c), v01 = corner(r, c + 1), v10 = corner(r + 1, c), v11 = corner(r + 1, c + 1);
-        for (const auto& [a, b, d] : {std::tuple{v00, v01, v11}, std::tuple{v00, v11, v10}}) {
-          PadElement& e = elements.emplace_back();
-          e.position = (a + b + d) / 3;
-          e.normal = unit_normal(a, b, d);
-          if (e.normal.squaredNorm() == 0) e.normal = Vec3::UnitZ();
-          e.row = r / s;
-          e.col = c / s;
-        }
-      }
-    }
-    return elements;
-  }
-  elements.resize(size_t(rows) * cols);
-  for (uint32_t r = 0; r < rows; ++r) {
-    for (uint32_t c = 0; c < cols; ++c) {
-      PadElement& e = elements[size_t(r) * cols + c];
-      e.position = PadSurfacePoint(pad, x0 + (c + 0.5) * cell, y0 + (r + 0.5) * cell);
-      std::tie(e.row, e.col) = ElementTexel(pad, r * cols + c);
-      e.normal = Vec3::Zero();
-    }
-  }
-  // The elements are the vertices of a triangle grid (counter-clockwise seen from +z); each vertex normal is the
-  // normalised sum of its faces' unit normals.
-  auto add_face = [&](size_t a, size_t b, size_t c) {
-    const Vec3 n = unit_normal(elements[a].position, elements[b].position, elements[c].position);
-    for (size_t v : {a, b, c}) elements[v].normal += n;
-  };
-  for (uint32_t r = 0; r + 1 < rows; ++r) {
-    for (uint32_t c = 0; c + 1 < cols; ++c) {
-      const size_t v00 = size_t(r) * cols + c, v01 = v00 + 1, v10 = v00 + cols, v11 = v10 + 1;
-      add_face(v00, v01, v11);
-      add_face(v00, v11, v10);
-    }
-  }
-  // A single row or column has no faces: such a strip faces +z.
-  for (PadElement& e : elements) e.normal = e.normal.squaredNorm() > 0 ? Vec3(e.normal.normalized()) : Vec3::UnitZ();
-  return elements;
-}
-
 struct TactileRayCaster::Impl {
-  collision::EmbreeDevice device;  // declared first: released after the scenes
   std::vector<Target> bodies;
   std::vector<Pad> pads;
   // Scratch of Cast, sized in the constructor so Cast allocates nothing (Cast is therefore not reentrant).
-  mutable std::vector<RTCRayHit> rays;
+  mutable collision::RayBatch rays;                // one pad's segments against one body
   mutable std::vector<double> best_depth, best_t;  // per element of the current pad; depth 0: no hit
   mutable std::vector<uint32_t> best_body;
   mutable std::vector<uint8_t> from_inside;        // per packed ray: its base is inside the body's box
@@ -225,8 +137,7 @@ void TactileRayCaster::Impl::Build(const BodySpec& body, Target* target) {
                                               g.origin.position);
     return;
   }
-  std::vector<float> vertices;  // body frame, xyz
-  std::vector<uint32_t> indices;
+  TriangleMesh mesh;  // body frame
   for (const Geometry& g : body.collision) {
     LocalMesh local;
     switch (g.kind) {
@@ -245,52 +156,26 @@ void TactileRayCaster::Impl::Build(const BodySpec& body, Target* target) {
         local.triangles = g.mesh->triangles;
         break;
     }
-    const uint32_t base = static_cast<uint32_t>(vertices.size() / 3);
-    for (const Vec3& v : local.vertices) {
-      const Vec3 p = g.origin * v;
-      for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<float>(p[k]));
-    }
+    const uint32_t base = static_cast<uint32_t>(mesh.vertices.size());
+    for (const Vec3& v : local.vertices) mesh.vertices.push_back((g.origin * v).cast<float>());
     // Normals from the float vertices Embree will intersect; zero-area triangles are dropped (no normal to give).
-    auto at = [&](uint32_t i) {
-      return Vec3(vertices[3 * (base + i)], vertices[3 * (base + i) + 1], vertices[3 * (base + i) + 2]);
-    };
+    auto at = [&](uint32_t i) { return Vec3(mesh.vertices[base + i].cast<double>()); };
     for (const auto& t : local.triangles) {
       const Vec3 n = (at(t[1]) - at(t[0])).cross(at(t[2]) - at(t[0]));
       if (!(n.squaredNorm() > 0)) continue;
       target->normals.push_back(n.normalized());
-      for (uint32_t i : t) indices.push_back(base + i);
+      mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
     }
   }
-  if (indices.empty()) return;
-  for (size_t i = 0; i < vertices.size(); i += 3) target->bounds.Add(Vec3(vertices[i], vertices[i + 1], vertices[i + 2]));
+  if (mesh.triangles.empty()) return;
+  for (const Eigen::Vector3f& v : mesh.vertices) target->bounds.Add(Vec3(v.cast<double>()));
   // Float vertices and float rays: grow the box a little so the culling never drops a hit on its faces.
   const double slack = 1e-6 * (target->bounds.hi - target->bounds.lo).maxCoeff() + 1e-9;
   target->bounds.lo.array() -= slack;
   target->bounds.hi.array() += slack;
 
-  RTCDevice dev = device.get();
-  RTCGeometry geometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-  if (geometry == nullptr) ThrowEmbree(dev, "rtcNewGeometry");
-  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                         3 * sizeof(float), vertices.size() / 3));
-  auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                            3 * sizeof(uint32_t), indices.size() / 3));
-  if (vb == nullptr || ib == nullptr) {
-    rtcReleaseGeometry(geometry);
-    ThrowEmbree(dev, "rtcSetNewGeometryBuffer");
-  }
-  std::copy(vertices.begin(), vertices.end(), vb);
-  std::copy(indices.begin(), indices.end(), ib);
-  rtcCommitGeometry(geometry);
-  target->scene.reset(rtcNewScene(dev));
-  // Robust: a ray through a shared edge (element rows line up with box diagonals) must not slip through.
   // Built once per model and cast against every step: spend the build time on a high-quality BVH.
-  rtcSetSceneFlags(target->scene.get(), RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(target->scene.get(), RTC_BUILD_QUALITY_HIGH);
-  rtcAttachGeometry(target->scene.get(), geometry);
-  rtcReleaseGeometry(geometry);
-  rtcCommitScene(target->scene.get());
-  if (rtcGetDeviceError(dev) != RTC_ERROR_NONE) ThrowEmbree(dev, "building the BVH of body '" + body.id + "'");
+  target->scene.emplace(mesh, RTC_BUILD_QUALITY_HIGH);
 }
 
 TactileRayCaster::TactileRayCaster(const SceneModel& model) : impl_(std::make_unique<Impl>()) {
@@ -317,7 +202,7 @@ TactileRayCaster::TactileRayCaster(const SceneModel& model) : impl_(std::make_un
     }
     max_elements = std::max(max_elements, pad.elements.size());
   }
-  m.rays.resize(max_elements);
+  m.rays.rays.reserve(max_elements);
   m.best_depth.resize(max_elements);
   m.best_t.resize(max_elements);
   m.best_body.resize(max_elements);
@@ -345,10 +230,6 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
     m.world_bounds[b] = collision::TransformAabb(m.bodies[b].bounds, body_poses[b].orientation.toRotationMatrix(),
                                                  body_poses[b].position);
   }
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one pad's rays are near-parallel and side by side
-
   for (uint32_t p = 0; p < m.pads.size(); ++p) {
     const Pad& pad = m.pads[p];
     const size_t n = pad.elements.size();
@@ -374,48 +255,32 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
       const float segment_end = std::nextafter(static_cast<float>(pad.thickness), kInfinity);
       Direction direction;
       const Vec3* normal = nullptr;  // the pad-frame normal `direction` was made from
-      uint32_t count = 0;
+      collision::RayBatch& rays = m.rays;
+      rays.Clear();
       for (uint32_t e = 0; e < n; ++e) {
         const Vec3 o = rotation * pad.elements[e].position + to_body.position;
         if (normal == nullptr || pad.elements[e].normal != *normal) {
           normal = &pad.elements[e].normal;
           direction.Set(rotation * *normal);
         }
-        const Vec3& d = direction.d;
         // A segment that misses the body's box can neither enter it nor start inside it: no ray.
         if (!SegmentMeetsBox(o, direction, pad.thickness, target.bounds)) continue;
         const bool inside = Contains(target.bounds, o);
-        m.from_inside[count] = inside;
-        RTCRayHit& rh = m.rays[count++];
-        rh.ray.org_x = static_cast<float>(o.x());
-        rh.ray.org_y = static_cast<float>(o.y());
-        rh.ray.org_z = static_cast<float>(o.z());
-        rh.ray.dir_x = static_cast<float>(d.x());
-        rh.ray.dir_y = static_cast<float>(d.y());
-        rh.ray.dir_z = static_cast<float>(d.z());
-        rh.ray.tnear = 0;
+        m.from_inside[rays.size()] = inside;
         // From inside the box the ray runs on until it leaves the body, so a base buried deeper than the foam
         // still reads as fully compressed; from outside only the segment matters (the first hit enters).
-        rh.ray.tfar = inside ? kInfinity : segment_end;
-        rh.ray.time = 0;
-        rh.ray.mask = 0xffffffffu;
-        rh.ray.id = e;
-        rh.ray.flags = 0;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rays.Add(o, direction.d, inside ? kInfinity : segment_end, e);
       }
-      if (count == 0) continue;
-      rtcIntersect1M(target.scene.get(), &context, m.rays.data(), count, sizeof(RTCRayHit));
-      m.ray_count += count;
-      for (uint32_t i = 0; i < count; ++i) {
-        const RTCRayHit& rh = m.rays[i];
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-        const uint32_t e = rh.ray.id;
-        const Vec3 d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
-        const double facing = target.normals[rh.hit.primID].dot(d);
+      if (rays.size() == 0) continue;
+      target.scene->Intersect(&rays);
+      m.ray_count += rays.size();
+      for (size_t i = 0; i < rays.size(); ++i) {
+        if (!rays.Hit(i)) continue;
+        const uint32_t e = rays.Id(i);
+        const double facing = target.normals[rays.Triangle(i)].dot(rays.Direction(i));
         double depth = 0, t = 0;
         if (facing < 0) {  // enters the surface
-          t = rh.ray.tfar;
+          t = rays.T(i);
           depth = pad.thickness - t;
         } else if (facing > 0 && m.from_inside[i]) {
           // Leaves first: the base is inside. (Outside the box it cannot be, whatever an open mesh says.)

@@ -1,5 +1,7 @@
-// Scenes rebuilt on start (rpc/scene_replay.h) are the scenes that were journaled: same ids, names, bodies,
-// joints, files, parameters, state and revision; an edit whose journal write fails changes nothing.
+// Scenes rebuilt on start (edits/scene_restore.h) are the scenes that were journaled: same ids, names, bodies,
+// joints, files, parameters, state and revision; an edit whose journal write fails changes nothing. The scenes
+// are built through the typed edit API (edits/scene_edits.h), so every op here is an edit record; version-1 ops
+// (serialized requests) are tested with a stored fixture in tests/python/test_old_journals.py.
 #include <filesystem>
 #include <random>
 
@@ -9,11 +11,11 @@
 #include "core/sha256.h"
 #include "persistence/scene_store.h"
 #include "persistence/state_codec.h"
-#include "rpc/scene_edits.h"
-#include "rpc/scene_replay.h"
+#include "edits/scene_edits.h"
+#include "edits/scene_restore.h"
 #include "test_util.h"
 
-namespace graspsim::rpc {
+namespace graspsim::edits {
 namespace {
 
 namespace fs = std::filesystem;
@@ -46,39 +48,37 @@ void Upload(Scene* scene, const std::string& path, const std::string& bytes) {
   scene->PutFile(path, op.file, op.sha256, &op);
 }
 
-// Builds a scene of every kind of edit, as the RPC handlers do.
+// No op in these scenes is a version-1 request.
+Edit NoLegacyOps(const SceneOp& op) { throw Error(ErrorCode::kInternal, "a version-1 op: " + op.kind); }
+
+AddObjectEdit Builtin(const std::string& name, const std::string& builtin) {
+  AddObjectEdit edit;
+  edit.name = name;
+  edit.builtin = builtin;
+  edit.pose.position.z() = 0.5;
+  return edit;
+}
+
+// Builds a scene of every kind of edit.
 void BuildScene(Scene* scene, const Limits& limits) {
   Upload(scene, "tet.obj", kTetObj);
-  v1::AddRobotRequest robot;
-  robot.set_name("arm");
-  robot.set_urdf(kArmUrdf);
-  robot.mutable_base_pose()->mutable_orientation()->set_w(1);
-  AddRobotFromRequest(scene, robot, limits, nullptr);
-  for (const char* name : {"cube", "gone"}) {
-    v1::AddObjectRequest object;
-    object.set_name(name);
-    object.set_builtin("cube_5cm");
-    object.mutable_pose()->mutable_position()->set_z(0.5);
-    object.mutable_pose()->mutable_orientation()->set_w(1);
-    AddObjectFromRequest(scene, object, limits, nullptr);
-  }
-  v1::AddObjectRequest mesh;
-  mesh.set_name("tet");
-  mesh.mutable_geometry()->set_mesh_file("tet.obj");
-  auto* inertial = mesh.mutable_inertial();
-  inertial->set_mass(0.2);
-  inertial->set_ixx(1e-4);
-  inertial->set_iyy(1e-4);
-  inertial->set_izz(1e-4);
-  mesh.mutable_pose()->mutable_orientation()->set_w(1);
-  AddObjectFromRequest(scene, mesh, limits, nullptr);
-  v1::RemoveBodyRequest remove;
-  remove.set_id("gone");
-  RemoveBodyFromRequest(scene, remove);
-  v1::SetSimulationParamsRequest params;
-  params.mutable_params()->set_time_step(2e-3);
-  params.mutable_params()->mutable_gravity()->set_z(-1.62);
-  SetSimulationParamsFromRequest(scene, params, nullptr);
+  AddRobotEdit robot;
+  robot.name = "arm";
+  robot.source = kArmUrdf;
+  AddRobot(scene, robot, limits);
+  for (const char* name : {"cube", "gone"}) AddObject(scene, Builtin(name, "cube_5cm"), limits);
+  AddObjectEdit mesh;
+  mesh.name = "tet";
+  mesh.shape.emplace();
+  mesh.shape->kind = Geometry::Kind::kMesh;
+  mesh.shape->mesh_file = "tet.obj";
+  mesh.inertial = Inertial{0.2, Vec3::Zero(), Mat3::Identity() * 1e-4};
+  AddObject(scene, mesh, limits);
+  RemoveBody(scene, {"gone"});
+  SetSimulationParamsEdit params;
+  params.params.time_step = 2e-3;
+  params.params.gravity = Vec3(0, 0, -1.62);
+  SetSimulationParams(scene, params);
   Pose moved;
   moved.position = Vec3(0.3, 0.2, 0.1);
   scene->SetBodyPoses({{"cube", moved}});
@@ -88,7 +88,7 @@ void BuildScene(Scene* scene, const Limits& limits) {
   scene->Checkpoint();
 }
 
-TEST(SceneReplayTest, ARestartServesTheScenesThatWereStored) {
+TEST(SceneRestoreTest, ARestartServesTheScenesThatWereStored) {
   const std::string dir = TempDirectory();
   Limits limits;
   SceneView before, empty_before;
@@ -96,7 +96,7 @@ TEST(SceneReplayTest, ARestartServesTheScenesThatWereStored) {
   {
     persistence::SceneStore store(dir);
     SceneRegistry registry(limits);
-    ASSERT_EQ(RestoreScenes(&store, &registry), 0u);
+    ASSERT_EQ(RestoreScenes(&store, &registry, NoLegacyOps), 0u);
     auto scene = registry.Create("everything");
     BuildScene(scene.get(), limits);
     empty_before = registry.Create("empty")->View();
@@ -107,7 +107,7 @@ TEST(SceneReplayTest, ARestartServesTheScenesThatWereStored) {
   }
   persistence::SceneStore store(dir);
   SceneRegistry registry(limits);
-  ASSERT_EQ(RestoreScenes(&store, &registry), 3u);
+  ASSERT_EQ(RestoreScenes(&store, &registry, NoLegacyOps), 3u);
   EXPECT_EQ(registry.Get("client-chosen-id")->View().name, "chosen");
   const SceneView after = registry.Get(before.id)->View();
   EXPECT_EQ(after.name, "everything");
@@ -148,23 +148,19 @@ class FailingStore : public persistence::SceneStore {
   }
 };
 
-TEST(SceneReplayTest, AnEditWhoseJournalWriteFailsChangesNothing) {
+TEST(SceneRestoreTest, AnEditWhoseJournalWriteFailsChangesNothing) {
   const std::string dir = TempDirectory();
   Limits limits;
   {
     FailingStore store(dir);
     SceneRegistry registry(limits);
-    RestoreScenes(&store, &registry);
+    RestoreScenes(&store, &registry, NoLegacyOps);
     auto scene = registry.Create("s");
     BuildScene(scene.get(), limits);
     const SceneView before = scene->View();
     store.fail = true;
-    v1::AddObjectRequest object;
-    object.set_name("late");
-    object.set_builtin("cube_5cm");
-    object.mutable_pose()->mutable_orientation()->set_w(1);
-    test_util::ExpectError([&] { AddObjectFromRequest(scene.get(), object, limits, nullptr); }, ErrorCode::kInternal,
-                           {"injected"});
+    test_util::ExpectError([&] { AddObject(scene.get(), Builtin("late", "cube_5cm"), limits); },
+                           ErrorCode::kInternal, {"injected"});
     test_util::ExpectError([&] { scene->SetJointPositions({{"arm/shoulder", -0.4}}); }, ErrorCode::kInternal,
                            {"injected"});
     test_util::ExpectError([&] { Upload(scene.get(), "late.obj", kTetObj); }, ErrorCode::kInternal, {"injected"});
@@ -180,9 +176,9 @@ TEST(SceneReplayTest, AnEditWhoseJournalWriteFailsChangesNothing) {
 }
 
 }  // namespace
-}  // namespace graspsim::rpc
+}  // namespace graspsim::edits
 
-namespace graspsim::rpc {
+namespace graspsim::edits {
 namespace {
 
 // A scene moved by archive (ExportScene → ImportScene) is the scene: same bodies, files, state; the copy is
@@ -199,19 +195,19 @@ TEST(SceneArchiveTest, AnImportedSceneIsTheExportedOneAndSurvivesARestart) {
   {
     persistence::SceneStore store(dir);
     SceneRegistry target(limits);
-    RestoreScenes(&store, &target);
-    const auto copy = ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "", &target);
+    RestoreScenes(&store, &target, NoLegacyOps);
+    const auto copy = ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "", &target, NoLegacyOps);
     EXPECT_EQ(copy->id(), "moving-scene");
     EXPECT_EQ(persistence::EncodeState(copy->View().state), persistence::EncodeState(before.state));
     EXPECT_GT(copy->revision(), 0u);
-    test_util::ExpectError([&] { ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "", &target); },
+    test_util::ExpectError([&] { ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "", &target, NoLegacyOps); },
                            ErrorCode::kAlreadyExists, {"moving-scene"});
-    EXPECT_EQ(ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "second-copy", &target)->id(),
+    EXPECT_EQ(ImportArchive(persistence::DecodeSceneArchive(bytes, "data"), "second-copy", &target, NoLegacyOps)->id(),
               "second-copy");
   }
   persistence::SceneStore store(dir);
   SceneRegistry restarted(limits);
-  ASSERT_EQ(RestoreScenes(&store, &restarted), 2u);
+  ASSERT_EQ(RestoreScenes(&store, &restarted, NoLegacyOps), 2u);
   const SceneView after = restarted.Get("moving-scene")->View();
   EXPECT_EQ(after.name, "everything");
   ASSERT_EQ(after.model->bodies.size(), before.model->bodies.size());
@@ -244,9 +240,9 @@ TEST(SceneArchiveTest, ABadArchiveIsRefusedAndChangesNothing) {
 
   SceneRegistry target(limits);
   archive.ops.erase(archive.ops.begin());  // the robot's mesh file is gone: its AddRobot cannot apply
-  ExpectError([&] { ImportArchive(archive, "", &target); }, ErrorCode::kInvalidArgument, {"data", "edit 1", "AddRobot"});
+  ExpectError([&] { ImportArchive(archive, "", &target, NoLegacyOps); }, ErrorCode::kInvalidArgument, {"data", "edit 1", "AddRobot"});
   EXPECT_TRUE(target.List().empty());
 }
 
 }  // namespace
-}  // namespace graspsim::rpc
+}  // namespace graspsim::edits

@@ -1,24 +1,20 @@
-#include "rpc/recording_session.h"
+#include "recording/recording_session.h"
 
-namespace graspsim::rpc {
+namespace graspsim::recording {
 namespace {
 
 constexpr auto kFlushInterval = std::chrono::seconds(1);
 
-std::unique_ptr<recording::McapWriter> OpenFile(const RecordingOptions& options) {
-  return std::make_unique<recording::McapWriter>(options.path, recording::McapOptions{"", options.compression});
-}
-
 }  // namespace
 
-RecordingSession::RecordingSession(const RecordingOptions& options, double start_time)
-    : file_(OpenFile(options)),
+RecordingSession::RecordingSession(const SessionOptions& options, double start_time, const FrameEncoderFactory& encoder)
+    : file_(std::make_unique<McapWriter>(options.path, McapOptions{"", options.compression})),
       file_channels_(file_.get()),
-      channels_(&file_channels_, options.groups, options.force_torque_joints),
+      channels_(encoder(&file_channels_)),
       last_time_(start_time) {
-  if (options.groups.ros2) {
-    bag_ = std::make_unique<recording::Ros2Bag>(options.ros2_path, options.compression);
-    ros2_ = std::make_unique<recording::Ros2Channels>(bag_.get(), options.force_torque_joints);
+  if (!options.ros2_path.empty()) {
+    bag_ = std::make_unique<Ros2Bag>(options.ros2_path, options.compression);
+    ros2_ = std::make_unique<Ros2Channels>(bag_.get(), options.force_torque_joints);
   }
 }
 
@@ -28,12 +24,12 @@ void RecordingSession::Consume(const SceneSnapshot& frame) {
   if (first_) {
     first_ = false;
     start_time_ = time;
-    channels_.Log(time, 2, "recording started at t = " + std::to_string(time) + " s");
+    channels_->Log(time, 2, "recording started at t = " + std::to_string(time) + " s");
   }
   last_time_ = time;
   end_time_ = time;
-  recording::FrameReadings readings(frame);
-  channels_.Write(frame, readings);
+  FrameReadings readings(frame);
+  channels_->Write(frame, readings);
   if (ros2_) ros2_->Write(frame, readings);
   const auto now = std::chrono::steady_clock::now();
   if (now - last_flush_ >= kFlushInterval) {
@@ -44,17 +40,17 @@ void RecordingSession::Consume(const SceneSnapshot& frame) {
   Publish();
 }
 
-void RecordingSession::Append(const std::string& topic, const google::protobuf::Message& message) {
+void RecordingSession::Append(const std::function<void(FrameEncoder& encoder, double time)>& write) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (finished_) return;
-  channels_.WriteMessage(topic, last_time_, message);
+  write(*channels_, last_time_);
   Publish();
 }
 
 void RecordingSession::AppendPointCloud(const std::string& topic, const std::vector<Vec3>& points) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (finished_) return;
-  channels_.WritePointCloud(topic, last_time_, points);
+  channels_->WritePointCloud(topic, last_time_, points);
   if (ros2_) ros2_->WritePointCloud(topic, last_time_, points);
   Publish();
 }
@@ -62,7 +58,7 @@ void RecordingSession::AppendPointCloud(const std::string& topic, const std::vec
 void RecordingSession::Finish() {
   std::lock_guard<std::mutex> lock(mutex_);
   finished_ = true;
-  if (!first_) channels_.Log(last_time_, 2, "recording stopped at t = " + std::to_string(last_time_) + " s");
+  if (!first_) channels_->Log(last_time_, 2, "recording stopped at t = " + std::to_string(last_time_) + " s");
   if (bag_) bag_->Close();
   file_->Close();
   Publish();
@@ -73,4 +69,4 @@ void RecordingSession::Publish() {
   bytes_ = file_->bytes_written();
 }
 
-}  // namespace graspsim::rpc
+}  // namespace graspsim::recording
