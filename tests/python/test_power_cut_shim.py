@@ -146,3 +146,31 @@ def test_a_disk_ignoring_flushes_loses_acknowledged_writes():
     """The same check is not vacuous: when fsync makes nothing durable, acknowledged writes are lost."""
     figures = power_cut.power_cut_iterations(1, seed=5, group=1, rule="nosync")
     assert figures["power_cut_acknowledged_lost"] > 0, figures
+
+
+def test_a_stopped_recording_survives(tmp_path):
+    """A recording acknowledged as stopped is on the disk (recording/mcap_writer.cpp and ros2_bag.cpp sync the file,
+    the bag's metadata and their directory entries): after a power cut right after StopRecording, the MCAP file
+    reads to its summary and the ROS 2 bag's metadata names its messages. Without the syncs both come back empty."""
+    from mcap.reader import make_reader
+    live, state = tmp_path / "live", tmp_path / "state"
+    live.mkdir()
+    state.mkdir()
+    server = crash.ServerProcess(str(live / "store"), tmp_path / "server.log", env=power_cut.shim_env(live, state))
+    client = server.client
+    scene = client.create_scene("recorded").id
+    client.add_object(scene, "cube", builtin="cube_5cm", pose=[0, 0, 0.1, 1, 0, 0, 0])
+    client.start_recording(scene, name="kept.mcap", groups=["graspsim", "ros2"])
+    client.step_simulation(scene, 0.2)
+    stopped = client.stop_recording(scene)
+    assert stopped.messages > 0
+    server.kill()
+    power_cut.cut(live, state, tmp_path / "cut")
+    recordings = tmp_path / "cut" / "store" / "recordings"
+    with open(recordings / "kept.mcap", "rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None and sum(summary.statistics.channel_message_counts.values()) == stopped.messages
+    metadata = (recordings / "kept.ros2" / "metadata.yaml").read_text()
+    assert "message_count:" in metadata and "message_count: 0\n  topics" not in metadata
+    with open(recordings / "kept.ros2" / "kept.ros2_0.mcap", "rb") as f:
+        assert make_reader(f).get_summary() is not None

@@ -1,8 +1,5 @@
 #include "core/sqlite_file.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -10,6 +7,7 @@
 
 #include <sqlite3.h>
 
+#include "core/durable_files.h"
 #include "core/error.h"
 
 namespace graspsim {
@@ -27,37 +25,11 @@ void ExecSql(sqlite3* db, const std::string& label, const std::string& path, con
   }
 }
 
-namespace {
-
-// fsync of a directory: the names in it (a new file's, a new directory's) survive a power cut only after it.
-bool SyncDirectory(const std::filesystem::path& directory) {
-  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return false;
-  const bool ok = ::fsync(fd) == 0;
-  ::close(fd);
-  return ok;
-}
-
-}  // namespace
-
 sqlite3* OpenStoreFile(const std::string& label, const std::string& directory, const std::string& file_name,
                        const char* synchronous, std::string* path) {
-  std::error_code error;
   // The directories created here (the data directory on a first start) must outlive a power cut with the database
   // in them: SQLite syncs its files' own directory, never the ones above it (tests/bench/power_cut.py found this).
-  std::vector<std::filesystem::path> created;
-  for (auto p = std::filesystem::absolute(directory, error).lexically_normal();
-       !error && p.has_relative_path() && !std::filesystem::exists(p, error);
-       p = p.parent_path()) {
-    if (p.has_filename()) created.push_back(p);
-  }
-  std::filesystem::create_directories(directory, error);
-  if (error) ThrowStoreError(label, directory, "cannot create the directory: " + error.message());
-  for (const auto& p : created) {
-    if (!SyncDirectory(p.parent_path())) {
-      ThrowStoreError(label, p.parent_path().string(), std::string("cannot sync the directory: ") + std::strerror(errno));
-    }
-  }
+  CreateDirectoriesDurably(label, directory);
   *path = (std::filesystem::path(directory) / file_name).string();
   sqlite3* db = nullptr;
   if (sqlite3_open_v2(path->c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,

@@ -1,6 +1,7 @@
 #include "recording/mcap_writer.h"
 
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <tuple>
 
@@ -8,6 +9,7 @@
 #include <zlib.h>
 #include <zstd.h>
 
+#include "core/durable_files.h"
 #include "core/error.h"
 
 namespace graspsim::recording {
@@ -277,9 +279,22 @@ void McapWriter::Close() {
   summary += footer;
   summary.append(kMagic, sizeof(kMagic));
   WriteOut(summary);
+  // A finished recording survives a power cut: its bytes synced, then its name in the directory
+  // (tests/python/test_power_cut_shim.py).
+  try {
+    SyncFile(file_, path_);
+  } catch (const Error&) {
+    std::fclose(file_);
+    file_ = nullptr;
+    throw;
+  }
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
   if (!closed) throw Error(ErrorCode::kInternal, "cannot close '" + path_ + "'");
+  const std::filesystem::path directory = std::filesystem::absolute(path_).parent_path();
+  if (!SyncDirectory(directory)) {
+    throw Error(ErrorCode::kInternal, "cannot sync the directory of '" + path_ + "': " + std::strerror(errno));
+  }
 }
 
 }  // namespace graspsim::recording

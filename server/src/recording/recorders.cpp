@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/durable_files.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -48,7 +49,7 @@ struct Recorders::Active {
 };
 
 Recorders::Recorders(std::string directory) : directory_(std::move(directory)) {
-  if (!directory_.empty()) fs::create_directories(directory_);
+  if (!directory_.empty()) CreateDirectoriesDurably("recording directory ", directory_);
 }
 
 Recorders::~Recorders() { StopAll(); }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/durable_files.h"
 #include "core/error.h"
 
 namespace graspsim::recording {
@@ -55,12 +56,16 @@ void Ros2Bag::Close() {
   file_->Close();
   closed_bytes_ = file_->bytes_written();
   file_.reset();
-  WriteMetadata();
+  WriteMetadata(/*durable=*/true);
+  // The bag directory's own name, in the recording directory.
+  if (!SyncDirectory(std::filesystem::absolute(directory_).parent_path())) {
+    throw Error(ErrorCode::kInternal, "cannot sync the directory of '" + directory_ + "'");
+  }
 }
 
 uint64_t Ros2Bag::bytes_written() const { return file_ ? file_->bytes_written() : closed_bytes_; }
 
-void Ros2Bag::WriteMetadata() const {
+void Ros2Bag::WriteMetadata(bool durable) const {
   // Version 5 of rosbag2's metadata: the fields every reader since Foxy/Humble expects. Written to a temporary
   // file and renamed, so a reader never sees half of it.
   const uint64_t start = count_ ? first_time_ : 0, duration = count_ ? last_time_ - first_time_ : 0;
@@ -79,6 +84,10 @@ void Ros2Bag::WriteMetadata() const {
           std::to_string(start) + "\n      duration:\n        nanoseconds: " + std::to_string(duration) +
           "\n      message_count: " + std::to_string(count_) + "\n";
   const std::string path = directory_ + "/metadata.yaml";
+  if (durable) {
+    ReplaceFileDurably(path, yaml);
+    return;
+  }
   {
     std::ofstream out(path + ".tmp", std::ios::binary | std::ios::trunc);
     out << yaml;

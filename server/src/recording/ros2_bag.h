@@ -28,7 +28,8 @@ class Ros2Bag : public ChannelWriter {
     std::string name, type;
     uint64_t count = 0;
   };
-  void WriteMetadata() const;
+  // `durable`: synced to the disk (the last one, at Close); the ones before are for readers of a bag in progress.
+  void WriteMetadata(bool durable = false) const;
 
   std::string directory_, file_name_;
   std::unique_ptr<McapWriter> file_;
