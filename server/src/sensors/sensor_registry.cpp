@@ -2,10 +2,15 @@
 #include "sensors/sensor_registry.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <set>
 #include <cstring>
 #include <vector>
 
 #include "core/error.h"
+#include "core/format.h"
+#include "tactile/heat_map.h"
 
 namespace graspsim {
 namespace {
@@ -76,6 +81,43 @@ SensorReading ReadSensor(const SceneView& view, const SensorRef& sensor, const s
       return reading;
   }
   throw Error(ErrorCode::kInternal, "sensor '" + id + "': unknown sensor kind");
+}
+
+TactileHeatMap TactileHeatMapOf(const SceneView& view, const std::string& id, unsigned scale) {
+  constexpr unsigned kDefaultScale = 20, kMaxSide = 4096;  // px per texel; px
+  const SensorRef sensor = FindSensor(view, "sensor_id", id);
+  if (sensor.kind != SensorRef::Kind::kTactile) {
+    ThrowInvalidArgument("sensor_id: '" + id + "' is not a tactile array; images are of tactile arrays only");
+  }
+  const TactileArraySpec& pad = view.model->tactile_arrays[sensor.index];
+  if (scale == 0) scale = kDefaultScale;
+  const unsigned longest = std::max(pad.rows, pad.cols);
+  if (uint64_t{scale} * longest > kMaxSide) {
+    ThrowInvalidArgument("scale: " + std::to_string(scale) + " px per texel makes the " + std::to_string(pad.cols) +
+                         " x " + std::to_string(pad.rows) + " texels of '" + id + "' an image of " +
+                         std::to_string(uint64_t{scale} * pad.cols) + " x " + std::to_string(uint64_t{scale} * pad.rows) +
+                         " px; at most " + std::to_string(kMaxSide) + " px per side, i.e. scale <= " +
+                         std::to_string(kMaxSide / longest));
+  }
+  const TactileFrame frame = ReadTactileArray(*view.model, view.state, sensor.index);
+  return {TactileImagePng(frame, pad.max_intensity, scale), pad.cols * scale, pad.rows * scale};
+}
+
+void CheckSensorStream(double rate_hz, double max_rate_hz, const std::vector<std::string>& ids) {
+  if (!std::isfinite(rate_hz) || rate_hz <= 0) {
+    ThrowInvalidArgument("rate_hz: " + FormatNumber(rate_hz) + " Hz; give a finite rate > 0");
+  }
+  if (rate_hz > max_rate_hz) {
+    ThrowInvalidArgument("rate_hz: " + FormatNumber(rate_hz) + " Hz is above the server's limit of " +
+                         FormatNumber(max_rate_hz) + " Hz (--watch-max-rate-hz)");
+  }
+  if (ids.empty()) ThrowInvalidArgument("sensor_ids: empty; name at least one sensor");
+  std::set<std::string> seen;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (!seen.insert(ids[i]).second) {
+      ThrowInvalidArgument("sensor_ids[" + std::to_string(i) + "]: '" + ids[i].substr(0, 80) + "' is listed twice");
+    }
+  }
 }
 
 }  // namespace graspsim

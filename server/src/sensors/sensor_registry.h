@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "sensors/readings.h"
 #include "tactile/tactile_frame.h"
@@ -31,5 +32,19 @@ struct SensorReading {
 
 // One reading of `sensor` (named `id`) in `view`'s state.
 SensorReading ReadSensor(const SceneView& view, const SensorRef& sensor, const std::string& id);
+
+// The heat map of the tactile array `id` names (tactile/heat_map.h), `scale` px per texel (0: 20, a PG70 pad
+// becomes 120 x 280 px). INVALID_ARGUMENT naming `sensor_id` for a sensor that is not a tactile array, and `scale`
+// for an image over 4096 px a side.
+struct TactileHeatMap {
+  std::string png;
+  unsigned width = 0, height = 0;
+};
+TactileHeatMap TactileHeatMapOf(const SceneView& view, const std::string& id, unsigned scale);
+
+// The checks of a sensor stream's request: a finite rate > 0 up to `max_rate_hz` (the server's limit), at least
+// one id, none twice. INVALID_ARGUMENT naming rate_hz or sensor_ids[i]; the ids are checked against a scene by
+// FindSensor when the stream starts.
+void CheckSensorStream(double rate_hz, double max_rate_hz, const std::vector<std::string>& ids);
 
 }  // namespace graspsim

@@ -2,6 +2,7 @@
 // a joint's force/torque), the reading of each, and the errors for ids that name none.
 #include "sensors/sensor_registry.h"
 
+#include <cmath>
 #include <string>
 #include <variant>
 
@@ -77,6 +78,31 @@ TEST(SensorRegistryTest, IdsThatNameNoSensorAreRefusedWithTheAvailableOnes) {
               {"sensor_id: no sensor 'pg70/pad_middle' in scene 's'", "available:", " more"});
   ExpectError([&] { FindSensor(view, "sensor_id", "bh/gripper"); }, ErrorCode::kNotFound,
               {"robot 'bh' has no prismatic joints, so no gripper state"});
+}
+
+// The heat map is a PNG of the pad's texels at the scale asked (20 px per texel by default), and a scale that would
+// make a side over 4096 px is refused naming the largest that fits.
+TEST(SensorRegistryTest, TactileHeatMapsAreOfPadsOnlyAndOfBoundedSize) {
+  const SceneView view = PgAndBarrett();
+  const TactileHeatMap image = TactileHeatMapOf(view, "pg70/pad_left", 0);
+  EXPECT_EQ(image.width * image.height, 84u * 20 * 20);
+  ASSERT_GT(image.png.size(), 8u);
+  EXPECT_EQ(image.png.substr(1, 3), "PNG");
+  EXPECT_EQ(TactileHeatMapOf(view, "pg70/pad_left", 3).width * 20, image.width * 3);
+  ExpectError([&] { TactileHeatMapOf(view, "pg70/pad_left", 1000); }, ErrorCode::kInvalidArgument,
+              {"scale: 1000", "scale <= 292"});
+  ExpectError([&] { TactileHeatMapOf(view, "pg70/gripper", 0); }, ErrorCode::kInvalidArgument,
+              {"sensor_id", "not a tactile array"});
+}
+
+TEST(SensorRegistryTest, AStreamNeedsAPositiveRateWithinTheLimitAndDistinctIds) {
+  CheckSensorStream(30, 60, {"pg70/pad_left", "pg70/pad_right"});
+  ExpectError([] { CheckSensorStream(0, 60, {"a"}); }, ErrorCode::kInvalidArgument, {"rate_hz", "> 0"});
+  ExpectError([] { CheckSensorStream(NAN, 60, {"a"}); }, ErrorCode::kInvalidArgument, {"rate_hz"});
+  ExpectError([] { CheckSensorStream(61, 60, {"a"}); }, ErrorCode::kInvalidArgument, {"rate_hz", "limit of 60"});
+  ExpectError([] { CheckSensorStream(30, 60, {}); }, ErrorCode::kInvalidArgument, {"sensor_ids: empty"});
+  ExpectError([] { CheckSensorStream(30, 60, {"a", "b", "a"}); }, ErrorCode::kInvalidArgument,
+              {"sensor_ids[2]", "listed twice"});
 }
 
 }  // namespace
