@@ -6,27 +6,19 @@ be exactly what the old server served — every body, geometry byte, material, p
 edits on it must survive a restart beside the old ones."""
 import json
 import shutil
+import sys
 from pathlib import Path
 
 import grpc
 import pytest
-from google.protobuf import json_format
 
 from conftest import ServerProcess
 from graspsim.v1 import common_pb2, scene_pb2, scene_pb2_grpc
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+from make_journal_fixture import SCENE, observed  # noqa: E402  (what the fixture recorded, read the same way)
+
 FIXTURE = Path(__file__).resolve().parents[1] / "data" / "journal-v1"
-SCENE = "journal-v1"
-
-
-def observed(stub) -> dict:
-    """What scripts/make_journal_fixture.py recorded, read the same way."""
-    def as_json(message):
-        return json_format.MessageToDict(message, preserving_proto_field_name=True)
-    return {"scene": as_json(stub.GetScene(scene_pb2.GetSceneRequest(scene_id=SCENE, include_geometry=True))),
-            "params": as_json(stub.GetSimulationParams(scene_pb2.GetSimulationParamsRequest(scene_id=SCENE))),
-            "poses": as_json(stub.GetBodyPoses(scene_pb2.GetBodyPosesRequest(scene_id=SCENE))),
-            "joints": as_json(stub.GetJointPositions(scene_pb2.GetJointPositionsRequest(scene_id=SCENE)))}
 
 
 def without(value, key: str):

@@ -88,7 +88,8 @@ std::vector<T> Unpack(const json& j, const std::string& field) {
                                           " bytes, not a multiple of " + std::to_string(sizeof(T)));
   }
   std::vector<T> out(bytes.size() / sizeof(T));
-  if (!bytes.empty()) std::memcpy(out.data(), bytes.data(), bytes.size());
+  // Eigen vectors are plain floats (standard layout), whatever their copy-assignment says.
+  if (!bytes.empty()) std::memcpy(static_cast<void*>(out.data()), bytes.data(), bytes.size());
   return out;
 }
 TriangleMesh DecodeMesh(const json& j) {

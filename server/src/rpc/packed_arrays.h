@@ -65,7 +65,8 @@ template <typename T>
 std::vector<T> Unpack(const std::string& field, std::string_view bytes, std::string_view unit = PackedTypeName<T>()) {
   static_assert(std::is_standard_layout_v<T>);
   std::vector<T> values(PackedCount(field, bytes.size(), sizeof(T), unit));
-  if (!values.empty()) std::memcpy(values.data(), bytes.data(), bytes.size());  // no memcpy to an empty vector's nullptr
+  // No memcpy to an empty vector's nullptr; the cast: Eigen vectors are plain floats whatever their copy-assignment says.
+  if (!values.empty()) std::memcpy(static_cast<void*>(values.data()), bytes.data(), bytes.size());
   return values;
 }
 

@@ -81,7 +81,9 @@ TEST(AuthRoleTable, HardwareCommandsAreAllInGatewayService) {
   // With tokens off the interceptor is created only for GatewayService and AuthService calls
   // (rpc/auth_interceptor.cpp): a device grant anywhere else would go unlogged there.
   for (const auto& [method, rule] : RoleTable()) {
-    if (rule.device_grant) EXPECT_TRUE(method.starts_with("/graspsim.v1.GatewayService/")) << method;
+    if (rule.device_grant) {
+      EXPECT_TRUE(method.starts_with("/graspsim.v1.GatewayService/")) << method;
+    }
   }
 }
 

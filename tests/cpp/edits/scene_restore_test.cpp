@@ -3,7 +3,6 @@
 // are built through the typed edit API (edits/scene_edits.h), so every op here is an edit record; version-1 ops
 // (serialized requests) are tested with a stored fixture in tests/python/test_old_journals.py.
 #include <filesystem>
-#include <random>
 
 #include <gtest/gtest.h>
 
@@ -19,12 +18,6 @@ namespace graspsim::edits {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string TempDirectory() {
-  std::random_device random;
-  return (fs::temp_directory_path() / ("graspsim-replay-test-" + std::to_string(random()) + std::to_string(random())))
-      .string();
-}
 
 // A two-link arm whose second link is the uploaded mesh.
 const char* kArmUrdf = R"(<?xml version="1.0"?>
@@ -89,7 +82,8 @@ void BuildScene(Scene* scene, const Limits& limits) {
 }
 
 TEST(SceneRestoreTest, ARestartServesTheScenesThatWereStored) {
-  const std::string dir = TempDirectory();
+  const test_util::TempDir temp("restore-test", /*create=*/false);
+  const std::string dir = temp.str();
   Limits limits;
   SceneView before, empty_before;
   std::string deleted_id;
@@ -134,7 +128,6 @@ TEST(SceneRestoreTest, ARestartServesTheScenesThatWereStored) {
   test_util::ExpectError([&] { registry.Get(deleted_id); }, ErrorCode::kNotFound, {deleted_id.c_str()});
   // Ids go on after the highest ever handed out, the deleted scene's included.
   EXPECT_EQ(registry.Create("next")->id(), "scene-4");
-  fs::remove_all(dir);
 }
 
 class FailingStore : public persistence::SceneStore {
@@ -149,7 +142,8 @@ class FailingStore : public persistence::SceneStore {
 };
 
 TEST(SceneRestoreTest, AnEditWhoseJournalWriteFailsChangesNothing) {
-  const std::string dir = TempDirectory();
+  const test_util::TempDir temp("restore-test", /*create=*/false);
+  const std::string dir = temp.str();
   Limits limits;
   {
     FailingStore store(dir);
@@ -172,7 +166,6 @@ TEST(SceneRestoreTest, AnEditWhoseJournalWriteFailsChangesNothing) {
     EXPECT_EQ(persistence::EncodeState(after.state), persistence::EncodeState(before.state));
     EXPECT_NO_THROW(registry.Get(scene->id()));
   }
-  fs::remove_all(dir);
 }
 
 }  // namespace
@@ -191,7 +184,8 @@ TEST(SceneArchiveTest, AnImportedSceneIsTheExportedOneAndSurvivesARestart) {
   const SceneView before = scene->View();
   const std::string bytes = persistence::EncodeSceneArchive(ArchiveOf(*scene));
 
-  const std::string dir = TempDirectory();
+  const test_util::TempDir temp("restore-test", /*create=*/false);
+  const std::string dir = temp.str();
   {
     persistence::SceneStore store(dir);
     SceneRegistry target(limits);
@@ -215,7 +209,6 @@ TEST(SceneArchiveTest, AnImportedSceneIsTheExportedOneAndSurvivesARestart) {
   EXPECT_EQ(after.model->simulation.gravity, Vec3(0, 0, -1.62));
   EXPECT_EQ(persistence::EncodeState(after.state), persistence::EncodeState(before.state));
   EXPECT_EQ(*after.files.at("tet.obj").bytes, kTetObj);
-  fs::remove_all(dir);
 }
 
 // Bad archives are refused naming the field, and leave no scene behind.

@@ -61,7 +61,9 @@ TEST(GraspPlanRequest, ACandidateIsNormalisedAndCheckedByItsParts) {
   const Candidate along = CandidateFrom(pg70, parts);
   EXPECT_NEAR(along.reference.norm(), 1, 1e-12);
   EXPECT_NEAR(along.reference.dot(along.approach), 0, 1e-12);
-  EXPECT_EQ(pg70.preshapes[CandidateFrom(pg70, {Vec3::UnitZ()}).preshape].name, "power");  // "" = the default
+  CandidateParts default_preshape;
+  default_preshape.approach = Vec3::UnitZ();
+  EXPECT_EQ(pg70.preshapes[CandidateFrom(pg70, default_preshape).preshape].name, "power");  // "" = the default
 
   const auto refused = [&](auto change, std::initializer_list<const char*> want) {
     CandidateParts p = parts;

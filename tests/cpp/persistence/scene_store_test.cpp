@@ -20,21 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 
 // A fresh directory under the system's temporary directory, removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    path_ = fs::temp_directory_path() / ("graspsim-store-test-" + std::to_string(random()) + std::to_string(random()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string str() const { return path_.string(); }
-  fs::path path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 // Every field set to something other than its default, derived ones included.
 SceneState FullState() {
   SceneState s;
@@ -123,7 +108,7 @@ SceneOp FileOp(const std::string& path, const std::string& bytes) {
 }
 
 TEST(SceneStoreTest, EveryStoredKindSurvivesReopening) {
-  TempDir dir;
+  test_util::TempDir dir("store-test");
   std::string big(3 << 20, '\0');  // a 3 MiB upload with every byte value
   for (size_t i = 0; i < big.size(); ++i) big[i] = static_cast<char>(i * 7919 % 251);
   const SceneState state = FullState();
@@ -167,7 +152,7 @@ TEST(SceneStoreTest, EveryStoredKindSurvivesReopening) {
 }
 
 TEST(SceneStoreTest, ADeletedSceneStaysDeletedAndItsIdIsNotReused) {
-  TempDir dir;
+  test_util::TempDir dir("store-test");
   {
     SceneStore store(dir.str());
     store.SceneCreated("scene-1", "a", 2);
@@ -199,7 +184,7 @@ class FailingStore : public SceneStore {
 };
 
 TEST(SceneStoreTest, ATransactionThatFailsBeforeItsCommitLeavesNothing) {
-  TempDir dir;
+  test_util::TempDir dir("store-test");
   {
     FailingStore store(dir.str());
     store.SceneCreated("scene-1", "kept", 2);
@@ -226,7 +211,7 @@ TEST(SceneStoreTest, ATransactionThatFailsBeforeItsCommitLeavesNothing) {
 }
 
 TEST(SceneStoreTest, ConcurrentWritesAreCommittedTogetherEachWholeAndInOrder) {
-  TempDir dir;
+  test_util::TempDir dir("store-test");
   constexpr int kThreads = 6, kWrites = 40;
   {
     SceneStore store(dir.str());
@@ -263,7 +248,7 @@ TEST(SceneStoreTest, ConcurrentWritesAreCommittedTogetherEachWholeAndInOrder) {
 }
 
 TEST(SceneStoreTest, AFileThatIsNotADatabaseIsRefusedNamingItsPathAndKept) {
-  TempDir dir;
+  test_util::TempDir dir("store-test");
   const fs::path file = dir.path() / "scenes.sqlite";
   const std::string garbage(8192, 'G');
   {
@@ -278,7 +263,7 @@ TEST(SceneStoreTest, AFileThatIsNotADatabaseIsRefusedNamingItsPathAndKept) {
 }
 
 TEST(SceneStoreTest, ADirectoryThatCannotBeCreatedIsNamed) {
-  TempDir dir;
+  test_util::TempDir dir("store-test");
   const fs::path blocker = dir.path() / "file";
   std::ofstream(blocker) << "x";
   test_util::ExpectError([&] { SceneStore store((blocker / "sub").string()); }, ErrorCode::kFailedPrecondition,

@@ -20,17 +20,6 @@ namespace {
 
 using test_util::ExpectError;
 
-// The states a scene stored: a checkpoint is a SceneChanged without an op.
-class RecordingJournal : public SceneJournal {
- public:
-  void SceneCreated(const std::string&, const std::string&, uint64_t) override {}
-  void SceneDeleted(const std::string&) override {}
-  void SceneChanged(const std::string&, const SceneOp* op, const SceneState& state, uint64_t) override {
-    if (!op) checkpoint_times.push_back(state.time);
-  }
-  std::vector<double> checkpoint_times;
-};
-
 // A 5 cm box 1 m up in free fall, steps of 1 ms (17 a chunk).
 std::unique_ptr<Scene> FallingBox() {
   auto scene = std::make_unique<Scene>("s", "stepping", Limits());
@@ -58,7 +47,7 @@ TEST(SceneStepping, AnAmountIsStepsOrTimeAndIsRefusedNamingItsField) {
 
 TEST(SceneStepping, ARunCommitsEveryChunkAndStoresTheStateOnceAtTheEnd) {
   auto scene = FallingBox();
-  RecordingJournal journal;
+  test_util::CheckpointJournal journal;
   scene->AttachJournal(&journal);
   SimulationCache simulations;
   const uint64_t before = scene->revision();
@@ -90,7 +79,7 @@ TEST(SceneStepping, ADivergedRunStoresWhatItCommittedBeforeTheError) {
   SimulationParams params = scene->View().model->simulation;
   params.divergence_speed = 1;  // m/s: reached after ~0.1 s of falling
   scene->SetSimulationParams(params);
-  RecordingJournal journal;
+  test_util::CheckpointJournal journal;
   scene->AttachJournal(&journal);
   SimulationCache simulations;
   ExpectError([&] { StepScene(scene.get(), &simulations, StepAmount::Duration(1), nullptr); },

@@ -43,24 +43,9 @@ PickPlaceRequest Request() {
   return r;
 }
 
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    path_ = std::filesystem::temp_directory_path() /
-            ("graspsim-pickplace-test-" + std::to_string(random()) + std::to_string(random()));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  std::string str() const { return path_.string(); }
-
- private:
-  std::filesystem::path path_;
-};
-
 TEST(ScenePickPlace, RefusalsBeforePlanningNameTheField) {
   const motion_test::ArmScene s = CubeScene();
-  TempDir dir;
+  test_util::TempDir dir("pickplace-test");
   grasp::GraspStore store(dir.str());
   const auto refused = [&](auto change, grasp::GraspStore* with, ErrorCode code, std::initializer_list<const char*> parts) {
     PickPlaceRequest r = Request();
@@ -110,7 +95,7 @@ TEST(ScenePickPlace, ACancelWhilePlanningTheGraspSetChangesNothing) {
 // One planned run that commits, then the stored set named again in a run during which the scene changes.
 TEST(ScenePickPlace, ASuccessfulRunCommitsUnlessTheSceneChangedMeanwhile) {
   const motion_test::ArmScene s = CubeScene();
-  TempDir dir;
+  test_util::TempDir dir("pickplace-test");
   grasp::GraspStore store(dir.str());
   double last_fraction = 0, planning_until = 0;
   bool monotonic = true;

@@ -25,19 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using test_util::ExpectError;
 
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    path_ = fs::temp_directory_path() / ("graspsim-recorders-test-" + std::to_string(random()) + std::to_string(random()));
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
-};
-
 // What the encoders of a test saw.
 struct Seen {
   std::atomic<int> frames{0}, logs{0}, appended{0}, clouds{0};
@@ -90,7 +77,7 @@ bool Eventually(Condition done) {
 }
 
 TEST(Recorders, NamesArePlainFilesOfTheDirectoryAndOffMeansOff) {
-  TempDir dir;
+  test_util::TempDir dir("recorders-test", /*create=*/false);
   Recorders recorders(dir.str());
   EXPECT_TRUE(fs::is_directory(dir.str()));
   EXPECT_EQ(recorders.PathOf("name", "run-1.mcap"), dir.str() + "/run-1.mcap");
@@ -106,7 +93,7 @@ TEST(Recorders, NamesArePlainFilesOfTheDirectoryAndOffMeansOff) {
 }
 
 TEST(Recorders, ARecordingWritesItsFramesAndReportsThem) {
-  TempDir dir;
+  test_util::TempDir dir("recorders-test", /*create=*/false);
   Recorders recorders(dir.str());
   SceneRegistry registry{Limits()};
   auto scene = BoxScene(&registry);
@@ -152,7 +139,7 @@ TEST(Recorders, ARecordingWritesItsFramesAndReportsThem) {
 }
 
 TEST(Recorders, RequestsAreCheckedAgainstTheScene) {
-  TempDir dir;
+  test_util::TempDir dir("recorders-test", /*create=*/false);
   Recorders recorders(dir.str());
   SceneRegistry registry{Limits()};
   auto scene = BoxScene(&registry);
@@ -173,7 +160,7 @@ TEST(Recorders, RequestsAreCheckedAgainstTheScene) {
 }
 
 TEST(Recorders, AutomaticRecordingsAreNamedByTheSceneAndEndWithIt) {
-  TempDir dir;
+  test_util::TempDir dir("recorders-test", /*create=*/false);
   Recorders recorders(dir.str());
   SceneRegistry registry{Limits()};
   auto scene = BoxScene(&registry);

@@ -22,19 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using test_util::ExpectError;
 
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    path_ = fs::temp_directory_path() / ("graspsim-replays-test-" + std::to_string(random()) + std::to_string(random()));
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
-};
-
 // The toy recording: an edit is "box <id>" (a 5 cm box added at the origin) or "fail"; a frame is
 // "<time> <edits> <z>": every box at height z.
 struct Frame {
@@ -108,7 +95,7 @@ class ReplaysTest : public ::testing::Test {
     WriteRecording(Path(name), {"box a", "box b"}, {{0, 1, 0.1}, {0.5, 2, 0.2}, {1.0, 2, 0.3}}, {1, 2, 2});
   }
 
-  TempDir dir_;
+  test_util::TempDir dir_{"replays-test", /*create=*/false};
   Recorders recorders_;
   SceneRegistry registry_;
   Replays replays_;

@@ -20,16 +20,6 @@ namespace {
 using test_objects::UniformBox;
 using test_util::ExpectError;
 
-class RecordingJournal : public SceneJournal {
- public:
-  void SceneCreated(const std::string&, const std::string&, uint64_t) override {}
-  void SceneDeleted(const std::string&) override {}
-  void SceneChanged(const std::string&, const SceneOp* op, const SceneState& state, uint64_t) override {
-    if (!op) checkpoint_times.push_back(state.time);
-  }
-  std::vector<double> checkpoint_times;
-};
-
 Pose At(double x, double y, double z) { return {Vec3(x, y, z), Quat::Identity()}; }
 
 // The built-in cell 1.04 m up over a 0.2 kg 5 cm cube on a support (as tests/cpp/workcycle/work_cycle_test.cpp).
@@ -59,7 +49,7 @@ struct CycleRun {
 
 CycleRun RunToTheEnd(size_t max_frames, std::chrono::nanoseconds wall_time) {
   auto scene = CellScene();
-  RecordingJournal journal;
+  test_util::CheckpointJournal journal;
   scene->AttachJournal(&journal);
   SimulationCache simulations;
   SceneWorkCycle run(scene, Request(), &simulations);
@@ -113,7 +103,7 @@ TEST(SceneWorkCycle, ARefusedRequestThrowsBeforeAnyStep) {
 
 TEST(SceneWorkCycle, AFailedCycleKeepsAndStoresTheStepsBeforeTheError) {
   auto scene = CellScene();
-  RecordingJournal journal;
+  test_util::CheckpointJournal journal;
   scene->AttachJournal(&journal);
   SimulationCache simulations;
   SceneWorkCycle run(scene, Request(), &simulations);
