@@ -1,7 +1,7 @@
 """Builders of AddObject's geometry, inertial and material from plain Python/numpy values."""
 from __future__ import annotations
 
-from typing import Any, Dict, Optional, Sequence, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -86,11 +86,14 @@ def inertial(kind: str, value: Any, mass: Optional[float], inertia: Optional[Arr
     return msg
 
 
-def material(friction: Optional[Sequence[float]]) -> Optional[common_pb2.Material]:
+def material(friction: Optional[ArrayLike]) -> Optional[common_pb2.Material]:
     """Material from friction = (static, dynamic), dimensionless; None keeps the server's default."""
     if friction is None:
         return None
-    static, dynamic = friction
+    pair = np.asarray(friction, dtype=np.float64)
+    if pair.shape != (2,):
+        raise ValueError(f"friction must be (static, dynamic), got shape {pair.shape}")
+    static, dynamic = pair
     return common_pb2.Material(static_friction=float(static), dynamic_friction=float(dynamic))
 
 

@@ -174,10 +174,10 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
 
     # --- bodies and robots --------------------------------------------------------------------------------
     def add_object(self, scene_id: SceneLike, name: str, *, builtin: Optional[str] = None,
-                   box: Optional[Sequence[float]] = None, sphere: Optional[float] = None,
-                   cylinder: Optional[Sequence[float]] = None, mesh: Optional[MeshLike] = None,
+                   box: Optional[ArrayLike] = None, sphere: Optional[float] = None,
+                   cylinder: Optional[ArrayLike] = None, mesh: Optional[MeshLike] = None,
                    mesh_file: Optional[str] = None, mass: Optional[float] = None, inertia: Optional[ArrayLike] = None,
-                   center_of_mass: Optional[Sequence[float]] = None, friction: Optional[Sequence[float]] = None,
+                   center_of_mass: Optional[ArrayLike] = None, friction: Optional[ArrayLike] = None,
                    pose: Optional[PoseLike] = None, is_static: bool = False, inertia_source: str = "auto",
                    density: Optional[float] = None, strict: bool = False) -> Body:
         """Adds a rigid object; give exactly one shape:
@@ -255,9 +255,9 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
             request.files.add(path=file_path, data=bytes(data))
         return AddedRobot.from_proto(self._unary("AddRobot", request))
 
-    def remove_body(self, scene_id: SceneLike, id: str) -> List[str]:
+    def remove_body(self, scene_id: SceneLike, id: BodyLike) -> List[str]:
         """Removes an object, or a robot (by robot id) with its links; returns the removed body ids."""
-        request = scene_pb2.RemoveBodyRequest(scene_id=scene_id_of(scene_id), id=id)
+        request = scene_pb2.RemoveBodyRequest(scene_id=scene_id_of(scene_id), id=body_id_of(id, "id"))
         return list(self._unary("RemoveBody", request).removed_body_ids)
 
     # --- poses and joints ---------------------------------------------------------------------------------
@@ -273,9 +273,10 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         """Sets one world pose; returns the new scene revision."""
         return self.set_body_poses(scene_id, {body_id_of(body_id): pose})
 
-    def get_body_poses(self, scene_id: SceneLike, ids: Optional[Iterable[str]] = None) -> Dict[str, Pose]:
+    def get_body_poses(self, scene_id: SceneLike, ids: Optional[Iterable[BodyLike]] = None) -> Dict[str, Pose]:
         """World poses by body id (every body when ids is None)."""
-        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id_of(scene_id), body_ids=list(ids or []))
+        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id_of(scene_id),
+                                                body_ids=[body_id_of(i, "ids") for i in ids or []])
         return {p.body_id: Pose.from_proto(p.pose) for p in self._unary("GetBodyPoses", request).poses}
 
     def set_body_velocities(self, scene_id: SceneLike,
@@ -294,10 +295,12 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         result: int = self._unary("SetBodyPoses", request).revision
         return result
 
-    def get_body_velocities(self, scene_id: SceneLike, ids: Optional[Iterable[str]] = None) -> Dict[str, Velocity]:
+    def get_body_velocities(self, scene_id: SceneLike,
+                            ids: Optional[Iterable[BodyLike]] = None) -> Dict[str, Velocity]:
         """Free objects' velocities by id (world frame, centre of mass); every free object when ids is None.
         Static bodies and robot links have none of their own and are left out."""
-        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id_of(scene_id), body_ids=list(ids or []))
+        request = scene_pb2.GetBodyPosesRequest(scene_id=scene_id_of(scene_id),
+                                                body_ids=[body_id_of(i, "ids") for i in ids or []])
         return {p.body_id: Velocity.from_proto(p.velocity)
                 for p in self._unary("GetBodyPoses", request).poses if p.HasField("velocity")}
 
@@ -441,9 +444,9 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
     # --- grasp planning ----------------------------------------------------------------------------------
     def plan_grasps(self, hand: str, *, scene_id: Optional[SceneLike] = None, body_id: Optional[BodyLike] = None,
                     mesh: Optional[MeshLike] = None, method: str = "bounding_box", friction: Optional[float] = None,
-                    preshapes: Sequence[str] = (), standoffs: Sequence[float] = (), rolls: Optional[int] = None,
+                    preshapes: Sequence[str] = (), standoffs: ArrayLike = (), rolls: Optional[int] = None,
                     spacing: Optional[float] = None, circle_samples: Optional[int] = None,
-                    grasp_points: Optional[Sequence[Sequence[float]]] = None, seed: Optional[int] = None,
+                    grasp_points: Optional[ArrayLike] = None, seed: Optional[int] = None,
                     max_candidates: int = 0, max_grasps: int = 0,
                     recompute: bool = False, progress: bool = True,
                     on_progress: Optional[Callable[[int, int], None]] = None,
@@ -464,7 +467,7 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
         friction_pairs {(material_a, material_b): μ} give each contact the μ of its pair (else friction).
         """
         request = grasp_pb2.PlanGraspsRequest(object=target_proto(scene_id, body_id, mesh), hand=hand,
-                                              method=method, preshapes=list(preshapes), standoffs=list(standoffs),
+                                              method=method, preshapes=list(preshapes), standoffs=np.asarray(standoffs, dtype=np.float64).ravel().tolist(),
                                               max_candidates=max_candidates, max_grasps=max_grasps,
                                               recompute=recompute)
         for name, value in (("friction", friction), ("rolls", rolls), ("spacing", spacing),
@@ -473,7 +476,10 @@ class Client(GatewayMethods, PerceptionMethods, MotionMethods, AuthMethods, Reco
                 setattr(request, name, value)
         set_materials(request, object_material, link_materials, friction_pairs)
         if grasp_points is not None:
-            a, b = grasp_points
+            points = np.asarray(grasp_points, dtype=np.float64)
+            if points.shape != (2, 3):
+                raise ValueError(f"grasp_points must be two points (2, 3) m, got shape {points.shape}")
+            a, b = points.tolist()
             request.grasp_point_a.CopyFrom(common_pb2.Vec3(x=a[0], y=a[1], z=a[2]))
             request.grasp_point_b.CopyFrom(common_pb2.Vec3(x=b[0], y=b[1], z=b[2]))
         result = None

@@ -6,7 +6,7 @@ from typing import Callable, List, Optional, Sequence
 
 import grpc
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from graspsim._devices import CommandResult, Device, EmergencyStopResult, PredictionSample
 from graspsim._errors import translated_errors
@@ -62,7 +62,7 @@ class GatewayMethods:
             reply = self.gateway_stub.ListDevices(gateway_pb2.ListDevicesRequest(), timeout=self.call_timeout)
         return [Device.from_proto(d) for d in reply.devices]
 
-    def send_command(self, device_id: str, *, move: Optional[Sequence[float]] = None,
+    def send_command(self, device_id: str, *, move: Optional[ArrayLike] = None,
                      move_to: Optional[float] = None, velocity: Optional[float] = None,
                      max_force: Optional[float] = None, stop: bool = False, initialize: bool = False,
                      estop: bool = False, read: bool = False, timeout: float = 0.0) -> CommandResult:
@@ -80,7 +80,7 @@ class GatewayMethods:
         if len(chosen) != 1:
             raise ValueError(f"send_command: exactly one command, got {chosen or 'none'}")
         if move is not None:
-            opening, speed, force = move
+            opening, speed, force = np.asarray(move, dtype=np.float64).reshape(3).tolist()
             request.move.CopyFrom(gateway_pb2.Move(opening=opening, speed=speed, force=force))
         elif move_to is not None:
             request.move_to = move_to

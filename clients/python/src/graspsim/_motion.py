@@ -2,11 +2,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 import grpc
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from graspsim._errors import GraspsimError, error_for_code, translated_errors
 from graspsim._grasp import grasps_to_arrays
@@ -45,16 +45,16 @@ def _arm_path(response: grasp_pb2.PlanArmPathResponse) -> ArmPath:
 
 
 def _arm_path_request(scene_id: SceneLike, arm_id: str, goal: Optional[PoseLike],
-                      goal_positions: Optional[Iterable[float]], start_positions: Optional[Iterable[float]],
+                      goal_positions: Optional[ArrayLike], start_positions: Optional[ArrayLike],
                       tip_body: str, timeout: float, seed: Optional[int], planner: str) -> grasp_pb2.PlanArmPathRequest:
     request = grasp_pb2.PlanArmPathRequest(scene_id=scene_id_of(scene_id), arm_id=arm_id, tip_body=tip_body,
                                            timeout=timeout, planner=planner)
     if goal is not None:
         request.goal.CopyFrom(as_pose(goal).to_proto())
     if goal_positions is not None:
-        request.goal_positions.extend(float(v) for v in goal_positions)
+        request.goal_positions.extend(np.asarray(goal_positions, dtype=np.float64).ravel().tolist())
     if start_positions is not None:
-        request.start_positions.extend(float(v) for v in start_positions)
+        request.start_positions.extend(np.asarray(start_positions, dtype=np.float64).ravel().tolist())
     if seed is not None:
         request.seed = seed
     return request
@@ -122,8 +122,8 @@ class MotionMethods:
     call_timeout: float
 
     def plan_arm_path(self, scene_id: SceneLike, arm_id: str, *, goal: Optional[PoseLike] = None,
-                      goal_positions: Optional[Sequence[float]] = None,
-                      start_positions: Optional[Sequence[float]] = None, tip_body: str = "",
+                      goal_positions: Optional[ArrayLike] = None,
+                      start_positions: Optional[ArrayLike] = None, tip_body: str = "",
                       timeout: float = 0.0, seed: Optional[int] = None, planner: str = "",
                       call_timeout: Optional[float] = None) -> ArmPath:
         """A collision-free path of robot `arm_id` from its configuration in the scene (or start_positions) to a

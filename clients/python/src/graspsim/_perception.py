@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Dict, List, Optional, Sequence
+from typing import Callable, Dict, List, Optional
 
 import grpc
 import numpy as np
@@ -84,7 +84,7 @@ class PerceptionMethods:
         return stub
 
     def complete_shape(self, camera_pose: PoseLike, *, points: Optional[ArrayLike] = None,
-                       depth: Optional[ArrayLike] = None, intrinsics: Optional[Sequence[float]] = None,
+                       depth: Optional[ArrayLike] = None, intrinsics: Optional[ArrayLike] = None,
                        mask: Optional[ArrayLike] = None,
                        table_pose: Optional[PoseLike] = None, method: str = "mirror", orientations: int = 0,
                        shifts: int = 0, octree_depth: int = 0, refinements: int = 0, voxel_size: float = 0.0,
@@ -123,7 +123,7 @@ class PerceptionMethods:
             image = np.ascontiguousarray(np.asarray(depth, dtype="<f4"))
             if image.ndim != 2:
                 raise ValueError(f"depth: shape {image.shape}; expected (height, width)")
-            fx, fy, cx, cy = (float(v) for v in intrinsics)
+            fx, fy, cx, cy = np.asarray(intrinsics, dtype=np.float64).reshape(4).tolist()
             request.depth_image.intrinsics.CopyFrom(perception_pb2.CameraIntrinsics(
                 width=image.shape[1], height=image.shape[0], fx=fx, fy=fy, cx=cx, cy=cy))
             request.depth_image.depth = image.tobytes()

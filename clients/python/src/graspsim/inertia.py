@@ -4,15 +4,15 @@ Every tensor is about the centre of mass, in the body (geometry) frame, in kg m^
 """
 from __future__ import annotations
 
-from typing import Sequence, Tuple
+from typing import Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 
-def box_inertia(mass: float, size: Sequence[float]) -> NDArray[np.float64]:
+def box_inertia(mass: float, size: ArrayLike) -> NDArray[np.float64]:
     """Solid box of full edge lengths size = (a, b, c): diag(b²+c², a²+c², a²+b²) * m / 12."""
-    a, b, c = (float(v) for v in size)
+    a, b, c = np.asarray(size, dtype=np.float64).reshape(3).tolist()
     return np.diag([b * b + c * c, a * a + c * c, a * a + b * b]) * float(mass) / 12.0
 
 
