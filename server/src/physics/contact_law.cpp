@@ -64,9 +64,8 @@ double EffectiveFriction(const ContactParams& params, double hump) {
   return params.dynamic_friction + (params.static_friction - params.dynamic_friction) * hump;
 }
 
-// The law at one point; inlined into the batch loop, which is what lets consecutive contacts' divisions and
-// square roots overlap.
-[[gnu::always_inline]] inline ContactForce Law(const ContactParams& params, double depth, const Vec3& normal,
+// The law at one point (the simulation runs the same arithmetic in SIMD lanes: physics/contact_kernel.h).
+ContactForce Law(const ContactParams& params, double depth, const Vec3& normal,
                                                const Vec3& relative_velocity, const Vec3& bristle, double dt) {
   ContactForce out;
   out.normal = normal;
@@ -143,16 +142,6 @@ double StribeckLimit(const ContactParams& params, double normal_force, double sl
 ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
                              const Vec3& bristle, double dt) {
   return Law(params, depth, normal, relative_velocity, bristle, dt);
-}
-
-void EvaluateContacts(std::span<const ContactParams> params, std::span<const ContactSample> samples, double dt,
-                      std::vector<ContactForce>* out) {
-  out->resize(samples.size());
-  ContactForce* forces = out->data();
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const ContactSample& s = samples[i];
-    forces[i] = Law(params[i], s.depth, s.normal, s.relative_velocity, s.bristle, dt);
-  }
 }
 
 Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,

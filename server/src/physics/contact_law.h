@@ -14,9 +14,6 @@
 // |F_t| = g(v) + c_t |v|: the Stribeck curve. z lives in the tangent plane (world frame).
 #pragma once
 
-#include <span>
-#include <vector>
-
 #include "core/math.h"
 #include "world/simulation_params.h"
 
@@ -55,18 +52,6 @@ double StribeckLimit(const ContactParams& params, double normal_force, double sl
 // saturates its bristles within the step, so it must not be linearised as a stuck spring.
 ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
                              const Vec3& bristle, double dt = 0);
-
-// One contact point's inputs to the law, for the batch form.
-struct ContactSample {
-  double depth = 0;
-  Vec3 normal = Vec3::Zero(), relative_velocity = Vec3::Zero(), bristle = Vec3::Zero();
-};
-
-// EvaluateContact at every sample (params[i] for samples[i]), into *out resized to match: the same arithmetic in
-// one tight loop, so the divisions and square roots of consecutive contacts overlap instead of each contact
-// waiting for the last one's.
-void EvaluateContacts(std::span<const ContactParams> params, std::span<const ContactSample> samples, double dt,
-                      std::vector<ContactForce>* out);
 
 // The bristle deflection after dt with the slip velocity held constant over the step, integrated exactly:
 // z⁺ = e^{aΔt} z + (e^{aΔt} - 1)/a · v_t with a = -σ0|v_t|/g (and z⁺ = z + Δt v_t when a = 0). Stable for any

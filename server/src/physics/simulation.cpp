@@ -224,10 +224,9 @@ void Simulation::RecordJointWrenches(const Eigen::VectorXd& v, const Eigen::Vect
   // coordinates about the origin to each joint's child frame.
   if (model_->joints.empty()) return;
   std::vector<Multibody::Vec6> external(model_->bodies.size(), Multibody::Vec6::Zero());
-  for (size_t i = 0; i < contacts_.size(); ++i) {
-    const Vec6 wrench = Stack(contacts_[i].point.cross(forces_[i]), forces_[i]);
-    external[contacts_[i].body_a] += wrench;
-    external[contacts_[i].body_b] -= wrench;
+  for (const PairWrench& pair : pair_wrenches_) {  // the contacts' wrenches, summed per pair by ContactForces
+    external[pair.body_a] += pair.wrench;
+    external[pair.body_b] -= pair.wrench;
   }
   const std::vector<Multibody::Vec6> wrenches =
       multibody_.JointWrenches(*state, v, (v_next - v) / h, params_.gravity, external);

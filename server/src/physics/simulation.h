@@ -25,6 +25,9 @@
 #include "world/state.h"
 
 namespace graspsim {
+namespace contact_kernel {
+struct ContactRun;
+}
 
 // Checks a parameter set at the boundary; throws Error(kInvalidArgument) naming the field.
 void ValidateSimulationParams(const SimulationParams& params);
@@ -81,6 +84,8 @@ class Simulation : public PhysicsEngine {
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
                                       double h, const Eigen::VectorXd* bias_velocity = nullptr) const;
   void AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state);
+  // The contact kernel's view of contacts [begin, end) of one pair and one law in columns_, moving with `twist`.
+  contact_kernel::ContactRun Run(size_t begin, size_t end, const Multibody::Vec6& twist, double h) const;
   void UpdateSleep(SceneState* state, double h) const;
   ContactParams PairParams(uint32_t a, uint32_t b) const;
   void ClampJointLimits(SceneState* state) const;
@@ -104,8 +109,19 @@ class Simulation : public PhysicsEngine {
   Forces forces_at_start_, forces_at_end_;  // of a sub-step (the end's only for velocity Verlet)
   std::vector<std::pair<ContactKey, Vec3>> spare_bristles_;  // swapped with the state's each sub-step
   std::vector<Multibody::Vec6> twists_;  // per pair
-  std::vector<ContactSample> samples_;   // per contact: the law's inputs (ContactForces)
-  std::vector<ContactForce> laws_;       // per contact: the law's outputs
+  // Per contact, one array per coordinate: the contact kernel's inputs and outputs (physics/contact_kernel.h),
+  // filled by ContactForces; AdvanceBristles reads the same contacts (the last evaluation's) and writes next_z*.
+  struct ContactColumns {
+    std::vector<double> px, py, pz, nx, ny, nz, depth, zx, zy, zz, fx, fy, fz, next_zx, next_zy, next_zz;
+    void Resize(size_t n);
+  };
+  ContactColumns columns_;
+  // Per contact pair of the last ContactForces: its bodies and the wrench [Σ p × f; Σ f] on body_a.
+  struct PairWrench {
+    uint32_t body_a = 0, body_b = 0;
+    Multibody::Vec6 wrench;
+  };
+  std::vector<PairWrench> pair_wrenches_;
   // The sub-step's driven joints: the motor's state before the step and its output (ActuatorForces).
   struct Drive {
     size_t joint = 0;

@@ -2,6 +2,7 @@
 // linearisation the implicit solve needs, the bristle update, and the pads' element forces.
 #include <algorithm>
 
+#include "physics/contact_kernel.h"
 #include "physics/simulation.h"
 #include "tactile/pad_contacts.h"
 
@@ -23,16 +24,15 @@ Vec3 BristleAt(const std::vector<std::pair<ContactKey, Vec3>>& bristles, const C
   return found->second;
 }
 
-// Σ c, Σ c p, Σ c p pᵀ over contact points: what a pair's 6 × 6 block needs of terms that share their 3 × 3
-// shape (c I, or c n nᵀ with one normal n), at 9 multiply-adds a point instead of a 6 × 6 outer product.
+// Σ c, Σ c p, Σ c p pᵀ over contact points (summed by the contact kernel): what a pair's 6 × 6 block needs of
+// terms that share their 3 × 3 shape (c I, or c n nᵀ with one normal n).
 struct PointMoments {
   double m0 = 0;
   Vec3 m1 = Vec3::Zero();
   Mat3 m2 = Mat3::Zero();
-  void Add(double c, const Vec3& p) {
-    m0 += c;
-    m1 += c * p;
-    m2.noalias() += (c * p) * p.transpose();
+  // From the kernel's Σ c, Σ c p, Σ c p pᵀ (upper triangle xx xy xz yy yz zz).
+  explicit PointMoments(const double* sums) : m0(sums[0]), m1(sums[1], sums[2], sums[3]) {
+    m2 << sums[4], sums[5], sums[6], sums[5], sums[7], sums[8], sums[6], sums[8], sums[9];
   }
   // Σ Eᵀ (c I) E = [[c (|p|² I − p pᵀ), c [p]×], [−c [p]×, c I]].
   void AddIsotropicTo(Mat6* A) const {
@@ -52,20 +52,24 @@ struct PointMoments {
   }
 };
 
-// A += β w wᵀ with w = [p × u; u]: the 6 × 6 image Eᵀ (β u uᵀ) E of a rank-one 3 × 3 term at point p.
-void AddRankOne(const Vec3& point, const Vec3& direction, double beta, Mat6* A) {
-  if (beta == 0) return;
-  const Vec6 w = Stack(point.cross(direction), direction);
-  A->noalias() += (beta * w) * w.transpose();
+// A run's share of its pair's block Σ Eᵀ (h D + h² K) E, E(p) = [−[p]×, 1]; n: the run's first normal.
+void AddRunBlock(const contact_kernel::RunSums& sums, const Vec3& n, Mat6* block) {
+  using RowMajor6 = Eigen::Matrix<double, 6, 6, Eigen::RowMajor>;
+  PointMoments(sums.isotropic).AddIsotropicTo(block);
+  PointMoments(sums.along).AddAlongTo(n, block);
+  *block += Eigen::Map<const RowMajor6>(sums.normal_block) + Eigen::Map<const RowMajor6>(sums.slip_block);
 }
 
-// A += w_s (β_s w_s + β_n w_n)ᵀ: the images of the slip terms β_s ŝ ŝᵀ and (non-symmetric) β_n ŝ nᵀ at point p,
-// as one rank-one update.
-void AddSlipTerms(const Vec3& point, const Vec3& slip, const Vec3& normal, double beta_slip, double beta_normal,
-                  Mat6* A) {
-  if (beta_slip == 0 && beta_normal == 0) return;
-  const Vec6 ws = Stack(point.cross(slip), slip), wn = Stack(point.cross(normal), normal);
-  A->noalias() += ws * (beta_slip * ws + beta_normal * wn).transpose();
+// Which law a contact obeys within its pair: a pad's elements the pad's (tactile/pad_contacts.h), surface samples
+// the pair's combined law (FindContacts).
+uint64_t LawOf(uint64_t feature) { return PadElementOf(feature) ? feature >> 32 : 0; }
+
+// The end of the run of contacts that starts at `begin`: the same pair (up to pair_end) and the same law.
+size_t RunEnd(const std::vector<ContactPoint>& contacts, size_t begin, size_t pair_end) {
+  const uint64_t law = LawOf(contacts[begin].feature);
+  size_t end = begin + 1;
+  while (end < pair_end && LawOf(contacts[end].feature) == law) ++end;
+  return end;
 }
 
 }  // namespace
@@ -118,6 +122,28 @@ void Simulation::RecordPadForces(SceneState* state) const {
   }
 }
 
+void Simulation::ContactColumns::Resize(size_t n) {
+  for (std::vector<double>* column :
+       {&px, &py, &pz, &nx, &ny, &nz, &depth, &zx, &zy, &zz, &fx, &fy, &fz, &next_zx, &next_zy, &next_zz}) {
+    column->resize(n);
+  }
+}
+
+contact_kernel::ContactRun Simulation::Run(size_t begin, size_t end, const Multibody::Vec6& twist, double h) const {
+  contact_kernel::ContactRun run;
+  const ContactColumns& c = columns_;
+  run.count = end - begin;
+  run.px = c.px.data() + begin, run.py = c.py.data() + begin, run.pz = c.pz.data() + begin;
+  run.nx = c.nx.data() + begin, run.ny = c.ny.data() + begin, run.nz = c.nz.data() + begin;
+  run.depth = c.depth.data() + begin;
+  run.zx = c.zx.data() + begin, run.zy = c.zy.data() + begin, run.zz = c.zz.data() + begin;
+  for (int k = 0; k < 6; ++k) run.twist[k] = twist[k];
+  run.law = contact_params_[begin];
+  run.friction = run.law.HasFriction();
+  run.h = h;
+  return run;
+}
+
 void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v, double h, Forces* forces) {
   // Penalty normal force and LuGre friction at each point, mapped to generalised forces, with their stiffness
   // and damping for the linearly implicit solve.
@@ -140,70 +166,57 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   forces->bristle.resize(n);
   forces->pair_jacobians.clear();
   forces_.resize(n);
-  // Three passes. First the pairs' relative Jacobians and each contact's relative velocity and bristle; then the
-  // law at every contact in one batch (physics/contact_law.h); then pair by pair each contact's force becomes a
-  // wrench about the world origin, [p × f; f], and its linearisation (h D + h² K, in the scalar form of
-  // ContactForce) the 6 × 6 block Eᵀ (h D + h² K) E with E(p) = [−[p]×, 1], summed as moments where terms share
-  // their shape and as rank-one updates otherwise; only the pair's sums meet the nv-sized Jacobian (nv² work per
-  // pair instead of per contact).
-  samples_.resize(n);
+  pair_wrenches_.clear();
+  // Two passes. First the pairs' relative Jacobians and twists, and each contact's bristle, into columns; then
+  // pair by pair the contact kernel (physics/contact_kernel.h) runs the law over each run of contacts under one
+  // law and sums their wrenches [p × f; f] about the world origin and their linearisation's 6 × 6 block
+  // Eᵀ (h D + h² K) E, E(p) = [−[p]×, 1]; only the pair's sums meet the nv-sized Jacobian (nv² work per pair
+  // instead of per contact).
+  ContactColumns& columns = columns_;
+  columns.Resize(n);
   twists_.clear();
   size_t cursor = 0;  // into state.bristles, which is in the contacts' order
   for (size_t begin = 0; begin < n;) {
     const uint32_t a = contacts_[begin].body_a, b = contacts_[begin].body_b;
     const size_t pair = forces->pair_jacobians.size();
-    const Vec6& twist = twists_.emplace_back(
+    twists_.push_back(
         forces->pair_jacobians.emplace_back(multibody_.BodyJacobian(state, a) - multibody_.BodyJacobian(state, b)) * v);
     size_t end = begin;
     for (; end < n && contacts_[end].body_a == a && contacts_[end].body_b == b; ++end) {
       const ContactPoint& c = contacts_[end];
       const Vec3 z = forces->bristle[end] = BristleAt(state.bristles, ContactKey{a, b, c.feature}, &cursor);
-      samples_[end] = {c.depth, c.normal, twist.tail<3>() + twist.head<3>().cross(c.point), z};
+      columns.px[end] = c.point.x(), columns.py[end] = c.point.y(), columns.pz[end] = c.point.z();
+      columns.nx[end] = c.normal.x(), columns.ny[end] = c.normal.y(), columns.nz[end] = c.normal.z();
+      columns.depth[end] = c.depth;
+      columns.zx[end] = z.x(), columns.zy[end] = z.y(), columns.zz[end] = z.z();
       forces->contact_pair[end] = pair;
     }
     begin = end;
   }
-  EvaluateContacts(contact_params_, samples_, h, &laws_);
   for (size_t begin = 0; begin < n;) {
     const size_t pair = forces->contact_pair[begin];
     size_t end = begin;
     while (end < n && forces->contact_pair[end] == pair) ++end;
-    const Multibody::SpatialJacobian& W = forces->pair_jacobians[pair];
-    Vec3 force_sum = Vec3::Zero(), moment_sum = Vec3::Zero();
+    Vec6 wrench = Vec6::Zero(), stiffness_twist = Vec6::Zero();  // Σ Eᵀ K (E twist), for h² K v
     Mat6 block = Mat6::Zero();
-    Vec6 stiffness_twist = Vec6::Zero();  // Σ Eᵀ K (E twist), for h² K v
-    // The isotropic terms, and the normal terms of the contacts that share the pair's first normal (all of a
-    // flat pad's elements, a face lying on a face), as moments; the rest as rank-one updates.
-    PointMoments isotropic, along_normal;
-    const Vec3 shared_normal = contacts_[begin].normal;
-    for (size_t i = begin; i < end; ++i) {
-      const ContactPoint& c = contacts_[i];
-      const ContactForce& f = laws_[i];
-      forces->normal_force[i] = f.normal_force;
-      forces_[i] = f.force;
-      force_sum += f.force;
-      moment_sum += c.point.cross(f.force);
-      if (!linearize) continue;
-      isotropic.Add(h * f.d_iso + h * h * f.k_iso, c.point);
-      const double along = h * f.d_normal + h * h * f.k_normal;
-      if (c.normal == shared_normal) {
-        along_normal.Add(along, c.point);
-      } else {
-        AddRankOne(c.point, c.normal, along, &block);
+    for (size_t run_begin = begin; run_begin < end;) {
+      const size_t run_end = RunEnd(contacts_, run_begin, end);
+      contact_kernel::RunSums sums;
+      contact_kernel::EvaluateRun(Run(run_begin, run_end, twists_[pair], h), linearize, columns.fx.data() + run_begin,
+                                  columns.fy.data() + run_begin, columns.fz.data() + run_begin,
+                                  forces->normal_force.data() + run_begin, &sums);
+      wrench += Stack(Vec3(sums.moment), Vec3(sums.force));
+      if (linearize) {
+        AddRunBlock(sums, contacts_[run_begin].normal, &block);
+        stiffness_twist += Eigen::Map<const Vec6>(sums.stiffness_twist);
       }
-      AddSlipTerms(c.point, f.slip_direction, c.normal, h * h * f.k_slip,
-                   h * f.d_slip_normal + h * h * f.k_slip_normal, &block);
-      const Vec3& relative = samples_[i].relative_velocity;
-      const Vec3 k_relative = f.k_iso * relative + f.k_normal * c.normal.dot(relative) * c.normal +
-                              (f.k_slip * f.slip_direction.dot(relative) + f.k_slip_normal * c.normal.dot(relative)) *
-                                  f.slip_direction;
-      stiffness_twist.head<3>() += c.point.cross(k_relative);
-      stiffness_twist.tail<3>() += k_relative;
+      run_begin = run_end;
     }
-    forces->tau.noalias() += W.transpose() * Stack(moment_sum, force_sum);
+    for (size_t i = begin; i < end; ++i) forces_[i] = Vec3(columns.fx[i], columns.fy[i], columns.fz[i]);
+    pair_wrenches_.push_back({contacts_[begin].body_a, contacts_[begin].body_b, wrench});
+    const Multibody::SpatialJacobian& W = forces->pair_jacobians[pair];
+    forces->tau.noalias() += W.transpose() * wrench;
     if (linearize) {
-      isotropic.AddIsotropicTo(&block);
-      along_normal.AddAlongTo(shared_normal, &block);
       forces->contact_matrix.noalias() += W.transpose() * (block * W);
       forces->contact_rhs.noalias() += (h * h) * (W.transpose() * stiffness_twist);
     }
@@ -212,21 +225,36 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
 }
 
 void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) {
-  // The exact LuGre update, with the slip velocity the friction force was evaluated with. Contacts that ended
-  // drop their bristle state; frictionless contacts never get one. Built in the contacts' (sorted) order into
-  // the previous step's buffer. (A batch form like the law's measured no faster here: one division per contact.)
-  std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
-  bristles.clear();
+  // The exact LuGre update (the contact kernel's AdvanceRun), with the slip velocity the friction force was
+  // evaluated with, over the contacts of the last ContactForces (still in columns_). Contacts that ended drop
+  // their bristle state; frictionless contacts never get one. Built in the contacts' (sorted) order into the
+  // previous step's buffer.
+  ContactColumns& columns = columns_;
+  const size_t n = contacts_.size();
   twists_.clear();
   for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists_.push_back(W * v);
-  for (size_t i = 0; i < contacts_.size(); ++i) {
+  for (size_t begin = 0; begin < n;) {
+    const size_t pair = forces.contact_pair[begin];
+    size_t end = begin;
+    while (end < n && forces.contact_pair[end] == pair) ++end;
+    for (size_t run_begin = begin; run_begin < end;) {
+      const size_t run_end = RunEnd(contacts_, run_begin, end);
+      const contact_kernel::ContactRun run = Run(run_begin, run_end, twists_[pair], h);
+      if (run.friction) {
+        contact_kernel::AdvanceRun(run, forces.normal_force.data() + run_begin, columns.next_zx.data() + run_begin,
+                                   columns.next_zy.data() + run_begin, columns.next_zz.data() + run_begin);
+      }
+      run_begin = run_end;
+    }
+    begin = end;
+  }
+  std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
+  bristles.clear();
+  for (size_t i = 0; i < n; ++i) {
     const ContactPoint& c = contacts_[i];
-    const ContactParams& params = contact_params_[i];
-    if (!params.HasFriction()) continue;
-    const Vec6& twist = twists_[forces.contact_pair[i]];
-    const Vec3 relative = twist.tail<3>() + twist.head<3>().cross(c.point);
+    if (!contact_params_[i].HasFriction()) continue;
     bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature},
-                          AdvanceBristle(params, forces.normal_force[i], c.normal, relative, forces.bristle[i], h));
+                          Vec3(columns.next_zx[i], columns.next_zy[i], columns.next_zz[i]));
   }
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   if (!std::is_sorted(bristles.begin(), bristles.end(), by_key)) std::sort(bristles.begin(), bristles.end(), by_key);

@@ -74,8 +74,9 @@ bool SegmentMeetsBox(const Vec3& o, const Direction& direction, double length, c
   return true;
 }
 
-bool Contains(const Aabb& box, const Vec3& p) {
-  return (p.array() >= box.lo.array()).all() && (p.array() <= box.hi.array()).all();
+bool Contains(const Aabb& box, const Vec3& p) {  // coefficient by coefficient: cheaper than Eigen's all()
+  return p.x() >= box.lo.x() && p.x() <= box.hi.x() && p.y() >= box.lo.y() && p.y() <= box.hi.y() &&
+         p.z() >= box.lo.z() && p.z() <= box.hi.z();
 }
 
 }  // namespace
@@ -111,17 +112,18 @@ void TactileRayCaster::Impl::CastAtBox(const Pad& pad, const Target& target, con
   Direction direction;
   const Vec3* normal = nullptr;  // the pad-frame normal `direction` was made from
   for (uint32_t e = 0; e < pad.elements.size(); ++e) {
-    const Vec3 o = rotation * pad.elements[e].position + to_box.position;
+    // lazyProduct: inline, not the out-of-line product call GCC otherwise makes per element.
+    const Vec3 o = rotation.lazyProduct(pad.elements[e].position) + to_box.position;
     if (normal == nullptr || pad.elements[e].normal != *normal) {
       normal = &pad.elements[e].normal;
       direction.Set(rotation * *normal);
     }
-    const bool inside = Contains(target.box_extent, o);
+    // A base inside the (closed) box meets it at entry 0, so the slab test alone answers both cases.
     double entry = 0;  // ≥ 0: the depth is at most the thickness
-    if (!inside && !SegmentMeetsBox(o, direction, pad.thickness, target.box_extent, &entry)) continue;
+    if (!SegmentMeetsBox(o, direction, pad.thickness, target.box_extent, &entry)) continue;
     ++ray_count;
-    const double depth = inside ? pad.thickness : pad.thickness - entry;
-    if (depth > 0) KeepDeepest(e, depth, inside ? 0.0 : entry, b);
+    const double depth = pad.thickness - entry;
+    if (depth > 0) KeepDeepest(e, depth, entry, b);
   }
 }
 
@@ -258,7 +260,7 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
       collision::RayBatch& rays = m.rays;
       rays.Clear();
       for (uint32_t e = 0; e < n; ++e) {
-        const Vec3 o = rotation * pad.elements[e].position + to_body.position;
+        const Vec3 o = rotation.lazyProduct(pad.elements[e].position) + to_body.position;
         if (normal == nullptr || pad.elements[e].normal != *normal) {
           normal = &pad.elements[e].normal;
           direction.Set(rotation * *normal);
@@ -291,15 +293,22 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
         m.KeepDeepest(e, depth, t, b);
       }
     }
+    const Vec3* normal = nullptr;  // the pad-frame normal world_normal was made from (shared, as in CastAtBox)
+    Vec3 world_normal;
     for (uint32_t e = 0; e < n; ++e) {
       if (m.best_depth[e] <= 0) continue;
+      const PadElement& element = pad.elements[e];
+      if (normal == nullptr || element.normal != *normal) {
+        normal = &element.normal;
+        world_normal = pad_rotation * *normal;
+      }
       PadHit& hit = hits->emplace_back();
       hit.pad = p;
       hit.element = e;
       hit.body = m.best_body[e];
       hit.depth = m.best_depth[e];
-      hit.normal = pad_rotation * pad.elements[e].normal;
-      hit.point = pad_rotation * pad.elements[e].position + pad_world.position + m.best_t[e] * hit.normal;
+      hit.normal = world_normal;
+      hit.point = pad_rotation.lazyProduct(element.position) + pad_world.position + m.best_t[e] * world_normal;
     }
   }
 }
