@@ -23,6 +23,7 @@ from conftest import ServerProcess
 
 TABLE = 0.75
 CANCELLED = "1"
+UNAVAILABLE = "14"
 
 
 @pytest.fixture(scope="module")
@@ -46,12 +47,14 @@ def ended(server, method):
                       server.log_path.read_text(errors="replace"))
 
 
-def assert_cancelled(server, method, before: int, within: float = 10.0):
-    """The next call of `method` after the `before` already logged ends CANCELLED within `within` s."""
+def assert_cancelled(server, method, before: int, within: float = 10.0, also=()):
+    """The next call of `method` after the `before` already logged ends CANCELLED (or with a code in `also`)
+    within `within` s."""
     deadline = time.monotonic() + within
     while len(ended(server, method)) <= before and time.monotonic() < deadline:
         time.sleep(0.02)
-    assert ended(server, method)[before:] == [CANCELLED], f"{method}:\n{server.log_tail()}"
+    assert ended(server, method)[before:] in [[code] for code in (CANCELLED, *also)], \
+        f"{method}:\n{server.log_tail()}"
 
 
 def half_cylinder(n: int = 300_000, seed: int = 0):
@@ -120,7 +123,10 @@ def test_a_raising_on_frame_cancels_the_work_cycle_and_its_scene_can_go_at_once(
             client.run_work_cycle(scene_id, "cell", "cube", hold_time=600, on_frame=fail)
         assert raised.type is ValueError
         client.delete_scene(scene_id)
-        assert_cancelled(logged, "TactileService/RunWorkCycle", before)
+        # The client's cancel and its DeleteScene reach the server in that order but are handled on different
+        # threads: the run ends CANCELLED, or UNAVAILABLE ("scene ... was deleted") when the delete got there
+        # first. Either is right; what this checks is that the run ends and the server lives.
+        assert_cancelled(logged, "TactileService/RunWorkCycle", before, also=(UNAVAILABLE,))
     assert client.list_scenes() is not None
 
 
