@@ -319,27 +319,33 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
   const collision::BodySamples& own = samples[a];
   std::vector<Support> supported(targets.size());  // how this block's geometry meets each target
   std::vector<std::array<uint8_t, 6>> facing(targets.size());  // box on box: per target, per own face
+  uint32_t supported_geometry = std::numeric_limits<uint32_t>::max();  // the geometry the two above are for
   for (const collision::SampleBlock& block : own.blocks) {
     if (!block.bounds.Overlaps(query)) continue;
     const auto geometry = static_cast<uint32_t>(own.features[block.begin] >> 32);  // a block is one geometry's
     const Geometry::Kind kind = geometry_kinds[a][geometry];
     const Shape* own_shape = ShapeOf(a, geometry);
-    for (size_t g = 0; g < targets.size(); ++g) {
-      supported[g] = SupportOf(kind, targets[g].kind);
-      if (supported[g] != Support::kNone && own_shape && Standing(*own_shape, targets[g], (*locals)[g])) {
-        supported[g] = Support::kNone;
+    // supported and facing depend on the block's geometry only: a geometry's blocks follow one another, so they
+    // are worked out once per geometry, not once per block.
+    if (geometry != supported_geometry) {
+      supported_geometry = geometry;
+      for (size_t g = 0; g < targets.size(); ++g) {
+        supported[g] = SupportOf(kind, targets[g].kind);
+        if (supported[g] != Support::kNone && own_shape && Standing(*own_shape, targets[g], (*locals)[g])) {
+          supported[g] = Support::kNone;
+        }
+        if (kind == Geometry::Kind::kBox && own_shape && targets[g].kind == Geometry::Kind::kBox) {
+          facing[g] = FacingFaces(*own_shape, (*locals)[g].rotation);
+        }
       }
     }
     const Shape* cylinder = kind == Geometry::Kind::kCylinder ? own_shape : nullptr;
     const bool box_on_box = kind == Geometry::Kind::kBox && own_shape;
-    if (box_on_box) {
-      for (size_t g = 0; g < targets.size(); ++g) {
-        if (targets[g].kind == Geometry::Kind::kBox) facing[g] = FacingFaces(*own_shape, (*locals)[g].rotation);
-      }
-    }
     for (uint32_t k = block.begin; k < block.end; ++k) {
       const Vec3& s = own.points[k];
-      const unsigned own_faces = box_on_box ? FacesOf(*own_shape, s) : 0;
+      // The faces the sample lies on, worked out only for a sample inside a box target's cull box (most are not).
+      unsigned own_faces = 0;
+      bool faces_known = !box_on_box;
       // With several geometries, the one the sample is deepest in decides (ties: the first).
       double best_depth = -std::numeric_limits<double>::infinity();
       size_t best = targets.size();
@@ -354,6 +360,7 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
         Vec3 normal;
         switch (shape.kind) {
           case Geometry::Kind::kBox:
+            if (!faces_known) own_faces = FacesOf(*own_shape, s), faces_known = true;
             depth = own_faces ? collision::BoxDepthThrough(shape.half, p, Through(facing[g], own_faces), &normal)
                               : collision::BoxDepth(shape.half, p, &normal);
             break;

@@ -218,22 +218,27 @@ std::vector<Multibody::Vec6> Multibody::JointWrenches(const SceneState& state, c
 }
 
 Multibody::SpatialJacobian Multibody::BodyJacobian(const SceneState& state, size_t body) const {
-  SpatialJacobian W = SpatialJacobian::Zero(6, nv_);
+  SpatialJacobian W;
+  BodyJacobian(state, body, &W);
+  return W;
+}
+
+void Multibody::BodyJacobian(const SceneState& state, size_t body, SpatialJacobian* W) const {
+  W->setZero(6, nv_);
   if (const int o = free_offset_[body]; o >= 0) {
     // ω is the body's; the point at the origin moves at v_c + ω × (0 − c) = v_c + [c]× ω.
     const Vec3 c = state.body_poses[body] * model_.bodies[body].inertial.center_of_mass;
-    W.block<3, 3>(0, o + 3).setIdentity();
-    W.block<3, 3>(3, o).setIdentity();
-    W.block<3, 3>(3, o + 3) = Skew(c);
-    return W;
+    W->block<3, 3>(0, o + 3).setIdentity();
+    W->block<3, 3>(3, o).setIdentity();
+    W->block<3, 3>(3, o + 3) = Skew(c);
+    return;
   }
   for (int n = body_node_[body]; n >= 0; n = nodes_[n].parent) {
     const Node& node = nodes_[n];
     if (node.full < 0 || leader_[node.joint] < 0) continue;
     const int column = joint_offset_[leader_[node.joint]];
-    W.col(column) += G_(node.full, column) * MotionSubspace(state, node);
+    W->col(column) += G_(node.full, column) * MotionSubspace(state, node);
   }
-  return W;
 }
 
 Eigen::Matrix3Xd Multibody::PointJacobian(const SceneState& state, size_t body, const Vec3& point) const {

@@ -46,6 +46,8 @@ class Multibody {
   // v_O + ω × p. Zero for static bodies; a link's depends on every joint between the robot base and the link.
   using SpatialJacobian = Eigen::Matrix<double, 6, Eigen::Dynamic>;
   SpatialJacobian BodyJacobian(const SceneState& state, size_t body) const;
+  // The same into *W, reusing its buffer (a step's contact pairs: no allocation).
+  void BodyJacobian(const SceneState& state, size_t body, SpatialJacobian* W) const;
   // J (3 × nv) such that the world velocity of the point fixed to `body` at world position `point` is J v.
   Eigen::Matrix3Xd PointJacobian(const SceneState& state, size_t body, const Vec3& point) const;
   Vec3 PointVelocity(const SceneState& state, size_t body, const Vec3& point) const;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/LU>
 
@@ -94,7 +95,10 @@ ContactParams Simulation::PairParams(uint32_t a, uint32_t b) const {
 
 StepStats Simulation::Step(SceneState* state, int steps) {
   // Step in place, keeping a copy to restore: a diverged run leaves the caller's state as it was. The copy
-  // assignment reuses the buffers of the last call.
+  // assignment reuses the buffers of the last call. The contacts (a good part of the state's bytes) are not
+  // copied: only the end of a step that succeeded writes them, so they are moved aside and back instead.
+  std::vector<SceneState::Contact> contacts = std::move(state->contacts);
+  state->contacts.clear();
   backup_ = *state;
   PrepareState(state);
   const double h = params_.time_step / params_.substeps;
@@ -112,8 +116,10 @@ StepStats Simulation::Step(SceneState* state, int steps) {
     }
   } catch (...) {
     *state = backup_;
+    state->contacts = std::move(contacts);
     throw;
   }
+  state->contacts = std::move(contacts);
   stats.contacts = contacts_.size();
   state->contacts.resize(contacts_.size());
   for (size_t i = 0; i < contacts_.size(); ++i) {

@@ -59,7 +59,9 @@ class Simulation : public PhysicsEngine {
     Eigen::VectorXd contact_rhs;     // h² K v
     // Per touching body pair (contacts come sorted by pair): W = W_a − W_b, the relative spatial Jacobian, so
     // the relative velocity of a contact point p is (W v).tail + (W v).head × p.
+    // The first pair_count are this evaluation's; the rest are kept for their buffers (no allocation per step).
     std::vector<Multibody::SpatialJacobian> pair_jacobians;
+    size_t pair_count = 0;
     std::vector<size_t> contact_pair;  // per contact: its pair
     std::vector<double> normal_force;  // per contact, N
     std::vector<Vec3> bristle;         // per contact: z at the start of the step
@@ -109,6 +111,7 @@ class Simulation : public PhysicsEngine {
   Forces forces_at_start_, forces_at_end_;  // of a sub-step (the end's only for velocity Verlet)
   std::vector<std::pair<ContactKey, Vec3>> spare_bristles_;  // swapped with the state's each sub-step
   std::vector<Multibody::Vec6> twists_;  // per pair
+  Multibody::SpatialJacobian jacobian_b_;  // ContactForces: W_b of the pair at hand, its buffer reused
   // Per contact, one array per coordinate: the contact kernel's inputs and outputs (physics/contact_kernel.h),
   // filled by ContactForces; AdvanceBristles reads the same contacts (the last evaluation's) and writes next_z*.
   struct ContactColumns {

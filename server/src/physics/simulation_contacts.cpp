@@ -164,7 +164,7 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   forces->normal_force.resize(n);
   forces->contact_pair.resize(n);
   forces->bristle.resize(n);
-  forces->pair_jacobians.clear();
+  forces->pair_count = 0;
   forces_.resize(n);
   pair_wrenches_.clear();
   // Two passes. First the pairs' relative Jacobians and twists, and each contact's bristle, into columns; then
@@ -178,9 +178,13 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   size_t cursor = 0;  // into state.bristles, which is in the contacts' order
   for (size_t begin = 0; begin < n;) {
     const uint32_t a = contacts_[begin].body_a, b = contacts_[begin].body_b;
-    const size_t pair = forces->pair_jacobians.size();
-    twists_.push_back(
-        forces->pair_jacobians.emplace_back(multibody_.BodyJacobian(state, a) - multibody_.BodyJacobian(state, b)) * v);
+    const size_t pair = forces->pair_count++;
+    if (pair == forces->pair_jacobians.size()) forces->pair_jacobians.emplace_back();
+    Multibody::SpatialJacobian& W = forces->pair_jacobians[pair];  // W_a − W_b
+    multibody_.BodyJacobian(state, a, &W);
+    multibody_.BodyJacobian(state, b, &jacobian_b_);
+    W -= jacobian_b_;
+    twists_.push_back(W * v);
     size_t end = begin;
     for (; end < n && contacts_[end].body_a == a && contacts_[end].body_b == b; ++end) {
       const ContactPoint& c = contacts_[end];
@@ -232,7 +236,9 @@ void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v,
   ContactColumns& columns = columns_;
   const size_t n = contacts_.size();
   twists_.clear();
-  for (const Multibody::SpatialJacobian& W : forces.pair_jacobians) twists_.push_back(W * v);
+  for (size_t pair = 0; pair < forces.pair_count; ++pair) twists_.push_back(forces.pair_jacobians[pair] * v);
+  std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
+  bristles.clear();
   for (size_t begin = 0; begin < n;) {
     const size_t pair = forces.contact_pair[begin];
     size_t end = begin;
@@ -240,21 +246,18 @@ void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v,
     for (size_t run_begin = begin; run_begin < end;) {
       const size_t run_end = RunEnd(contacts_, run_begin, end);
       const contact_kernel::ContactRun run = Run(run_begin, run_end, twists_[pair], h);
-      if (run.friction) {
+      if (run.friction) {  // a run shares its law: whether its contacts keep a bristle is decided once
         contact_kernel::AdvanceRun(run, forces.normal_force.data() + run_begin, columns.next_zx.data() + run_begin,
                                    columns.next_zy.data() + run_begin, columns.next_zz.data() + run_begin);
+        for (size_t i = run_begin; i < run_end; ++i) {
+          const ContactPoint& c = contacts_[i];
+          bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature},
+                                Vec3(columns.next_zx[i], columns.next_zy[i], columns.next_zz[i]));
+        }
       }
       run_begin = run_end;
     }
     begin = end;
-  }
-  std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
-  bristles.clear();
-  for (size_t i = 0; i < n; ++i) {
-    const ContactPoint& c = contacts_[i];
-    if (!contact_params_[i].HasFriction()) continue;
-    bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature},
-                          Vec3(columns.next_zx[i], columns.next_zy[i], columns.next_zz[i]));
   }
   auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
   if (!std::is_sorted(bristles.begin(), bristles.end(), by_key)) std::sort(bristles.begin(), bristles.end(), by_key);

@@ -11,6 +11,7 @@
 #include "collision/embree.h"
 #include "collision/tessellation.h"
 #include "core/error.h"
+#include "tactile/segment_box.h"
 
 namespace graspsim {
 namespace {
@@ -43,36 +44,9 @@ struct Pad {
   Pose origin;
   double thickness = 0;
   Aabb foam;                   // pad frame: every element's segment
+  std::vector<double> x, y, z;  // the elements' positions, one array per coordinate (SegmentEntries)
+  std::vector<uint32_t> normal_runs;  // the end of each run of elements that share their normal
 };
-
-// A segment direction d with its componentwise inverse: a pad's elements mostly share their normal, so the slab
-// test's divisions are done once per normal, not once per element.
-struct Direction {
-  Vec3 d = Vec3::Zero(), inverse = Vec3::Zero();
-  void Set(const Vec3& direction) {
-    d = direction;
-    for (int k = 0; k < 3; ++k) inverse[k] = d[k] == 0 ? 0.0 : 1 / d[k];
-  }
-};
-
-// Does the segment o + t d, 0 <= t <= length, meet the box? (slab test) *entry: the smallest such t.
-bool SegmentMeetsBox(const Vec3& o, const Direction& direction, double length, const Aabb& box,
-                     double* entry = nullptr) {
-  double lo = 0, hi = length;
-  for (int k = 0; k < 3; ++k) {
-    if (direction.d[k] == 0) {
-      if (o[k] < box.lo[k] || o[k] > box.hi[k]) return false;
-      continue;
-    }
-    double t0 = (box.lo[k] - o[k]) * direction.inverse[k], t1 = (box.hi[k] - o[k]) * direction.inverse[k];
-    if (t0 > t1) std::swap(t0, t1);
-    lo = std::max(lo, t0);
-    hi = std::min(hi, t1);
-    if (lo > hi) return false;
-  }
-  if (entry != nullptr) *entry = lo;
-  return true;
-}
 
 bool Contains(const Aabb& box, const Vec3& p) {  // coefficient by coefficient: cheaper than Eigen's all()
   return p.x() >= box.lo.x() && p.x() <= box.hi.x() && p.y() >= box.lo.y() && p.y() <= box.hi.y() &&
@@ -89,6 +63,7 @@ struct TactileRayCaster::Impl {
   mutable std::vector<double> best_depth, best_t;  // per element of the current pad; depth 0: no hit
   mutable std::vector<uint32_t> best_body;
   mutable std::vector<uint8_t> from_inside;        // per packed ray: its base is inside the body's box
+  mutable std::vector<double> entries;             // per element of the current pad: SegmentEntries' answer
   mutable std::vector<Aabb> world_bounds;          // per body
   mutable uint64_t ray_count = 0;
 
@@ -109,18 +84,20 @@ void TactileRayCaster::Impl::CastAtBox(const Pad& pad, const Target& target, con
   // The same answers as the Embree path: a base inside the box is fully compressed (t = 0); otherwise the
   // segment's entry into the box, if it lies within the foam.
   const Mat3 rotation = to_box.orientation.toRotationMatrix();
-  Direction direction;
-  const Vec3* normal = nullptr;  // the pad-frame normal `direction` was made from
-  for (uint32_t e = 0; e < pad.elements.size(); ++e) {
-    // lazyProduct: inline, not the out-of-line product call GCC otherwise makes per element.
-    const Vec3 o = rotation.lazyProduct(pad.elements[e].position) + to_box.position;
-    if (normal == nullptr || pad.elements[e].normal != *normal) {
-      normal = &pad.elements[e].normal;
-      direction.Set(rotation * *normal);
-    }
+  const PointColumns points{pad.x.data(), pad.y.data(), pad.z.data()};
+  uint32_t begin = 0;
+  for (const uint32_t end : pad.normal_runs) {
+    SegmentDirection direction;
+    direction.Set(rotation * pad.elements[begin].normal);
+    const PointColumns run{points.x + begin, points.y + begin, points.z + begin};
     // A base inside the (closed) box meets it at entry 0, so the slab test alone answers both cases.
-    double entry = 0;  // ≥ 0: the depth is at most the thickness
-    if (!SegmentMeetsBox(o, direction, pad.thickness, target.box_extent, &entry)) continue;
+    SegmentEntries(run, end - begin, rotation, to_box.position, direction, pad.thickness, target.box_extent,
+                   entries.data() + begin);
+    begin = end;
+  }
+  for (uint32_t e = 0; e < pad.elements.size(); ++e) {
+    const double entry = entries[e];  // ≥ 0 (the depth is at most the thickness), or infinite: a miss
+    if (entry == std::numeric_limits<double>::infinity()) continue;
     ++ray_count;
     const double depth = pad.thickness - entry;
     if (depth > 0) KeepDeepest(e, depth, entry, b);
@@ -201,7 +178,15 @@ TactileRayCaster::TactileRayCaster(const SceneModel& model) : impl_(std::make_un
     for (const PadElement& e : pad.elements) {
       pad.foam.Add(e.position);
       pad.foam.Add(e.position + spec.thickness * e.normal);
+      pad.x.push_back(e.position.x());
+      pad.y.push_back(e.position.y());
+      pad.z.push_back(e.position.z());
+      const size_t i = &e - pad.elements.data();
+      if (i > 0 && e.normal != pad.elements[pad.normal_runs.empty() ? 0 : pad.normal_runs.back()].normal) {
+        pad.normal_runs.push_back(static_cast<uint32_t>(i));
+      }
     }
+    if (!pad.elements.empty()) pad.normal_runs.push_back(static_cast<uint32_t>(pad.elements.size()));
     max_elements = std::max(max_elements, pad.elements.size());
   }
   m.rays.rays.reserve(max_elements);
@@ -209,6 +194,7 @@ TactileRayCaster::TactileRayCaster(const SceneModel& model) : impl_(std::make_un
   m.best_t.resize(max_elements);
   m.best_body.resize(max_elements);
   m.from_inside.resize(max_elements);
+  m.entries.resize(max_elements);
   m.world_bounds.resize(m.bodies.size());
 }
 
@@ -255,7 +241,7 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
       const Pose to_body = body_poses[b].Inverse() * pad_world;
       const Mat3 rotation = to_body.orientation.toRotationMatrix();
       const float segment_end = std::nextafter(static_cast<float>(pad.thickness), kInfinity);
-      Direction direction;
+      SegmentDirection direction;
       const Vec3* normal = nullptr;  // the pad-frame normal `direction` was made from
       collision::RayBatch& rays = m.rays;
       rays.Clear();
@@ -293,22 +279,21 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
         m.KeepDeepest(e, depth, t, b);
       }
     }
-    const Vec3* normal = nullptr;  // the pad-frame normal world_normal was made from (shared, as in CastAtBox)
-    Vec3 world_normal;
-    for (uint32_t e = 0; e < n; ++e) {
-      if (m.best_depth[e] <= 0) continue;
-      const PadElement& element = pad.elements[e];
-      if (normal == nullptr || element.normal != *normal) {
-        normal = &element.normal;
-        world_normal = pad_rotation * *normal;
+    uint32_t run_begin = 0;
+    for (const uint32_t run_end : pad.normal_runs) {  // one world normal per run of elements that share theirs
+      const Vec3 world_normal = pad_rotation * pad.elements[run_begin].normal;
+      for (uint32_t e = run_begin; e < run_end; ++e) {
+        if (m.best_depth[e] <= 0) continue;
+        const PadElement& element = pad.elements[e];
+        PadHit& hit = hits->emplace_back();
+        hit.pad = p;
+        hit.element = e;
+        hit.body = m.best_body[e];
+        hit.depth = m.best_depth[e];
+        hit.normal = world_normal;
+        hit.point = pad_rotation.lazyProduct(element.position) + pad_world.position + m.best_t[e] * world_normal;
       }
-      PadHit& hit = hits->emplace_back();
-      hit.pad = p;
-      hit.element = e;
-      hit.body = m.best_body[e];
-      hit.depth = m.best_depth[e];
-      hit.normal = world_normal;
-      hit.point = pad_rotation.lazyProduct(element.position) + pad_world.position + m.best_t[e] * world_normal;
+      run_begin = run_end;
     }
   }
 }
