@@ -5,7 +5,7 @@ Conventions (as on the wire): positions in metres, orientations as unit quaterni
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Sequence, Union
+from typing import TYPE_CHECKING, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -110,7 +110,7 @@ class Pose:
 
 
 # A pose: a Pose, 7 values [x y z qw qx qy qz] or a (position, quaternion) pair.
-PoseLike = Union[Pose, Sequence[float], "tuple[Sequence[float], Sequence[float]]", NDArray[np.float64]]
+PoseLike = Union[Pose, Sequence[float], Tuple[Sequence[float], Sequence[float]], NDArray[np.float64]]
 
 
 def as_pose(value: PoseLike) -> Pose:
