@@ -41,6 +41,17 @@ edits::ShapeSpec ShapeFromProto(const std::string& field, const v1::Geometry& ge
   return shape;
 }
 
+// Checked by the edit API, after the shape: a bad size is named before the inertia computed from it.
+Inertial InertialOf(const v1::Inertial& in) {
+  Inertial out;
+  out.mass = in.mass();
+  out.center_of_mass = FromProto(in.center_of_mass());
+  out.inertia << in.ixx(), in.ixy(), in.ixz(),  //
+      in.ixy(), in.iyy(), in.iyz(),             //
+      in.ixz(), in.iyz(), in.izz();
+  return out;
+}
+
 edits::MaterialSpec MaterialFromProto(const v1::Material& m) {
   edits::MaterialSpec spec;
   if (m.has_static_friction()) spec.static_friction = m.static_friction();
@@ -70,7 +81,7 @@ edits::AddObjectEdit AddObjectEditFromProto(const v1::AddObjectRequest& request,
     case v1::AddObjectRequest::SOURCE_NOT_SET:
       break;  // refused by the edit API, naming `source`
   }
-  if (request.has_inertial()) edit.inertial = InertialFromProto("inertial", request.inertial());
+  if (request.has_inertial()) edit.inertial = InertialOf(request.inertial());
   if (request.has_material()) edit.material = MaterialFromProto(request.material());
   return edit;
 }
