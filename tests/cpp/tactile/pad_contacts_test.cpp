@@ -8,7 +8,7 @@ namespace graspsim {
 namespace {
 
 TEST(PadContactsTest, FeaturesNameTheirPadAndElement) {
-  for (const auto [pad, element] : {std::pair{0u, 0u}, std::pair{3u, 167u}, std::pair{0x7fffffffu, 0xffffffffu}}) {
+  for (const auto& [pad, element] : {std::pair{0u, 0u}, std::pair{3u, 167u}, std::pair{0x7fffffffu, 0xffffffffu}}) {
     const std::optional<PadElementRef> ref = PadElementOf(PadFeature(pad, element));
     ASSERT_TRUE(ref.has_value());
     EXPECT_EQ(ref->pad, pad);
