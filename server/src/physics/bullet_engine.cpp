@@ -43,8 +43,11 @@
 //   - contacts: the dispatcher's manifold points that penetrate or carry a normal impulse; body_a = Bullet's body 0
 //     (its userIndex is our body index), the normal Bullet's normal on body 1 (from b into a), depth −distance, the
 //     point midway between the two witness points, the force on body_a the normal and friction impulses over h.
-// Not simulated (refused or left at zero, docs/physics.md): tactile pads (CheckEngineSupports), joint wrenches
-// (the force/torque sensor), sleeping.
+//   - tactile pads: the foam as one more box in its link's compound (physics/pad_readout.h), read through the ray
+//     sensor from the impulses on that child shape (PadReadout); Bullet keeps one friction per collider, so a
+//     link carrying a pad takes the foam's dynamic μ (the finger's own material gives way to it); curved pads
+//     are refused.
+// Not simulated (refused or left at zero, docs/physics.md): joint wrenches (the force/torque sensor), sleeping.
 #include "physics/bullet_engine.h"
 
 #include <btBulletDynamicsCommon.h>
@@ -57,6 +60,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <memory>
+
+#include "physics/pad_readout.h"
 
 #include "core/error.h"
 #include "core/format.h"
@@ -151,6 +157,7 @@ class BulletEngine : public PhysicsEngine {
 
   void PrepareState(SceneState* state) const override {
     PrepareStateWithoutExtras(*model_, state);
+    if (pads_) pads_->Prepare(state);
   }
 
   StepStats Step(SceneState* state, int steps) override {
@@ -171,6 +178,7 @@ class BulletEngine : public PhysicsEngine {
       }
       CopyOut(state);
       ReadContacts(state, h);
+      if (pads_) pads_->Record(pad_loads_, state);
       CheckFinite(*state);
     } catch (...) {
       *state = backup;
@@ -197,12 +205,23 @@ class BulletEngine : public PhysicsEngine {
   };
 
   void Build();
-  btCompoundShape* Shapes(const BodySpec& body, const Pose& frame, bool concave_meshes);
+  // A body's collision geometry, then the foam of each pad on it (child shapes in this order).
+  std::vector<Geometry> Geometries(size_t body) const;
+  // Friction of a body's collider: √μ (Bullet multiplies the two), μ the foam's when a pad is on it.
+  double Friction(size_t body) const;
+  btCompoundShape* Shapes(const std::vector<Geometry>& geometries, const Pose& frame, bool concave_meshes);
   void BuildRobot(size_t r);
   void CopyIn(const SceneState& state);
   void CopyOut(SceneState* state);
   void Drive(SceneState* state, double h);
   void ReadContacts(SceneState* state, double h);
+  // The pad whose foam is child shape `child` of body `body`'s compound, or -1.
+  int PadOfChild(int body, int child) const {
+    const int first_foam = static_cast<int>(model_->bodies[body].collision.size());
+    if (child < first_foam) return -1;
+    const std::vector<uint32_t>& pads = pads_on_[body];
+    return child - first_foam < static_cast<int>(pads.size()) ? static_cast<int>(pads[child - first_foam]) : -1;
+  }
   void CheckVelocities(const SceneState& state) const;
   void CheckFinite(const SceneState& state) const;
   [[noreturn]] void Diverged(const SceneState& state, const std::string& what) const {
@@ -223,12 +242,29 @@ class BulletEngine : public PhysicsEngine {
   btAlignedObjectArray<btVector3> scratch_v_;
   std::vector<ContactPoint> contacts_;
   std::vector<Vec3> forces_;
+  std::unique_ptr<PadReadout> pads_;  // when the scene has tactile pads
+  std::vector<std::vector<uint32_t>> pads_on_;  // per body: the pads mounted on it
+  std::vector<PadLoad> pad_loads_;    // ReadContacts: the contact forces on each pad's foam
 };
 
-btCompoundShape* BulletEngine::Shapes(const BodySpec& body, const Pose& frame, bool concave_meshes) {
+std::vector<Geometry> BulletEngine::Geometries(size_t body) const {
+  std::vector<Geometry> geometries = model_->bodies[body].collision;
+  for (uint32_t p : pads_on_[body]) geometries.push_back(FoamBox(model_->tactile_arrays[p]));
+  return geometries;
+}
+
+double BulletEngine::Friction(size_t body) const {
+  const std::vector<uint32_t>& pads = pads_on_[body];
+  const double mu = pads.empty() ? model_->bodies[body].material.dynamic_friction
+                                 : model_->tactile_arrays[pads[0]].contact.dynamic_friction;
+  return std::sqrt(std::max(mu, 0.0));
+}
+
+btCompoundShape* BulletEngine::Shapes(const std::vector<Geometry>& geometries, const Pose& frame,
+                                      bool concave_meshes) {
   auto compound = std::make_unique<btCompoundShape>();
   const Pose to_frame = frame.Inverse();
-  for (const Geometry& g : body.collision) {
+  for (const Geometry& g : geometries) {
     std::unique_ptr<btCollisionShape> shape;
     switch (g.kind) {
       case Geometry::Kind::kBox:
@@ -289,6 +325,8 @@ void BulletEngine::Build() {
   b.world->setGravity(Bt(m.simulation.gravity));  // before the bodies: a rigid body takes the world's at addition
 
   frames_.assign(m.bodies.size(), PrincipalFrame{});
+  pads_on_.clear();
+  for (size_t i = 0; i < m.bodies.size(); ++i) pads_on_.push_back(PadsOn(m, i));
   rigid_of_.assign(m.bodies.size(), nullptr);
   link_of_.assign(m.bodies.size(), -2);
   robot_of_.assign(m.bodies.size(), -1);
@@ -298,11 +336,12 @@ void BulletEngine::Build() {
     if (body.motion == BodyMotion::kArticulated || !body.robot_id.empty()) continue;  // robots: BuildRobot
     const bool free = body.motion == BodyMotion::kFree;
     if (free) frames_[i] = Principal(body.inertial);
-    btCompoundShape* shape = Shapes(body, frames_[i].frame, !free);
+    const std::vector<Geometry> geometries = Geometries(i);
+    btCompoundShape* shape = Shapes(geometries, frames_[i].frame, !free);
     btRigidBody::btRigidBodyConstructionInfo info(free ? frames_[i].mass : 0.0, nullptr, shape,
                                                   free ? Bt(frames_[i].moments) : btVector3(0, 0, 0));
     // Bullet multiplies the two bodies' coefficients: √μ each, so equal materials combine to μ.
-    info.m_friction = std::sqrt(std::max(body.material.dynamic_friction, 0.0));
+    info.m_friction = Friction(i);
     info.m_rollingFriction = 0;
     info.m_spinningFriction = 0;
     info.m_restitution = 0;
@@ -312,7 +351,7 @@ void BulletEngine::Build() {
     if (!free) rigid->setCollisionFlags(rigid->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
     rigid->setActivationState(DISABLE_DEACTIVATION);
     rigid->setUserIndex(static_cast<int>(i));
-    if (body.collision.empty()) {
+    if (geometries.empty()) {
       b.world->addRigidBody(rigid.get(), btBroadphaseProxy::DefaultFilter, 0);  // collides with nothing
     } else {
       b.world->addRigidBody(rigid.get());
@@ -322,6 +361,7 @@ void BulletEngine::Build() {
   }
   robots_.assign(m.robots.size(), Robot{});
   for (size_t r = 0; r < m.robots.size(); ++r) BuildRobot(r);
+  if (!m.tactile_arrays.empty()) pads_ = std::make_unique<PadReadout>(m);
 }
 
 void BulletEngine::BuildRobot(size_t r) {
@@ -386,17 +426,17 @@ void BulletEngine::BuildRobot(size_t r) {
   // Every link has a collider, an empty one colliding with nothing when it has no geometry: Bullet solves a link's
   // constraints (limits, mimic joints) in its collider's simulation island, and with none, not at all.
   auto add_collider = [&](size_t body, int link, bool is_static) {
-    const BodySpec& spec = m.bodies[body];
-    if (spec.collision.empty() && link < 0) return;  // a base needs none
+    const std::vector<Geometry> geometries = Geometries(body);
+    if (geometries.empty() && link < 0) return;  // a base needs none
     auto collider = std::make_unique<btMultiBodyLinkCollider>(mb, link);
-    collider->setCollisionShape(Shapes(spec, frames_[body].frame, false));
-    collider->setFriction(std::sqrt(std::max(spec.material.dynamic_friction, 0.0)));
+    collider->setCollisionShape(Shapes(geometries, frames_[body].frame, false));
+    collider->setFriction(Friction(body));
     collider->setRollingFriction(0);
     collider->setSpinningFriction(0);
     collider->setRestitution(0);
     collider->setUserIndex(static_cast<int>(body));
     collider->setActivationState(DISABLE_DEACTIVATION);
-    if (spec.collision.empty()) {
+    if (geometries.empty()) {
       b.world->addCollisionObject(collider.get(), btBroadphaseProxy::DefaultFilter, 0);
     } else if (is_static) {
       collider->setCollisionFlags(collider->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
@@ -532,6 +572,7 @@ void BulletEngine::CopyOut(SceneState* state) {
 void BulletEngine::ReadContacts(SceneState* state, double h) {
   contacts_.clear();
   forces_.clear();
+  pad_loads_.clear();
   const bool two_directions = bullet_.world->getSolverInfo().m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS;
   btDispatcher* dispatcher = bullet_.world->getDispatcher();
   for (int i = 0; i < dispatcher->getNumManifolds(); ++i) {
@@ -551,6 +592,11 @@ void BulletEngine::ReadContacts(SceneState* state, double h) {
       btVector3 impulse = c.m_appliedImpulse * c.m_normalWorldOnB + c.m_appliedImpulseLateral1 * c.m_lateralFrictionDir1;
       if (two_directions) impulse += c.m_appliedImpulseLateral2 * c.m_lateralFrictionDir2;
       forces_.push_back(ToVec(impulse / h));
+      // On a pad's foam (a child shape after the body's own geometry): the force on the pad.
+      if (pads_) {
+        if (const int pad = PadOfChild(a, c.m_index0); pad >= 0) AddPadLoad(&pad_loads_, pad, b, forces_.back());
+        if (const int pad = PadOfChild(b, c.m_index1); pad >= 0) AddPadLoad(&pad_loads_, pad, a, -forces_.back());
+      }
     }
   }
   state->contacts.resize(contacts_.size());

@@ -1,6 +1,7 @@
 #include "physics/engine.h"
 
 #include "core/error.h"
+#include "core/format.h"
 #include "physics/bullet_engine.h"
 #include "physics/mujoco_engine.h"
 #include "physics/simulation.h"
@@ -18,13 +19,14 @@ std::string EngineName(PhysicsEngineKind kind) {
 
 void CheckEngineSupports(const SceneModel& model, PhysicsEngineKind kind) {
   if (kind == PhysicsEngineKind::kGraspsim) return;
-  // Tactile pads sense through graspsim's foam law at each sensing element; another engine's contacts are not
-  // at the elements.
-  if (!model.tactile_arrays.empty()) {
-    throw Error(ErrorCode::kFailedPrecondition,
-                "engine: " + EngineName(kind) + " does not simulate tactile pads (scene has " +
-                    std::to_string(model.tactile_arrays.size()) + ", first '" + model.tactile_arrays[0].id + "'" +
-                    "); use the graspsim engine");
+  // Pads are a foam box on these engines (physics/pad_readout.h): a curved fingertip is not a box.
+  for (const TactileArraySpec& pad : model.tactile_arrays) {
+    if (pad.bend_radius_x > 0 || pad.bend_radius_y > 0) {
+      throw Error(ErrorCode::kFailedPrecondition,
+                  "engine: " + EngineName(kind) + " does not simulate curved tactile pads (pad '" + pad.id +
+                      "' has bend_radius " + FormatNumber(pad.bend_radius_x) + " " + FormatNumber(pad.bend_radius_y) +
+                      " m); use the graspsim engine or a flat pad");
+    }
   }
 }
 

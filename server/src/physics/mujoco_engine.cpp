@@ -17,8 +17,10 @@
 //   - drives: graspsim's DC-motor model (physics/actuators.h) each sub-step; its force enters as an applied
 //     joint force and its damping (∂force/∂q̇) as the joint's armature, h·(−∂force/∂q̇), which makes the step
 //     implicit in the drive under every integrator, as graspsim's solve is (Drive).
-// Not simulated (refused or left at zero, docs/physics.md): tactile pads (CheckEngineSupports), joint wrenches
-// (the force/torque sensor), sleeping.
+//   - tactile pads: the foam as a box geom on the pad's link (physics/pad_readout.h) with priority 1, so its own
+//     friction (the foam's dynamic μ) sets its contacts', and MuJoCo's default contact softness; read through the
+//     ray sensor from MuJoCo's contact forces on it (PadReadout); curved pads are refused.
+// Not simulated (refused or left at zero, docs/physics.md): joint wrenches (the force/torque sensor), sleeping.
 #include "physics/mujoco_engine.h"
 
 #include <mujoco/mujoco.h>
@@ -27,11 +29,13 @@
 #include <cstring>
 #include <iomanip>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/format.h"
 #include "physics/actuators.h"
+#include "physics/pad_readout.h"
 
 namespace graspsim {
 namespace {
@@ -79,6 +83,7 @@ class MujocoEngine : public PhysicsEngine {
 
   void PrepareState(SceneState* state) const override {
     PrepareStateWithoutExtras(*model_, state);
+    if (pads_) pads_->Prepare(state);
   }
 
   StepStats Step(SceneState* state, int steps) override {
@@ -103,6 +108,7 @@ class MujocoEngine : public PhysicsEngine {
       }
       CopyOut(state);
       ReadContacts(state);
+      if (pads_) pads_->Record(pad_loads_, state);
       CheckFinite(*state);
     } catch (...) {
       *state = backup;
@@ -119,7 +125,7 @@ class MujocoEngine : public PhysicsEngine {
 
  private:
   void Compile();
-  void WriteGeometries(std::ostringstream& out, const BodySpec& body, const Vec3& shift);
+  void WriteGeometries(std::ostringstream& out, size_t body, const Vec3& shift);
   void WriteLink(std::ostringstream& out, size_t body, const std::map<size_t, std::vector<size_t>>& children);
   void CopyIn(const SceneState& state);
   void CopyOut(SceneState* state);
@@ -151,9 +157,13 @@ class MujocoEngine : public PhysicsEngine {
   std::vector<ContactPoint> contacts_;
   std::vector<Vec3> forces_;
   std::vector<std::string> meshes_;  // MJCF <mesh> assets, by geometry in the order written
+  std::unique_ptr<PadReadout> pads_;  // when the scene has tactile pads
+  std::vector<int> pad_of_geom_;      // per MuJoCo geom: the pad whose foam it is, or -1
+  std::vector<PadLoad> pad_loads_;    // ReadContacts: the contact forces on each pad's foam
 };
 
-void MujocoEngine::WriteGeometries(std::ostringstream& out, const BodySpec& body, const Vec3& shift) {
+void MujocoEngine::WriteGeometries(std::ostringstream& out, size_t body_index, const Vec3& shift) {
+  const BodySpec& body = model_->bodies[body_index];
   const double mu = body.material.dynamic_friction;
   for (const Geometry& g : body.collision) {
     Pose origin = g.origin;
@@ -184,6 +194,15 @@ void MujocoEngine::WriteGeometries(std::ostringstream& out, const BodySpec& body
     }
     out << "/>";
   }
+  for (uint32_t p : PadsOn(*model_, body_index)) {
+    const TactileArraySpec& pad = model_->tactile_arrays[p];
+    const Geometry foam = FoamBox(pad);
+    Pose origin = foam.origin;
+    origin.position -= shift;
+    out << "<geom name=\"pad" << p << "\" " << PosQuat(origin) << " type=\"box\" size=\""
+        << Numbers({foam.box_size.x() / 2, foam.box_size.y() / 2, foam.box_size.z() / 2}) << "\" priority=\"1\" friction=\""
+        << Numbers({pad.contact.dynamic_friction, 0, 0}) << "\"/>";
+  }
 }
 
 void MujocoEngine::WriteLink(std::ostringstream& out, size_t body, const std::map<size_t, std::vector<size_t>>& children) {
@@ -203,7 +222,7 @@ void MujocoEngine::WriteLink(std::ostringstream& out, size_t body, const std::ma
       if (limited) out << " range=\"" << Numbers({joint.lower, joint.upper}) << "\"";
       out << "/>";
     }
-    WriteGeometries(out, link, Vec3::Zero());
+    WriteGeometries(out, child, Vec3::Zero());
     WriteLink(out, child, children);
     out << "</body>";
   }
@@ -223,12 +242,12 @@ void MujocoEngine::Compile() {
     if (body.motion == BodyMotion::kFree) {
       const Vec3& com = body.inertial.center_of_mass;
       world << "<body name=\"b" << i << "\"><freejoint/>" << Inertia(body.inertial, Vec3::Zero());
-      WriteGeometries(world, body, com);
+      WriteGeometries(world, i, com);
       world << "</body>";
     } else if (body.motion == BodyMotion::kStatic ||
                (!body.robot_id.empty() && m.robots[m.robot_index.at(body.robot_id)].base_body == body.id)) {
       world << "<body name=\"b" << i << "\" mocap=\"true\">";
-      WriteGeometries(world, body, Vec3::Zero());
+      WriteGeometries(world, i, Vec3::Zero());
       WriteLink(world, i, children);
       world << "</body>";
     }
@@ -282,6 +301,11 @@ void MujocoEngine::Compile() {
   }
   joint_of_.assign(m.joints.size(), -1);
   for (size_t j = 0; j < m.joints.size(); ++j) joint_of_[j] = mj_name2id(mj_, mjOBJ_JOINT, ("j" + std::to_string(j)).c_str());
+  pad_of_geom_.assign(mj_->ngeom, -1);
+  for (size_t p = 0; p < m.tactile_arrays.size(); ++p) {
+    pad_of_geom_[mj_name2id(mj_, mjOBJ_GEOM, ("pad" + std::to_string(p)).c_str())] = static_cast<int>(p);
+  }
+  if (!m.tactile_arrays.empty()) pads_ = std::make_unique<PadReadout>(m);
 }
 
 void MujocoEngine::CopyIn(const SceneState& state) {
@@ -388,6 +412,7 @@ void MujocoEngine::ReadContacts(SceneState* state) {
   // and the contact force on it is along the frame.
   contacts_.clear();
   forces_.clear();
+  pad_loads_.clear();
   for (int i = 0; i < data_->ncon; ++i) {
     const mjContact& c = data_->contact[i];
     const int a = body_of_[mj_->geom_bodyid[c.geom2]], b = body_of_[mj_->geom_bodyid[c.geom1]];
@@ -404,6 +429,9 @@ void MujocoEngine::ReadContacts(SceneState* state) {
     Vec3 force = Vec3::Zero();
     for (int r = 0; r < 3; ++r) force += local[r] * Vec3(c.frame[3 * r], c.frame[3 * r + 1], c.frame[3 * r + 2]);
     forces_.push_back(force);
+    // On a pad's foam: the force on the pad (geom2's body is body_a, the force is on it).
+    if (const int pad = pad_of_geom_[c.geom2]; pad >= 0) AddPadLoad(&pad_loads_, pad, point.body_b, force);
+    if (const int pad = pad_of_geom_[c.geom1]; pad >= 0) AddPadLoad(&pad_loads_, pad, point.body_a, -force);
   }
   state->contacts.resize(contacts_.size());
   for (size_t i = 0; i < contacts_.size(); ++i) {

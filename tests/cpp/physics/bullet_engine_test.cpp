@@ -266,17 +266,18 @@ TEST(BulletEngineTest, DivergenceIsReportedAndLeavesTheStateAsItWas) {
   EXPECT_EQ(world.state.step, before.step + 10);
 }
 
-TEST(BulletEngineTest, TactilePadsAreRefused) {
+TEST(BulletEngineTest, CurvedTactilePadsAreRefused) {
   World world(PhysicsEngineKind::kBullet);
   world.Add(Link("p/base", 1, Vec3::Zero(), Mat3::Identity() * 1e-3), Pose());
   world.AddRobot("p", 0, 0);
   TactileArraySpec pad;
   pad.id = "p/pad";
   pad.body_id = "p/base";
+  pad.bend_radius_x = 0.02;
   world.model->tactile_arrays.push_back(pad);
   world.model->Reindex();
   test_util::ExpectError([&] { MakePhysicsEngine(world.model); }, ErrorCode::kFailedPrecondition,
-                         {"engine: bullet does not simulate tactile pads", "'p/pad'"});
+                         {"engine: bullet does not simulate curved tactile pads", "'p/pad'", "bend_radius 0.02 0"});
 }
 
 }  // namespace

@@ -1,0 +1,94 @@
+#include "physics/pad_readout.h"
+
+#include <algorithm>
+
+#include "tactile/pad_contacts.h"
+
+namespace graspsim {
+namespace {
+
+SceneModel WithLongSegments(const SceneModel& model) {
+  SceneModel sensing = model;
+  for (TactileArraySpec& pad : sensing.tactile_arrays) pad.thickness *= 2;
+  return sensing;
+}
+
+// The δ with Σ (δ − g)₊ = target over `gaps` (sorted here), target > 0: the first m gaps are pressed when their
+// mean shifted by target / m stays below the next gap.
+double PressDepth(std::vector<double>* gaps, double target) {
+  std::sort(gaps->begin(), gaps->end());
+  double sum = 0;
+  for (size_t m = 1; m <= gaps->size(); ++m) {
+    sum += (*gaps)[m - 1];
+    const double depth = (target + sum) / static_cast<double>(m);
+    if (m == gaps->size() || depth <= (*gaps)[m]) return depth;
+  }
+  return 0;  // no gaps
+}
+
+}  // namespace
+
+Geometry FoamBox(const TactileArraySpec& pad) {
+  Geometry box;
+  box.kind = Geometry::Kind::kBox;
+  box.box_size = Vec3(pad.cols * pad.pitch, pad.rows * pad.pitch, pad.thickness);
+  box.origin = pad.origin * Pose{Vec3(0, 0, pad.thickness / 2), Quat::Identity()};
+  return box;
+}
+
+std::vector<uint32_t> PadsOn(const SceneModel& model, size_t body) {
+  std::vector<uint32_t> pads;
+  for (uint32_t p = 0; p < model.tactile_arrays.size(); ++p) {
+    if (model.tactile_arrays[p].body_id == model.bodies[body].id) pads.push_back(p);
+  }
+  return pads;
+}
+
+void AddPadLoad(std::vector<PadLoad>* loads, uint32_t pad, uint32_t body, const Vec3& force) {
+  for (PadLoad& load : *loads) {
+    if (load.pad == pad && load.body == body) {
+      load.force += force;
+      return;
+    }
+  }
+  loads->push_back({pad, body, force});
+}
+
+PadReadout::PadReadout(const SceneModel& model) : sensing_(WithLongSegments(model)), caster_(sensing_) {
+  for (const TactileArraySpec& pad : model.tactile_arrays) element_stiffness_.push_back(ElementContactParams(pad).stiffness);
+}
+
+void PadReadout::Prepare(SceneState* state) const {
+  state->pad_forces.resize(sensing_.tactile_arrays.size());
+  for (uint32_t pad = 0; pad < sensing_.tactile_arrays.size(); ++pad) {
+    state->pad_forces[pad].assign(caster_.Elements(pad).size(), Vec3::Zero());
+  }
+}
+
+void PadReadout::Record(const std::vector<PadLoad>& loads, SceneState* state) {
+  Prepare(state);
+  if (loads.empty()) return;
+  caster_.Cast(state->body_poses, &hits_);
+  for (const PadLoad& load : loads) {
+    const TactileArraySpec& pad = sensing_.tactile_arrays[load.pad];
+    const Pose& link = state->body_poses[sensing_.body_index.at(pad.body_id)];
+    const Vec3 out_of_foam = (link.orientation * pad.origin.orientation) * Vec3::UnitZ();
+    const double normal = -load.force.dot(out_of_foam);  // a push on the foam is along −z
+    if (!(normal > 0)) continue;                           // pulled: the foam reads nothing
+    const double thickness = pad.thickness / 2;            // the real foam's
+    gaps_.clear();
+    for (const PadHit& hit : hits_) {
+      if (hit.pad == load.pad && hit.body == load.body) gaps_.push_back(thickness - hit.depth);
+    }
+    if (gaps_.empty()) continue;
+    const double depth = PressDepth(&gaps_, normal / element_stiffness_[load.pad]);
+    std::vector<Vec3>& forces = state->pad_forces[load.pad];
+    for (const PadHit& hit : hits_) {
+      if (hit.pad != load.pad || hit.body != load.body) continue;
+      const double pressed = depth - (thickness - hit.depth);
+      if (pressed > 0) forces[hit.element] += load.force * (element_stiffness_[load.pad] * pressed / normal);
+    }
+  }
+}
+
+}  // namespace graspsim
