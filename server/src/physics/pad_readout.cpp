@@ -13,17 +13,24 @@ SceneModel WithLongSegments(const SceneModel& model) {
   return sensing;
 }
 
-// The δ with Σ (δ − g)₊ = target over `gaps` (sorted here), target > 0: the first m gaps are pressed when their
-// mean shifted by target / m stays below the next gap.
-double PressDepth(std::vector<double>* gaps, double target) {
-  std::sort(gaps->begin(), gaps->end());
-  double sum = 0;
-  for (size_t m = 1; m <= gaps->size(); ++m) {
-    sum += (*gaps)[m - 1];
-    const double depth = (target + sum) / static_cast<double>(m);
-    if (m == gaps->size() || depth <= (*gaps)[m]) return depth;
+// The δ with Σ (δ − g)₊ = target over `gaps`, target > 0. f(δ) = Σ (δ − g)₊ − target is convex, piecewise
+// linear and rising: Newton's steps from a δ above the root stay above it and end on it in a few passes (no sort:
+// a PG70 pad has thousands of elements, and this runs every step).
+double PressDepth(const std::vector<double>& gaps, double target) {
+  double depth = *std::min_element(gaps.begin(), gaps.end()) + target;  // f ≥ 0 here
+  size_t last_pressed = 0;
+  for (int pass = 0; pass < 100; ++pass) {
+    double excess = -target;
+    size_t pressed = 0;
+    for (double gap : gaps) {
+      if (gap < depth) excess += depth - gap, ++pressed;
+    }
+    // The same elements as the last step's line: that step landed on the root (up to rounding).
+    if (pressed == last_pressed || !(excess > 0)) break;
+    last_pressed = pressed;
+    depth -= excess / static_cast<double>(pressed);
   }
-  return 0;  // no gaps
+  return depth;
 }
 
 }  // namespace
@@ -68,6 +75,7 @@ void PadReadout::Prepare(SceneState* state) const {
 void PadReadout::Record(const std::vector<PadLoad>& loads, SceneState* state) {
   Prepare(state);
   if (loads.empty()) return;
+  hits_.clear();  // Cast appends
   caster_.Cast(state->body_poses, &hits_);
   for (const PadLoad& load : loads) {
     const TactileArraySpec& pad = sensing_.tactile_arrays[load.pad];
@@ -81,7 +89,7 @@ void PadReadout::Record(const std::vector<PadLoad>& loads, SceneState* state) {
       if (hit.pad == load.pad && hit.body == load.body) gaps_.push_back(thickness - hit.depth);
     }
     if (gaps_.empty()) continue;
-    const double depth = PressDepth(&gaps_, normal / element_stiffness_[load.pad]);
+    const double depth = PressDepth(gaps_, normal / element_stiffness_[load.pad]);
     std::vector<Vec3>& forces = state->pad_forces[load.pad];
     for (const PadHit& hit : hits_) {
       if (hit.pad != load.pad || hit.body != load.body) continue;

@@ -53,7 +53,7 @@ TEST_P(PadEnginesTest, ABoxCoveringThePadIsCarriedEvenlyByEveryTexel) {
 TEST_P(PadEnginesTest, ASmallBoxIsReadUnderItsFootprintAtItsPlace) {
   // A 1.2 cm cube of 30 g resting off-centre at (−3.4, +5.1) mm: the loaded texels are those whose centres lie
   // under its face (up to half a texel's slack at the face's edge, where the foam law shares a texel), the centre
-  // of pressure is the cube's centre within 0.5 mm, and Σ = m g within 1 %.
+  // of pressure is the cube's centre within 0.5 mm, and Σ = m g within 1 %; moved, it is read at its new place.
   const double x = -0.0034, y = 0.0051, half = 0.006;
   Start(test_objects::UniformBox("cube", Vec3(2 * half, 2 * half, 2 * half), 0.03), x, y, half);
   const TactileFrame frame = Frame();
@@ -72,6 +72,15 @@ TEST_P(PadEnginesTest, ASmallBoxIsReadUnderItsFootprintAtItsPlace) {
   const Vec3 pressure_centre = moment / -frame.force_sum.z();
   EXPECT_NEAR(pressure_centre.x(), x, 5e-4);
   EXPECT_NEAR(pressure_centre.y(), y, 5e-4);
+
+  // Moved to the pad's other end (a SetBodyPoses), the cube is read there only: nothing stays of the old place.
+  state_.body_poses[1].position = Vec3(x, -y - 0.0102, state_.body_poses[1].position.z());
+  engine_->Step(&state_, 200);
+  const TactileFrame moved = Frame();
+  EXPECT_NEAR(-moved.force_sum.z() / (0.03 * kG), 1.0, 0.01);
+  for (unsigned r = 7; r < 10; ++r) {
+    for (unsigned c = 0; c < 4; ++c) EXPECT_EQ(moved.forces[r * 6 + c].z(), 0) << "texel " << r << "," << c;
+  }
 }
 
 TEST_P(PadEnginesTest, ASphereIsReadAroundTheTexelItRestsOn) {
