@@ -11,6 +11,8 @@
 - textbook_*, mujoco_within_1pct, bullet_within_1pct, energy_drift_pct_max, textbook (per case, engine and dt):
   the closed-form cases of tests/physics/textbook.py on the server's three engines (tests/bench/physics_textbook.py),
   with the error-against-run-time plot docs/physics-textbook.png.
+- work_cycle_steps_per_s, work_cycle_held, work_cycle_graspsim_over_mujoco / _over_bullet: the tactile work cycle
+  on each of the server's three engines, same run (tests/bench/physics_engines.py).
 Wall-clock figures (steps_per_s, the textbook run times) move with the machine's other load: bench.py adds
 load_avg_1m (start, end); the errors are deterministic and do not.
 """
@@ -21,6 +23,7 @@ import time
 import graspsim
 
 from _harness import REPO, Server, log
+from physics_engines import work_cycle_figures
 from physics_textbook import textbook_figures
 
 BIN = REPO / "build" / "bin"
@@ -117,6 +120,7 @@ def run():
     with Server() as server, graspsim.connect(server.address) as client:
         figures = grasp(client)
         figures.update(textbook_figures(client))
+        figures.update(work_cycle_figures(client))
     figures.update(accuracy())
     figures.update(stability())
     return figures, server.exit_code
