@@ -18,7 +18,7 @@ puts it 25 cm away, planned and executed in the dynamic simulation (examples/pic
 path (its meshes uploaded by the client), with the repairs the server made (docs/import.md), and arm paths
 planned for it around a post in one PlanArmPaths call, graspsim's planner beside OMPL's (docs/motion.md). Then one
 scene on three physics engines (SimulationParams.engine: graspsim, MuJoCo, Bullet): a ball rolling down 20°
-against its closed form (docs/physics.md). And beyond one machine (docs/scaling.md): three servers started from --server-binary behind HAProxy, scenes routed by
+against its closed form, and the tactile work cycle on each (docs/physics.md). And beyond one machine (docs/scaling.md): three servers started from --server-binary behind HAProxy, scenes routed by
 id, one killed and restarted, a fourth added and the scenes rebalanced (examples/fleet.py). Exits non-zero on
 any error.
 
@@ -280,6 +280,20 @@ def three_engines(client: graspsim.Client) -> None:
         client.step_simulation(scene_id, duration=1.0)
         v1 = client.get_body_velocities(scene_id, ["ball"])["ball"].linear[0]
         print(f"  {engine:<9} {v1 - v0:.4f} m/s² ({(v1 - v0 - expected) / expected * 100:+.3f} %)")
+        client.delete_scene(scene_id)
+    # The tactile work cycle on each engine: the pads read through the engine's contacts (docs/physics.md); Bullet's
+    # explicit drive needs 10 sub-steps for the PG70's fingers.
+    print("the work cycle on each engine (PG70, 5 cm cube, lift 5 cm), pads read through its contacts:")
+    for engine, substeps in (("graspsim", 1), ("mujoco", 1), ("bullet", 10)):
+        scene_id = client.create_scene(f"work cycle on {engine}").id
+        client.add_object(scene_id, "table", builtin="table")
+        client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, 0.775, 1, 0, 0, 0])
+        client.add_robot(scene_id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, 1.05, 1, 0, 0, 0])
+        client.set_simulation_params(scene_id, engine=engine, substeps=substeps)
+        result = client.run_work_cycle(scene_id, "cell", "cube", lift_height=0.05, progress=False)
+        hold = [i for i, stage in enumerate(result.stage) if stage == "hold"]
+        print(f"  {engine:<9} cube lifted {result.object_position[hold[-1], 2] - 0.775:.4f} m, pad sums "
+              f"{result.left_sum[hold[-1]]:.0f} / {result.right_sum[hold[-1]]:.0f} while held")
         client.delete_scene(scene_id)
 
 
