@@ -92,7 +92,7 @@ class MujocoEngine : public PhysicsEngine {
     try {
       CopyIn(*state);
       const int substeps = model_->simulation.substeps;
-      const int bad_before = data_->warning[mjWARN_BADQACC].number;
+      const int bad_before = data_->warning[mjWARN_BADQACC].number, full_before = ListsFull();
       for (int s = 0; s < steps; ++s) {
         for (int sub = 0; sub < substeps; ++sub) {
           Drive(state);
@@ -101,6 +101,7 @@ class MujocoEngine : public PhysicsEngine {
           if (data_->warning[mjWARN_BADQACC].number != bad_before) {
             Diverged(state->step + 1, "MuJoCo found a bad acceleration (qacc) at time " + FormatNumber(data_->time));
           }
+          if (ListsFull() != full_before) ThrowListsFull(state->step + 1);
           CheckSpeeds(state->step + 1);
         }
         ++state->step;
@@ -133,6 +134,14 @@ class MujocoEngine : public PhysicsEngine {
   void RecordDrives(SceneState* state) const;
   void ReadContacts(SceneState* state);
   void CheckSpeeds(uint64_t step) const;
+  // How often the contact or constraint list overflowed (MuJoCo counts its warnings).
+  int ListsFull() const { return data_->warning[mjWARN_CONTACTFULL].number + data_->warning[mjWARN_CNSTRFULL].number; }
+  [[noreturn]] void ThrowListsFull(uint64_t step) const {
+    throw Error(ErrorCode::kFailedPrecondition,
+                "simulation (engine mujoco) at step " + std::to_string(step) + ": more contacts than the backend's " +
+                    std::to_string(mj_->nconmax) + " (or constraint rows than its " + std::to_string(mj_->njmax) +
+                    "), sized from the scene's geometries; contacts would be dropped. Use the graspsim engine");
+  }
   void CheckFinite(const SceneState& state) const;
   [[noreturn]] void Diverged(uint64_t step, const std::string& what) const {
     throw Error(ErrorCode::kFailedPrecondition, "simulation (engine mujoco) diverged at step " + std::to_string(step) +
@@ -267,13 +276,20 @@ void MujocoEngine::Compile() {
     equality << "<joint joint1=\"j" << j << "\" joint2=\"j" << m.joint_index.at(joint.mimic->joint_id)
              << "\" polycoef=\"" << Numbers({joint.mimic->offset, joint.mimic->multiplier, 0, 0, 0}) << "\"/>";
   }
+  // MuJoCo 2.2's lists have fixed sizes, and its automatic stack grows with njmax² (5 njmax² numbers: a fixed
+  // njmax of 5000 made every compile allocate and clear 1 GB, more than the whole work cycle's stepping). Sized
+  // from the scene: up to 8 contacts per geometry (a box on a box makes 4-8), 3 rows each (elliptic cones), a
+  // row per limit and equality; a step that fills them stops (CheckListsFull) rather than drop contacts.
+  size_t geometries = m.tactile_arrays.size();
+  for (const BodySpec& body : m.bodies) geometries += body.collision.size();
+  const size_t max_contacts = 100 + 8 * geometries, max_rows = 3 * max_contacts + 2 * m.joints.size() + 10;
   const bool smooth = p.integrator == Integrator::kVelocityVerlet || p.integrator == Integrator::kRungeKutta4;
   const char* integrator = p.integrator == Integrator::kSemiImplicitEuler ? "Euler" : smooth ? "RK4" : "implicit";
   std::ostringstream xml;
   xml << std::setprecision(17) << "<mujoco model=\"graspsim\"><compiler angle=\"radian\" inertiafromgeom=\"false\"/>"
       << "<option timestep=\"" << p.time_step / p.substeps << "\" gravity=\""
       << Numbers({p.gravity.x(), p.gravity.y(), p.gravity.z()}) << "\" integrator=\"" << integrator
-      << "\" cone=\"elliptic\"/><size njmax=\"5000\" nconmax=\"1000\"/><asset>";
+      << "\" cone=\"elliptic\"/><size njmax=\"" << max_rows << "\" nconmax=\"" << max_contacts << "\"/><asset>";
   for (const std::string& mesh : meshes_) xml << mesh;
   xml << "</asset><worldbody>" << world.str() << "</worldbody><contact>" << excludes.str() << "</contact><equality>"
       << equality.str() << "</equality></mujoco>";

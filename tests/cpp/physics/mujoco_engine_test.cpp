@@ -352,6 +352,29 @@ TEST(MujocoEngineTest, MimicJointFollowsAStifflyDrivenLightLeader) {
   EXPECT_NEAR(world.state.joint_velocities[1], 1.0, 4e-3);
 }
 
+TEST(MujocoEngineTest, AFullContactListStopsTheStepInsteadOfDroppingContacts) {
+  // 12 boxes piled into one place: 66 overlapping pairs of up to 8 contacts each, more than the list sized from
+  // 12 geometries (100 + 8 × 12 = 196). The step refuses, names the limit and leaves the state as it was; one box
+  // alone steps.
+  World world(PhysicsEngineKind::kMujoco);
+  for (int i = 0; i < 12; ++i) {
+    world.Add(test_objects::UniformBox("box" + std::to_string(i), Vec3(0.1, 0.1, 0.1), 1.0),
+              Pose{Vec3(0, 0, 1), Quat::Identity()});
+  }
+  auto engine = world.Start();
+  const SceneState before = world.state;
+  test_util::ExpectError([&] { engine->Step(&world.state, 1); }, ErrorCode::kFailedPrecondition,
+                         {"engine mujoco", "more contacts than the backend's 196", "Use the graspsim engine"});
+  EXPECT_EQ(world.state.step, before.step);
+  EXPECT_EQ(world.state.body_poses[0].position, before.body_poses[0].position);
+
+  World alone(PhysicsEngineKind::kMujoco);
+  alone.Add(test_objects::UniformBox("box", Vec3(0.1, 0.1, 0.1), 1.0), Pose{Vec3(0, 0, 1), Quat::Identity()});
+  auto single = alone.Start();
+  single->Step(&alone.state, 10);
+  EXPECT_EQ(alone.state.step, 10u);
+}
+
 TEST(MujocoEngineTest, DivergenceIsReportedAndLeavesTheStateAsItWas) {
   // 1e4 m/s is past the default divergence speed (1e3 m/s): the step refuses and restores the state.
   World world(PhysicsEngineKind::kMujoco);
