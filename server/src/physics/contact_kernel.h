@@ -26,6 +26,9 @@ struct ContactRun {
   ContactParams law;
   bool friction = false;  // law.HasFriction(), decided by the caller
   double h = 0;           // the sub-step, s
+  // AdvanceRun: the step was linearly implicit, so the bristles advance with the normal force at its end
+  // (contact_law.h's StepEndNormalForce) rather than fn.
+  bool step_end_normal = false;
 };
 
 // What the pair needs of a run, summed over its contacts (f the force on a, p the point):
@@ -49,8 +52,9 @@ struct RunSums {
 void EvaluateRun(const ContactRun& run, bool linearize, double* fx, double* fy, double* fz, double* fn,
                  RunSums* sums);
 
-// AdvanceBristle at every contact of the run (run.twist: the step's new relative twist; depth unused; fn the
-// normal forces of EvaluateRun), into zx, zy, zz. Frictionless runs keep no bristles: not to be called for them.
+// AdvanceBristle at every contact of the run (run.twist: the step's new relative twist; fn the normal forces of
+// EvaluateRun, or with run.step_end_normal StepEndNormalForce of them and the depths), into zx, zy, zz.
+// Frictionless runs keep no bristles: not to be called for them.
 void AdvanceRun(const ContactRun& run, const double* fn, double* zx, double* zy, double* zz);
 
 // "avx2" or "sse2" (x86-64), "generic" elsewhere: the build in use.

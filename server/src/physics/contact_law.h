@@ -34,7 +34,9 @@ struct ContactForce {
   // ∂F_t/∂δ = k_slip_normal ŝ nᵀ and ∂F_t/∂v_rel = d_slip_normal ŝ nᵀ. Without it the step's friction would rest
   // on the normal force at its start while the step applies that force plus its implicit change: a sliding box
   // whose contacts come and go (its rocking, samples passing under its edges) then dragged 0.3 % more than
-  // μ m g at 1 ms, 0.15 % at 0.5 ms (issue 21).
+  // μ m g at 1 ms, 0.15 % at 0.5 ms (issue 21). The factor is ∂(σ0 z⁺·ŝ)/∂g of the exact bristle update over the
+  // step (z⁺ as AdvanceBristle), times μ: ~μ for any contact slipping many bristle lengths per step, a new one
+  // (z = 0) included, ~0 for one that sticks.
   double k_slip_normal = 0, d_slip_normal = 0;
 
   Mat3 Stiffness() const {
@@ -53,11 +55,24 @@ double StribeckLimit(const ContactParams& params, double normal_force, double sl
 ContactForce EvaluateContact(const ContactParams& params, double depth, const Vec3& normal, const Vec3& relative_velocity,
                              const Vec3& bristle, double dt = 0);
 
-// The bristle deflection after dt with the slip velocity held constant over the step, integrated exactly:
+// The bristle deflection after dt with the slip velocity and the normal force held constant over the step (the
+// linearly implicit step passes the ones at its end: the new velocity and StepEndNormalForce), integrated exactly:
 // z⁺ = e^{aΔt} z + (e^{aΔt} - 1)/a · v_t with a = -σ0|v_t|/g (and z⁺ = z + Δt v_t when a = 0). Stable for any
 // dt. The result is projected onto the tangent plane of `normal`.
 Vec3 AdvanceBristle(const ContactParams& params, double normal_force, const Vec3& normal, const Vec3& slip_velocity,
                     const Vec3& bristle, double dt);
+
+// The normal force a linearly implicit step applies at a contact over the step, F_n + ∂F_n/∂δ dt v⁺ +
+// ∂F_n/∂v_rel (v⁺ − v_rel) = max(0, k (d − dt n·v⁺) − c n·v⁺), with v⁺ the relative velocity at the step's end;
+// 0 where the contact did not push at the start (normal_force, |F_n| there, is 0). The bristles of such a step
+// advance with it (AdvanceBristle), not with the start's F_n: the step's friction followed the normal force to
+// its end (ContactForce::k_slip_normal), and the bristles carry that friction into the next step. With the
+// start's F_n a sliding contact's friction lagged its normal force by a step, which over the contact's life adds
+// up to an impulse μ h (F_n at its first step − F_n at its last): floor samples passing under a sliding box from
+// its loaded front edge to its unloaded rear slowed it by 0.6 % at 1 ms where μ_s > μ_d (issue 21; with
+// μ_s = μ_d the static cap on z hid most of it).
+double StepEndNormalForce(const ContactParams& params, double normal_force, double depth, const Vec3& normal,
+                          const Vec3& end_velocity, double dt);
 
 // Combines two bodies' materials into the parameters of their contact (documented in the implementation).
 ContactParams CombineContactParams(const ContactParams& a, const ContactParams& b);

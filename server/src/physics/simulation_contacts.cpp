@@ -230,7 +230,8 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
 
 void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state) {
   // The exact LuGre update (the contact kernel's AdvanceRun), with the slip velocity the friction force was
-  // evaluated with, over the contacts of the last ContactForces (still in columns_). Contacts that ended drop
+  // evaluated with — and, for the linearly implicit step, the normal force it applied at its end (contact_law.h's
+  // StepEndNormalForce) — over the contacts of the last ContactForces (still in columns_). Contacts that ended drop
   // their bristle state; frictionless contacts never get one. Built in the contacts' (sorted) order into the
   // previous step's buffer.
   ContactColumns& columns = columns_;
@@ -245,7 +246,8 @@ void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v,
     while (end < n && forces.contact_pair[end] == pair) ++end;
     for (size_t run_begin = begin; run_begin < end;) {
       const size_t run_end = RunEnd(contacts_, run_begin, end);
-      const contact_kernel::ContactRun run = Run(run_begin, run_end, twists_[pair], h);
+      contact_kernel::ContactRun run = Run(run_begin, run_end, twists_[pair], h);
+      run.step_end_normal = params_.integrator == Integrator::kLinearlyImplicitEuler;
       if (run.friction) {  // a run shares its law: whether its contacts keep a bristle is decided once
         contact_kernel::AdvanceRun(run, forces.normal_force.data() + run_begin, columns.next_zx.data() + run_begin,
                                    columns.next_zy.data() + run_begin, columns.next_zz.data() + run_begin);

@@ -1,6 +1,7 @@
 // The contact kernel's two builds against the scalar law (physics/contact_law.h) contact by contact: forces,
-// normal forces, the pair sums rebuilt from each contact's ContactForce, and the bristle update — over contacts
-// that stick, slide, separate and sit at the static cap, with a shared normal and with mixed normals.
+// normal forces, the pair sums rebuilt from each contact's ContactForce, and the bristle update (with the start's
+// or the implicit step's end normal force) — over contacts that stick, slide, separate and sit at the static cap,
+// with a shared normal and with mixed normals.
 #include "physics/contact_kernel.h"
 
 #include <random>
@@ -89,9 +90,10 @@ Mat6 ScalarBlock(const ContactForce& f, const Vec3& p, const Vec3& n, double h) 
   return e.transpose() * (h * D + h * h * K) * e;
 }
 
-void ExpectKernelMatchesLaw(bool use_avx2, bool shared_normal, const double (&twist)[6]) {
+void ExpectKernelMatchesLaw(bool use_avx2, bool shared_normal, const double (&twist)[6], bool step_end_normal) {
   const Contacts c = MakeContacts(shared_normal);
-  const ContactRun run = RunOf(c, twist);
+  ContactRun run = RunOf(c, twist);
+  run.step_end_normal = step_end_normal;
   const size_t n = run.count;
   std::vector<double> fx(n), fy(n), fz(n), fn(n), zx(n), zy(n), zz(n);
   RunSums sums;
@@ -119,7 +121,10 @@ void ExpectKernelMatchesLaw(bool use_avx2, bool shared_normal, const double (&tw
     force += f.force;
     moment += c.point[i].cross(f.force);
     block += ScalarBlock(f, c.point[i], c.normal[i], run.h);
-    const Vec3 z = AdvanceBristle(run.law, f.normal_force, c.normal[i], v, c.bristle[i], run.h);
+    const double advancing = step_end_normal
+                                 ? StepEndNormalForce(run.law, f.normal_force, c.depth[i], c.normal[i], v, run.h)
+                                 : f.normal_force;
+    const Vec3 z = AdvanceBristle(run.law, advancing, c.normal[i], v, c.bristle[i], run.h);
     EXPECT_NEAR(zx[i], z.x(), 1e-12) << i;
     EXPECT_NEAR(zy[i], z.y(), 1e-12) << i;
     EXPECT_NEAR(zz[i], z.z(), 1e-12) << i;
@@ -136,7 +141,9 @@ constexpr double kSliding[6] = {0.3, -0.2, 1, 0.1, -0.05, 0.002};
 
 TEST(ContactKernelTest, GenericBuildMatchesTheScalarLaw) {
   for (bool shared : {true, false}) {
-    for (const auto* twist : {&kSticking, &kDrop, &kSliding}) ExpectKernelMatchesLaw(false, shared, *twist);
+    for (const auto* twist : {&kSticking, &kDrop, &kSliding}) {
+      for (bool step_end_normal : {false, true}) ExpectKernelMatchesLaw(false, shared, *twist, step_end_normal);
+    }
   }
 }
 
@@ -145,7 +152,9 @@ TEST(ContactKernelTest, Avx2BuildMatchesTheScalarLaw) {
   __builtin_cpu_init();
   if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) GTEST_SKIP() << "no AVX2 + FMA";
   for (bool shared : {true, false}) {
-    for (const auto* twist : {&kSticking, &kDrop, &kSliding}) ExpectKernelMatchesLaw(true, shared, *twist);
+    for (const auto* twist : {&kSticking, &kDrop, &kSliding}) {
+      for (bool step_end_normal : {false, true}) ExpectKernelMatchesLaw(true, shared, *twist, step_end_normal);
+    }
   }
 #else
   GTEST_SKIP() << "x86-64 only";
