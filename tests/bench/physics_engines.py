@@ -1,8 +1,7 @@
 """physics "work_cycle_*" figures: the tactile work cycle (the PG70 on its z axis grasps, lifts 5 cm, holds 1 s,
 sets down and releases the 5 cm cube) on each of the server's three engines, same scene, same server, same gRPC
-stream, in the same run. The engines' settings are those that do the task: graspsim's and MuJoCo's defaults
-(1 ms, one sub-step; MuJoCo's default contact softness holds the cube), Bullet with 10 sub-steps per 1 ms step
-(its explicit drive oscillates at one). steps/s counts 1 ms steps (the cycle's simulated time / 1 ms) over the
+stream, in the same run, each with its defaults (1 ms, one sub-step), which do the task (MuJoCo's default
+contact softness holds the cube; Bullet's drive is implicit, a soft velocity row). steps/s counts 1 ms steps (the cycle's simulated time / 1 ms) over the
 client's wall time of RunWorkCycle, REPEATS runs each, median (min-max). "held": the cube stayed within 3 mm of
 its lifted height through the hold, in every run. The pads read through each engine's contacts
 (physics/pad_readout.h on MuJoCo and Bullet)."""
@@ -12,7 +11,7 @@ import time
 from _harness import log
 
 REPEATS = 5
-SUBSTEPS = {"graspsim": 1, "mujoco": 1, "bullet": 10}
+ENGINES = ("graspsim", "mujoco", "bullet")
 TABLE_TOP, CUBE, LIFT = 0.75, 0.05, 0.05
 
 
@@ -22,7 +21,7 @@ def _one_cycle(client, engine):
         client.add_object(scene.id, "table", builtin="table")
         client.add_object(scene.id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + CUBE / 2, 1, 0, 0, 0])
         client.add_robot(scene.id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, 1.05, 1, 0, 0, 0])
-        params = client.set_simulation_params(scene.id, engine=engine, substeps=SUBSTEPS[engine])
+        params = client.set_simulation_params(scene.id, engine=engine)
         t0 = time.perf_counter()
         result = client.run_work_cycle(scene.id, "cell", "cube", lift_height=LIFT, timeout=600, progress=False)
         wall = time.perf_counter() - t0
@@ -35,7 +34,7 @@ def _one_cycle(client, engine):
 
 def work_cycle_figures(client) -> dict:
     per_s, held = {}, {}
-    for engine in SUBSTEPS:
+    for engine in ENGINES:
         runs = [_one_cycle(client, engine) for _ in range(REPEATS)]
         rates = [rate for rate, _ in runs]
         per_s[engine] = {"median": round(statistics.median(rates)), "min": round(min(rates)),

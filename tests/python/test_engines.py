@@ -71,11 +71,6 @@ def test_a_curved_pad_added_to_another_engines_scene_is_refused_at_the_step(clie
         client.step_simulation(scene_id, steps=1)
 
 
-# The work cycle's PG70 on each engine. Bullet applies the drive's force explicitly (physics/bullet_engine.cpp):
-# the PG70's stiff finger drive needs 10 sub-steps per 1 ms step there, or it oscillates.
-WORK_CYCLE_SUBSTEPS = {"graspsim": 1, "mujoco": 1, "bullet": 10}
-
-
 @pytest.mark.parametrize("engine", ENGINES)
 def test_the_work_cycle_lifts_and_holds_the_cube_on_each_engine(client, scene_id, engine):
     """Every stage runs; during the hold the cube is lift_height above where it lay (within 3 mm: the foam and
@@ -84,7 +79,7 @@ def test_the_work_cycle_lifts_and_holds_the_cube_on_each_engine(client, scene_id
     client.add_object(scene_id, "table", builtin="table")
     client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, table_top + cube / 2, 1, 0, 0, 0])
     client.add_robot(scene_id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, 1.05, 1, 0, 0, 0])
-    client.set_simulation_params(scene_id, engine=engine, substeps=WORK_CYCLE_SUBSTEPS[engine])
+    client.set_simulation_params(scene_id, engine=engine)
     result = client.run_work_cycle(scene_id, "cell", "cube", lift_height=lift, hold_time=0.5, timeout=300,
                                    progress=False)
     assert result.stage[-1] == "done"

@@ -281,15 +281,14 @@ def three_engines(client: graspsim.Client) -> None:
         v1 = client.get_body_velocities(scene_id, ["ball"])["ball"].linear[0]
         print(f"  {engine:<9} {v1 - v0:.4f} m/s² ({(v1 - v0 - expected) / expected * 100:+.3f} %)")
         client.delete_scene(scene_id)
-    # The tactile work cycle on each engine: the pads read through the engine's contacts (docs/physics.md); Bullet's
-    # explicit drive needs 10 sub-steps for the PG70's fingers.
+    # The tactile work cycle on each engine: the pads read through the engine's contacts (docs/physics.md).
     print("the work cycle on each engine (PG70, 5 cm cube, lift 5 cm), pads read through its contacts:")
-    for engine, substeps in (("graspsim", 1), ("mujoco", 1), ("bullet", 10)):
+    for engine in ("graspsim", "mujoco", "bullet"):
         scene_id = client.create_scene(f"work cycle on {engine}").id
         client.add_object(scene_id, "table", builtin="table")
         client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, 0.775, 1, 0, 0, 0])
         client.add_robot(scene_id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, 1.05, 1, 0, 0, 0])
-        client.set_simulation_params(scene_id, engine=engine, substeps=substeps)
+        client.set_simulation_params(scene_id, engine=engine)
         result = client.run_work_cycle(scene_id, "cell", "cube", lift_height=0.05, progress=False)
         hold = [i for i, stage in enumerate(result.stage) if stage == "hold"]
         print(f"  {engine:<9} cube lifted {result.object_position[hold[-1], 2] - 0.775:.4f} m, pad sums "

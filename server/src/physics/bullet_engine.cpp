@@ -36,10 +36,11 @@
 //     no rolling or spinning friction, restitution 0. Contact stiffness and damping, LuGre bristles and the
 //     static μ are graspsim's contact law and do not apply: Bullet's contacts are rigid (complementarity solved by
 //     sequential impulses, penetration corrected by ERP);
-//   - drives: graspsim's DC-motor model (physics/actuators.h) each sub-step, its force applied as a joint force
-//     (addJointTorque), explicitly: Bullet has no hook for an implicit joint damping, so a drive whose damping
-//     ∂force/∂q̇ is too stiff for the step (h |D| / inertia > 2) oscillates and diverges (the PG70's finger drive
-//     — refused anyway with its tactile pads);
+//   - drives: graspsim's DC-motor model (physics/actuators.h) each sub-step. Its output, f + D (q̇⁺ − q̇) with
+//     D = ∂force/∂q̇ ≤ 0, is c (v_t − q̇⁺) with c = −D and v_t = q̇ + f / c: a damper toward v_t, which enters
+//     Bullet's solver as a soft joint-velocity row (DriveDamper: a btMultiBodyJointMotor whose constraint force
+//     mixing, 1 / (c h) in impulse per velocity, makes its impulse c h (v_t − q̇⁺)), so the drive is implicit in
+//     the step as in the other engines; a drive without damping applies f as a joint force;
 //   - contacts: the dispatcher's manifold points that penetrate or carry a normal impulse; body_a = Bullet's body 0
 //     (its userIndex is our body index), the normal Bullet's normal on body 1 (from b into a), depth −distance, the
 //     point midway between the two witness points, the force on body_a the normal and friction impulses over h.
@@ -56,6 +57,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <BulletDynamics/Featherstone/btMultiBodyGearConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include <Eigen/Eigenvalues>
@@ -149,6 +151,40 @@ struct BulletWorld {
   }
 };
 
+// A drive's damper (header comment): Bullet's velocity motor row, made soft. The motor's row asks for
+// λ = (v_t − q̇) / a with a = J M⁻¹ Jᵀ (1 / m_jacDiagABInv); a compliance ε = 1 / (c h) makes it
+// λ = (v_t − q̇) / (a + ε) = c h (v_t − q̇⁺). The multibody solver's row update is
+// Δλ = rhs − cfm λ − (J Δv) m_jacDiagABInv, so ε enters as Bullet's own soft rows do: m_jacDiagABInv = 1 / (a + ε),
+// rhs scaled alike, cfm = ε m_jacDiagABInv.
+class DriveDamper : public btMultiBodyJointMotor {
+ public:
+  DriveDamper(btMultiBody* body, int link) : btMultiBodyJointMotor(body, link, 0, 0) { setPositionTarget(0, 0); }
+  void Set(double damping, double target, double h) {
+    damping_ = damping, h_ = h;
+    setVelocityTarget(target, 1);
+    setMaxAppliedImpulse(1e12);
+  }
+  void Off() { damping_ = 0, setMaxAppliedImpulse(0); }
+  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                            const btContactSolverInfo& info) override {
+    const int first = rows.size();
+    btMultiBodyJointMotor::createConstraintRows(rows, data, info);
+    if (!(damping_ > 0)) return;
+    const double compliance = 1 / (damping_ * h_);
+    for (int r = first; r < rows.size(); ++r) {
+      btMultiBodySolverConstraint& row = rows[r];
+      if (!(row.m_jacDiagABInv > 0)) continue;
+      const double soft = 1 / (1 / row.m_jacDiagABInv + compliance);
+      row.m_rhs *= soft / row.m_jacDiagABInv;
+      row.m_cfm = compliance * soft;
+      row.m_jacDiagABInv = soft;
+    }
+  }
+
+ private:
+  double damping_ = 0, h_ = 1;
+};
+
 class BulletEngine : public PhysicsEngine {
  public:
   explicit BulletEngine(std::shared_ptr<const SceneModel> model) : model_(std::move(model)) { Build(); }
@@ -171,6 +207,7 @@ class BulletEngine : public PhysicsEngine {
         for (int sub = 0; sub < substeps; ++sub) {
           Drive(state, h);
           bullet_.world->stepSimulation(h, 0);
+          RecordDrives(state);
           CheckVelocities(*state);
         }
         ++state->step;
@@ -214,6 +251,7 @@ class BulletEngine : public PhysicsEngine {
   void CopyIn(const SceneState& state);
   void CopyOut(SceneState* state);
   void Drive(SceneState* state, double h);
+  void RecordDrives(SceneState* state) const;
   void ReadContacts(SceneState* state, double h);
   // The pad whose foam is child shape `child` of body `body`'s compound, or -1.
   int PadOfChild(int body, int child) const {
@@ -235,6 +273,16 @@ class BulletEngine : public PhysicsEngine {
   std::vector<PrincipalFrame> frames_;     // per body: its Bullet frame (identity for static bodies and bases)
   std::vector<btRigidBody*> rigid_of_;     // per body: its rigid body (free and static objects), or null
   std::vector<Robot> robots_;              // per robot
+  std::vector<DriveDamper*> damper_of_joint_;  // per joint: its drive's damper (moving joints of robots), or null
+  // The sub-step's drives: the joint, its multibody and link, its velocity before the step, the motor's output.
+  struct DriveStep {
+    size_t joint = 0;
+    btMultiBody* multibody = nullptr;
+    int link = 0;
+    double velocity_before = 0;
+    ActuatorOutput output;
+  };
+  std::vector<DriveStep> drives_;
   std::vector<int> link_of_;               // per body: its multibody link, -1 (a base) or -2 (not a robot's)
   std::vector<int> robot_of_;              // per body: its robot, or -1
   std::vector<int> link_of_joint_;         // per joint: its multibody link
@@ -331,6 +379,7 @@ void BulletEngine::Build() {
   link_of_.assign(m.bodies.size(), -2);
   robot_of_.assign(m.bodies.size(), -1);
   link_of_joint_.assign(m.joints.size(), -1);
+  damper_of_joint_.assign(m.joints.size(), nullptr);
   for (size_t i = 0; i < m.bodies.size(); ++i) {
     const BodySpec& body = m.bodies[i];
     if (body.motion == BodyMotion::kArticulated || !body.robot_id.empty()) continue;  // robots: BuildRobot
@@ -486,6 +535,16 @@ void BulletEngine::BuildRobot(size_t r) {
       b.constraints.push_back(std::move(gear));
     }
   }
+  // Every moving joint gets a damper, off until a drive sets it (Drive).
+  for (size_t k = 0; k < n; ++k) {
+    const JointType type = m.joints[robot.joints[k]].type;
+    if (type == JointType::kFixed) continue;
+    auto damper = std::make_unique<DriveDamper>(mb, static_cast<int>(k));
+    damper->Off();
+    b.world->addMultiBodyConstraint(damper.get());
+    damper_of_joint_[robot.joints[k]] = damper.get();
+    b.constraints.push_back(std::move(damper));
+  }
   b.multibodies.push_back(std::move(multibody));
 }
 
@@ -529,6 +588,10 @@ void BulletEngine::CopyIn(const SceneState& state) {
 }
 
 void BulletEngine::Drive(SceneState* state, double h) {
+  for (DriveDamper* damper : damper_of_joint_) {
+    if (damper) damper->Off();  // a drive switched off leaves no damping behind
+  }
+  drives_.clear();
   for (auto& [j, actuator] : state->actuators) {
     if (j >= link_of_joint_.size() || link_of_joint_[j] < 0 || model_->joints[j].type == JointType::kFixed) continue;
     const size_t body = model_->joint_bodies[j][1];
@@ -536,10 +599,23 @@ void BulletEngine::Drive(SceneState* state, double h) {
     const int link = link_of_joint_[j];
     const double q = mb->getJointPos(link), q_dot = mb->getJointVel(link);
     const ActuatorOutput out = StepDcMotor(actuator.motor, actuator.command, q, q_dot, h, &actuator.state);
-    actuator.joint_force = out.joint_force;
     actuator.voltage = out.voltage;
-    // Explicit: the force at the step's start velocity (out.damping has no place to go in Bullet).
-    mb->addJointTorque(link, out.joint_force);
+    DriveDamper* damper = damper_of_joint_[j];
+    if (damper && out.damping < 0) {
+      damper->Set(-out.damping, q_dot - out.joint_force / out.damping, h);
+    } else {
+      mb->addJointTorque(link, out.joint_force);
+    }
+    drives_.push_back({j, mb, link, q_dot, out});
+  }
+}
+
+void BulletEngine::RecordDrives(SceneState* state) const {
+  // What a drive reports is the force the step applied, f + D (q̇⁺ − q̇), as the other engines report it.
+  for (const DriveStep& drive : drives_) {
+    state->actuators.at(drive.joint).joint_force =
+        drive.output.joint_force +
+        drive.output.damping * (drive.multibody->getJointVel(drive.link) - drive.velocity_before);
   }
 }
 

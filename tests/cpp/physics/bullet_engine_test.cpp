@@ -20,6 +20,8 @@ constexpr double kG = 9.81;
 
 using test_objects::RobotJoint;
 using test_objects::UniformBox;
+using test_engines::DrivenLink;
+using test_engines::kLightInertia;
 using test_engines::Link;
 using test_engines::MeshBody;
 using test_engines::Sphere;
@@ -247,6 +249,26 @@ TEST(BulletEngineTest, MimicJointFollowsItsLeader) {
         << "t = " << world.state.time;
   }
   EXPECT_NEAR(world.state.joint_positions[0], 0.1, 0.01) << "the leader kept its speed: gravity cancels";
+}
+
+TEST(BulletEngineTest, StiffDriveIsImplicitThroughItsSoftVelocityRow) {
+  // h |D| / I ≈ 460 (engine_test_scenes.h's DrivenLink): an explicit step of this drive diverges at once. As a
+  // soft velocity row in Bullet's solver (DriveDamper) the first step is implicit Euler's
+  // v1 = h f0 / (I − h D) = 0.45397 rad/s (1e-9: rounding), its reported force is what accelerated the link,
+  // I v1 / h, and after 0.5 s the PI loop has brought it to 0.5 rad/s as on graspsim's engine (same motor, same
+  // implicit step; 1e-6: Bullet's solver stops at its tolerance).
+  World world = DrivenLink(PhysicsEngineKind::kBullet, Integrator::kLinearlyImplicitEuler);
+  auto engine = world.Start();
+  engine->Step(&world.state, 1);
+  const double h = 1e-3;
+  EXPECT_NEAR(world.state.joint_velocities[0], h * 126.25 / (kLightInertia + h * 277.5), 1e-9);
+  EXPECT_NEAR(world.state.actuators.at(0).joint_force, kLightInertia * world.state.joint_velocities[0] / h, 1e-6);
+  engine->Step(&world.state, 499);
+  EXPECT_NEAR(world.state.joint_velocities[0], 0.5, 1e-3);
+  World reference = DrivenLink(PhysicsEngineKind::kGraspsim, Integrator::kLinearlyImplicitEuler);
+  auto graspsim = reference.Start();
+  graspsim->Step(&reference.state, 500);
+  EXPECT_NEAR(world.state.joint_velocities[0], reference.state.joint_velocities[0], 1e-6);
 }
 
 TEST(BulletEngineTest, DivergenceIsReportedAndLeavesTheStateAsItWas) {

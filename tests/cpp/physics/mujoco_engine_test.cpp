@@ -19,6 +19,8 @@ namespace {
 
 constexpr double kG = 9.81;
 
+using test_engines::DrivenLink;
+using test_engines::kLightInertia;
 using test_engines::Link;
 using test_engines::Sphere;
 using test_engines::World;
@@ -212,26 +214,6 @@ TEST(MujocoEngineTest, PendulumPeriodMatchesTheClosedForm) {
   EXPECT_NEAR((bob.position - Vec3(0, 0, 3)).norm(), 0, 1e-9);
   EXPECT_NEAR(bob.orientation.angularDistance(Quat(Eigen::AngleAxisd(world.state.joint_positions[0], Vec3::UnitY()))),
               0, 1e-9);
-}
-
-// One light link on a vertical hinge (no gravity torque: its centre of mass lies beside the z axis), driven at
-// 0.5 rad/s by the default motor with the current and voltage limits raised so the drive stays linear: a step
-// of the PI loop gives f0 = 5 N m/V · (50 · 0.5 + 500 · 0.5 h) V = 126.25 N m and damps by
-// D = −5 (50 + 500 h + 5) = −277.5 N m s/rad (physics/actuators.cpp), against I = 1e-4 + 0.2 · 0.05² kg m².
-constexpr double kLightInertia = 1e-4 + 0.2 * 0.05 * 0.05;
-World DrivenLink(PhysicsEngineKind engine, Integrator integrator) {
-  World world(engine);
-  world.model->simulation.integrator = integrator;
-  world.Add(Link("d/base", 1, Vec3::Zero(), Mat3::Identity() * 1e-3), Pose{Vec3(0, 0, 1), Quat::Identity()});
-  world.Add(Link("d/arm", 0.2, Vec3(0.05, 0, 0), Mat3::Identity() * 1e-4), Pose());
-  world.model->joints.push_back(RobotJoint("d/hinge", JointType::kRevolute, "d/base", "d/arm",
-                                           Pose{Vec3(0, 0.1, 0), Quat::Identity()}, Vec3::UnitZ()));
-  world.AddRobot("d", 0, 0);
-  JointActuator& drive = world.state.actuators[0];
-  drive.motor.current_limit = 100;
-  drive.motor.voltage_limit = 48;
-  drive.command = {ActuatorMode::kVelocity, 0.5, -1};
-  return world;
 }
 
 TEST(MujocoEngineTest, StiffDriveGoesThroughTheImplicitDamping) {
