@@ -29,11 +29,13 @@
 #include <cstring>
 #include <iomanip>
 #include <map>
+#include <mutex>
 #include <memory>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/format.h"
+#include "core/log.h"
 #include "physics/actuators.h"
 #include "physics/pad_readout.h"
 
@@ -69,9 +71,15 @@ std::string Inertia(const Inertial& inertial, const Vec3& at) {
          "\"/>";
 }
 
+// MuJoCo's warnings go to the server's log: its default handler appends them to MUJOCO_LOG.TXT in the working
+// directory. The step reads the warnings it acts on from mjData's counters (Step).
+void LogMujocoWarning(const char* message) { Log(LogLevel::kWarn, "mujoco", {{"warning", message}}); }
+
 class MujocoEngine : public PhysicsEngine {
  public:
   explicit MujocoEngine(std::shared_ptr<const SceneModel> model) : model_(std::move(model)) {
+    static std::once_flag route_warnings;
+    std::call_once(route_warnings, [] { mju_user_warning = LogMujocoWarning; });
     Compile();
   }
   ~MujocoEngine() override {
