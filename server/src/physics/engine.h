@@ -2,12 +2,13 @@
 // model is compiled once per engine (a new model, a new engine), the scene's state is the one SceneState, and
 // a step reads the state in, advances it and writes it back with the contacts it found.
 //   - graspsim (physics/simulation.h): soft penalty + LuGre contacts at surface samples, Featherstone
-//     multibody, four integrators; every capability (tactile pads, joint wrenches, sleeping, drives).
+//     multibody, four integrators; every capability (tactile pads, joint wrenches, sleeping, drives). Its
+//     compiled model is shared by all simulations of one SceneModel (physics/simulation_model.h).
 //   - MuJoCo (physics/mujoco_engine.cpp, Debian's libmujoco 2.2.2): its soft constraints (default solref and
 //     solimp), elliptic friction cones, mesh geometry by its convex hull; drives by graspsim's motor model.
 //   - Bullet (physics/bullet_engine.cpp, Debian's libbullet 3.24, double precision): rigid contacts by sequential
 //     impulses, Featherstone btMultiBody robots, convex hulls of moving meshes; drives by graspsim's motor model.
-// A capability an engine lacks is refused with FAILED_PRECONDITION naming it (CheckEngineSupports).
+// Tactile pads on MuJoCo and Bullet: physics/pad_readout.h. A capability an engine lacks is refused with FAILED_PRECONDITION naming it (CheckEngineSupports).
 #pragma once
 
 #include <memory>

@@ -14,22 +14,6 @@
 namespace graspsim {
 namespace {
 
-// A material's value, or the scene default where the material leaves it at 0.
-double Or(double value, double fallback) { return value > 0 ? value : fallback; }
-
-ContactParams BodyContactParams(const Material& material, const ContactParams& defaults) {
-  ContactParams params = defaults;
-  params.static_friction = material.static_friction;
-  params.dynamic_friction = material.dynamic_friction;
-  params.stiffness = Or(material.contact_stiffness, defaults.stiffness);
-  params.damping = Or(material.contact_damping, defaults.damping);
-  params.bristle_stiffness = Or(material.bristle_stiffness, defaults.bristle_stiffness);
-  params.bristle_damping = Or(material.bristle_damping, defaults.bristle_damping);
-  params.viscous_friction = Or(material.viscous_friction, defaults.viscous_friction);
-  params.stribeck_velocity = Or(material.stribeck_velocity, defaults.stribeck_velocity);
-  return params;
-}
-
 // Extra solves per sub-step to settle which drives are at their current limit (LimitCurrents): a drive settles
 // within two (limit → free → the other limit); with several coupled drives the last pass's decision is kept.
 constexpr int kCurrentLimitPasses = 4;
@@ -64,18 +48,18 @@ void ValidateSimulationParams(const SimulationParams& p) {
   CheckPositive("params.divergence_speed", p.divergence_speed);
 }
 
-Simulation::Simulation(std::shared_ptr<const SceneModel> model)
-    : model_(std::move(model)),
+Simulation::Simulation(std::shared_ptr<const SceneModel> model) : Simulation(SharedSimulationModel(model)) {}
+
+Simulation::Simulation(std::shared_ptr<const SimulationModel> compiled)
+    : compiled_(std::move(compiled)),
+      model_(compiled_->scene()),
       params_(model_->simulation),
-      multibody_(*model_),
-      finder_(*model_, ContactFinderOptions{params_.sample_spacing, 0}),
-      pads_(*model_) {
-  for (const BodySpec& body : model_->bodies) body_params_.push_back(BodyContactParams(body.material, params_.contact));
-  for (const TactileArraySpec& pad : model_->tactile_arrays) {
-    pad_params_.push_back(ElementContactParams(pad));
-    pad_links_.push_back(static_cast<uint32_t>(model_->body_index.at(pad.body_id)));
-  }
-}
+      multibody_(compiled_->multibody()),
+      finder_(compiled_->finder()),
+      pads_(compiled_->pads()),
+      pad_params_(compiled_->pad_params()),
+      pad_links_(compiled_->pad_links()),
+      body_params_(compiled_->body_params()) {}
 
 void Simulation::PrepareState(SceneState* state) const {
   state->body_velocities.resize(model_->bodies.size());

@@ -20,6 +20,7 @@
 #include "physics/contact_law.h"
 #include "physics/engine.h"
 #include "physics/multibody.h"
+#include "physics/simulation_model.h"
 #include "tactile/ray_caster.h"
 #include "world/model.h"
 #include "world/state.h"
@@ -34,9 +35,11 @@ void ValidateSimulationParams(const SimulationParams& params);
 
 class Simulation : public PhysicsEngine {
  public:
-  // Builds what the model needs once (degrees of freedom, surface samples, mesh BVHs); the parameters are the
-  // model's (SceneModel::simulation).
+  // A simulation of `model` on its shared SimulationModel (physics/simulation_model.h: built once per SceneModel,
+  // the degrees of freedom, surface samples, mesh BVHs); the parameters are the model's (SceneModel::simulation).
+  // A Simulation keeps its step's working buffers only: one caller at a time, any number per SimulationModel.
   explicit Simulation(std::shared_ptr<const SceneModel> model);
+  explicit Simulation(std::shared_ptr<const SimulationModel> compiled);
 
   const SceneModel& model() const override { return *model_; }
   void PrepareState(SceneState* state) const override;
@@ -93,14 +96,17 @@ class Simulation : public PhysicsEngine {
   void ClampJointLimits(SceneState* state) const;
   void CheckFinite(const SceneState& state) const;
 
+  // The shared, immutable model and views into it (SimulationModel's accessors say what each is).
+  std::shared_ptr<const SimulationModel> compiled_;
   std::shared_ptr<const SceneModel> model_;
   const SimulationParams& params_;
-  Multibody multibody_;
-  ContactFinder finder_;
-  TactileRayCaster pads_;
-  std::vector<ContactParams> pad_params_;  // per tactile array: its foam's law per sensing element
-  std::vector<uint32_t> pad_links_;        // per tactile array: the body it is mounted on
-  std::vector<ContactParams> body_params_;  // per body, materials merged with the defaults
+  const Multibody& multibody_;
+  const ContactFinder& finder_;
+  const TactileRayCaster& pads_;
+  const std::vector<ContactParams>& pad_params_;
+  const std::vector<uint32_t>& pad_links_;
+  const std::vector<ContactParams>& body_params_;
+  // Per scene, from here on: what the last step found, and the step's buffers.
   std::vector<ContactPoint> contacts_;
   std::vector<ContactParams> contact_params_;  // per contact: the pair's combined law, or the pad's
   std::vector<PadHit> pad_hits_;
