@@ -12,7 +12,8 @@
   the closed-form cases of tests/physics/textbook.py on the server's three engines (tests/bench/physics_textbook.py),
   with the error-against-run-time plot docs/physics-textbook.png.
 - work_cycle_steps_per_s, work_cycle_held, work_cycle_graspsim_over_mujoco / _over_bullet: the tactile work cycle
-  on each of the server's three engines, same run (tests/bench/physics_engines.py).
+  on each of the server's three engines, same run; grasp_steps_per_s_by_engine, grasp_held_by_engine,
+  grasp_graspsim_over_mujoco / _over_bullet: the steps_per_s scene on each engine (tests/bench/physics_engines.py).
 Wall-clock figures (steps_per_s, the textbook run times) move with the machine's other load: bench.py adds
 load_avg_1m (start, end); the errors are deterministic and do not.
 """
@@ -23,16 +24,11 @@ import time
 import graspsim
 
 from _harness import REPO, Server, log
-from physics_engines import work_cycle_figures
+from physics_engines import DEFAULTS, FINGER, grasp_engine_figures, pg70_closed_on_cube, work_cycle_figures
 from physics_textbook import textbook_figures
 
 BIN = REPO / "build" / "bin"
 TIMED_STEPS = 2000
-FINGER = "pg70/finger_left_joint"
-CURRENT_LIMIT_A = 1.0     # PG70 drive: 200 N at 3.5 A, so ≈ 57 N per finger
-CLOSE_SPEED = 0.02        # m/s, closing (the joint's 0 is closed)
-TABLE_TOP = 0.75          # m (built-in table)
-DEFAULTS = dict(time_step=1e-3, integrator="linearly_implicit_euler")
 
 
 def timed_steps(client, scene_id: str):
@@ -42,17 +38,7 @@ def timed_steps(client, scene_id: str):
 
 
 def grasp(client) -> dict:
-    scene_id = client.create_scene("physics").id
-    # Rotated half a turn about x: the PG70's approach axis (+z) points down; fingertips 1 cm above the table,
-    # so the fingers span the cube's lower 4 cm and the housing clears its top by 2 cm.
-    client.add_robot(scene_id, "pg70", builtin="schunk_pg70", base_pose=[0, 0, TABLE_TOP + 0.01 + 0.157, 0, 1, 0, 0])
-    client.add_object(scene_id, "table", builtin="table")
-    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + 0.025, 1, 0, 0, 0])
-    client.set_simulation_params(scene_id, **DEFAULTS)
-    client.set_joint_positions(scene_id, {FINGER: 0.03})  # open: 6 cm between the fingers
-    client.step_simulation(scene_id, steps=300)           # the cube settles on the table
-    client.set_actuator(scene_id, FINGER, "velocity", -CLOSE_SPEED, current_limit=CURRENT_LIMIT_A)
-    client.step_simulation(scene_id, steps=1000)          # 10 mm to close at 20 mm/s, then settle
+    scene_id = pg70_closed_on_cube(client, "graspsim")
     finger = client.get_joint_positions(scene_id, [FINGER])[FINGER]
     z0 = client.get_body_poses(scene_id, ["cube"])["cube"].position[2]
     log(f"grasped: finger at {finger * 1e3:.3f} mm (pad foam meets the cube at 24 mm), cube z {z0:.6f} m")
@@ -121,6 +107,7 @@ def run():
         figures = grasp(client)
         figures.update(textbook_figures(client))
         figures.update(work_cycle_figures(client))
+        figures.update(grasp_engine_figures(client))
     figures.update(accuracy())
     figures.update(stability())
     return figures, server.exit_code
