@@ -137,6 +137,7 @@ struct LocalFrame {
   Mat3 rotation;
   Vec3 translation;
   Mat3 world_rotation;  // geometry frame in the world, for the normal
+  Aabb cull_in_sampled;  // the target's cull box seen from the sampled body's frame (SamplesInto)
 };
 
 Aabb Grown(const Aabb& box, double margin) { return {box.lo.array() - margin, box.hi.array() + margin}; }
@@ -304,7 +305,9 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
   const std::vector<Shape>& targets = shapes[b];
   const double margin = std::max(options.margin, 0.0);
 
-  // Where b's geometries are, seen from a's frame: blocks of a's samples outside this box are skipped whole.
+  // Where b's geometries are, seen from a's frame: blocks of a's samples outside this box are skipped whole, and
+  // a block's samples are tested only against the geometries whose own box it meets (a cube's top samples never
+  // meet the table's legs).
   Aabb query;
   for (size_t g = 0; g < targets.size(); ++g) {
     LocalFrame& local = (*locals)[g];
@@ -313,15 +316,23 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
     local.rotation = local.world_rotation.transpose() * fa.rotation;
     local.translation = local.world_rotation.transpose() * (fa.position - origin);
     const Mat3 back = local.rotation.transpose();
-    query.Add(collision::TransformAabb(targets[g].cull, back, -(back * local.translation)));
+    local.cull_in_sampled = collision::TransformAabb(targets[g].cull, back, -(back * local.translation));
+    query.Add(local.cull_in_sampled);
   }
 
   const collision::BodySamples& own = samples[a];
   std::vector<Support> supported(targets.size());  // how this block's geometry meets each target
   std::vector<std::array<uint8_t, 6>> facing(targets.size());  // box on box: per target, per own face
   uint32_t supported_geometry = std::numeric_limits<uint32_t>::max();  // the geometry the two above are for
+  std::vector<uint32_t> near;  // the targets whose box the block meets
+  near.reserve(targets.size());
   for (const collision::SampleBlock& block : own.blocks) {
     if (!block.bounds.Overlaps(query)) continue;
+    near.clear();
+    for (uint32_t g = 0; g < targets.size(); ++g) {
+      if (block.bounds.Overlaps((*locals)[g].cull_in_sampled)) near.push_back(g);
+    }
+    if (near.empty()) continue;
     const auto geometry = static_cast<uint32_t>(own.features[block.begin] >> 32);  // a block is one geometry's
     const Geometry::Kind kind = geometry_kinds[a][geometry];
     const Shape* own_shape = ShapeOf(a, geometry);
@@ -350,7 +361,7 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
       double best_depth = -std::numeric_limits<double>::infinity();
       size_t best = targets.size();
       Vec3 best_normal = Vec3::UnitZ();
-      for (size_t g = 0; g < targets.size(); ++g) {
+      for (const uint32_t g : near) {
         if (supported[g] == Support::kAll || (supported[g] == Support::kRim && OnRim(*cylinder, s))) continue;
         const LocalFrame& local = (*locals)[g];
         const Vec3 p = local.rotation * s + local.translation;
