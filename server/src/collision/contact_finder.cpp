@@ -326,7 +326,12 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
   uint32_t supported_geometry = std::numeric_limits<uint32_t>::max();  // the geometry the two above are for
   std::vector<uint32_t> near;  // the targets whose box the block meets
   near.reserve(targets.size());
-  for (const collision::SampleBlock& block : own.blocks) {
+  for (uint32_t index = 0; index < own.blocks.size(); ++index) {
+    if (index % collision::kBlocksPerGroup == 0 && !own.groups[index / collision::kBlocksPerGroup].bounds.Overlaps(query)) {
+      index += collision::kBlocksPerGroup - 1;  // the whole group is away from b
+      continue;
+    }
+    const collision::SampleBlock& block = own.blocks[index];
     if (!block.bounds.Overlaps(query)) continue;
     near.clear();
     for (uint32_t g = 0; g < targets.size(); ++g) {

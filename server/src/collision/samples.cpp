@@ -201,6 +201,11 @@ BodySamples SampleBody(const BodySpec& body, double spacing) {
       block.end = static_cast<uint32_t>(out.points.size());
     }
   }
+  for (uint32_t b = 0; b < out.blocks.size(); ++b) {
+    if (b % kBlocksPerGroup == 0) out.groups.push_back({{}, b, b});
+    out.groups.back().bounds.Add(out.blocks[b].bounds);
+    out.groups.back().end = b + 1;
+  }
   return out;
 }
 

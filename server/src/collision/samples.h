@@ -21,6 +21,9 @@ struct BodySamples {
   std::vector<Vec3> points;         // body frame, m
   std::vector<uint64_t> features;   // (geometry index << 32) | sample index, ascending
   std::vector<SampleBlock> blocks;  // cover `points` in order
+  // Runs of kBlocksPerGroup consecutive blocks, [begin, end) into `blocks`, and their bounds: a table has
+  // thousands of blocks, of which a pair test meets a handful.
+  std::vector<SampleBlock> groups;
 };
 
 // At most this many samples per primitive: a 10 m floor at 5 mm spacing would need 8 million. Beyond it the
@@ -28,6 +31,7 @@ struct BodySamples {
 // floor's own samples dig into others; other bodies' samples into the floor stay as dense as asked.
 inline constexpr size_t kMaxSamplesPerPrimitive = size_t{1} << 18;
 inline constexpr uint32_t kBlockSize = 32;
+inline constexpr uint32_t kBlocksPerGroup = 32;
 
 // Surface samples of one geometry in its own frame (origin not applied), in a deterministic order.
 // Box: every point of a regular lattice on its surface (corners and edges included, no duplicates).
