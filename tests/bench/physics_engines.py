@@ -8,8 +8,8 @@ its lifted height through the hold, in every run. The pads read through each eng
 
 "grasp_*" figures: physics.py's steps_per_s scene (the PG70 pointing down, closed on the cube on the table by its
 drive at 1 A) built on each engine, then REPEATS timed StepSimulation(steps=2000) calls, median (min-max) of
-their steps/s; then the table is removed and the cube must stay within 1 mm over 2000 more steps ("held"; how far
-it slid down in them: "grasp_drift_um_by_engine").
+their steps/s; then the table is removed and the cube must stay within 1 mm over 2000 more steps ("held"; z before
+minus z after, µm: "grasp_drift_um_by_engine").
 """
 import statistics
 import time
