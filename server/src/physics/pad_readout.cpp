@@ -62,7 +62,12 @@ void AddPadLoad(std::vector<PadLoad>* loads, uint32_t pad, uint32_t body, const 
 }
 
 PadReadout::PadReadout(const SceneModel& model) : sensing_(WithLongSegments(model)), caster_(sensing_) {
-  for (const TactileArraySpec& pad : model.tactile_arrays) element_stiffness_.push_back(ElementContactParams(pad).stiffness);
+  // A foam without stiffness (a pad spec may leave it at 0) presses every element it sees alike: any k > 0 gives
+  // the same shares when the load sinks the body through all of them, and the total is the engine's either way.
+  for (const TactileArraySpec& pad : model.tactile_arrays) {
+    const double k = ElementContactParams(pad).stiffness;
+    element_stiffness_.push_back(k > 0 ? k : 1.0);
+  }
 }
 
 void PadReadout::Prepare(SceneState* state) const {
