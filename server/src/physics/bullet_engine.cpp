@@ -38,8 +38,8 @@
 //     sequential impulses, penetration corrected by ERP);
 //   - drives: graspsim's DC-motor model (physics/actuators.h) each sub-step. Its output, f + D (q̇⁺ − q̇) with
 //     D = ∂force/∂q̇ ≤ 0, is c (v_t − q̇⁺) with c = −D and v_t = q̇ + f / c: a damper toward v_t, which enters
-//     Bullet's solver as a soft joint-velocity row (DriveDamper: a btMultiBodyJointMotor whose constraint force
-//     mixing, 1 / (c h) in impulse per velocity, makes its impulse c h (v_t − q̇⁺)), so the drive is implicit in
+//     Bullet's solver as a soft joint-velocity row (DriveDamper: a btMultiBodyJointMotor with a compliance of
+//     1 / (c h), velocity per impulse, which makes its impulse c h (v_t − q̇⁺)), so the drive is implicit in
 //     the step as in the other engines; a drive without damping applies f as a joint force;
 //   - contacts: the dispatcher's manifold points that penetrate or carry a normal impulse; body_a = Bullet's body 0
 //     (its userIndex is our body index), the normal Bullet's normal on body 1 (from b into a), depth −distance, the
@@ -64,11 +64,10 @@
 #include <cmath>
 #include <memory>
 
-#include "physics/pad_readout.h"
-
 #include "core/error.h"
 #include "core/format.h"
 #include "physics/actuators.h"
+#include "physics/pad_readout.h"
 
 #ifndef BT_USE_DOUBLE_PRECISION
 #error "bullet_engine.cpp needs Bullet's double-precision headers (BT_USE_DOUBLE_PRECISION, the -float64 libraries)"

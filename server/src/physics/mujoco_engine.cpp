@@ -287,7 +287,7 @@ void MujocoEngine::Compile() {
   // MuJoCo 2.2's lists have fixed sizes, and its automatic stack grows with njmax² (5 njmax² numbers: a fixed
   // njmax of 5000 made every compile allocate and clear 1 GB, more than the whole work cycle's stepping). Sized
   // from the scene: up to 8 contacts per geometry (a box on a box makes 4-8), 3 rows each (elliptic cones), a
-  // row per limit and equality; a step that fills them stops (CheckListsFull) rather than drop contacts.
+  // row per limit and equality; a step that fills them stops (ThrowListsFull) rather than drop contacts.
   size_t geometries = m.tactile_arrays.size();
   for (const BodySpec& body : m.bodies) geometries += body.collision.size();
   const size_t max_contacts = 100 + 8 * geometries, max_rows = 3 * max_contacts + 2 * m.joints.size() + 10;
@@ -327,7 +327,8 @@ void MujocoEngine::Compile() {
   for (size_t j = 0; j < m.joints.size(); ++j) joint_of_[j] = mj_name2id(mj_, mjOBJ_JOINT, ("j" + std::to_string(j)).c_str());
   pad_of_geom_.assign(mj_->ngeom, -1);
   for (size_t p = 0; p < m.tactile_arrays.size(); ++p) {
-    pad_of_geom_[mj_name2id(mj_, mjOBJ_GEOM, ("pad" + std::to_string(p)).c_str())] = static_cast<int>(p);
+    const int geom = mj_name2id(mj_, mjOBJ_GEOM, ("pad" + std::to_string(p)).c_str());
+    if (geom >= 0) pad_of_geom_[geom] = static_cast<int>(p);  // a pad on a body MuJoCo does not have reads nothing
   }
   if (!m.tactile_arrays.empty()) pads_ = std::make_unique<PadReadout>(m);
 }
