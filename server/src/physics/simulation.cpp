@@ -9,7 +9,6 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/validate.h"
-#include "tactile/pad_contacts.h"
 
 namespace graspsim {
 namespace {
