@@ -64,8 +64,12 @@ TEST_P(PadEnginesTest, ASmallBoxIsReadUnderItsFootprintAtItsPlace) {
       const Vec3 centre = TexelCentre(r, c);
       const double load = -frame.forces[r * 6 + c].z();
       const double outside = std::max(std::abs(centre.x() - x), std::abs(centre.y() - y)) - half;
-      if (outside < -0.0017) EXPECT_GT(load, 0) << "texel " << r << "," << c << " under the cube";
-      if (outside > 0.0017) EXPECT_EQ(load, 0) << "texel " << r << "," << c << " beside the cube";
+      if (outside < -0.0017) {
+        EXPECT_GT(load, 0) << "texel " << r << "," << c << " under the cube";
+      }
+      if (outside > 0.0017) {
+        EXPECT_EQ(load, 0) << "texel " << r << "," << c << " beside the cube";
+      }
       moment += load * centre;
     }
   }
