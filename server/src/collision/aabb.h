@@ -21,6 +21,11 @@ struct Aabb {
     lo = lo.cwiseMin(b.lo);
     hi = hi.cwiseMax(b.hi);
   }
+  // Coefficient by coefficient: cheaper than Eigen's all() in the per-sample and per-segment loops.
+  bool Contains(const Vec3& p) const {
+    return p.x() >= lo.x() && p.x() <= hi.x() && p.y() >= lo.y() && p.y() <= hi.y() && p.z() >= lo.z() &&
+           p.z() <= hi.z();
+  }
   bool Overlaps(const Aabb& b) const {
     return (lo.array() <= b.hi.array()).all() && (b.lo.array() <= hi.array()).all();
   }

@@ -142,11 +142,6 @@ struct LocalFrame {
 
 Aabb Grown(const Aabb& box, double margin) { return {box.lo.array() - margin, box.hi.array() + margin}; }
 
-bool Contains(const Aabb& box, const Vec3& p) {
-  return p.x() >= box.lo.x() && p.x() <= box.hi.x() && p.y() >= box.lo.y() && p.y() <= box.hi.y() &&
-         p.z() >= box.lo.z() && p.z() <= box.hi.z();
-}
-
 }  // namespace
 
 struct ContactFinder::Impl {
@@ -370,7 +365,7 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
         if (supported[g] == Support::kAll || (supported[g] == Support::kRim && OnRim(*cylinder, s))) continue;
         const LocalFrame& local = (*locals)[g];
         const Vec3 p = local.rotation * s + local.translation;
-        if (!Contains(targets[g].cull, p)) continue;
+        if (!targets[g].cull.Contains(p)) continue;
         const Shape& shape = targets[g];
         double depth = 0;
         Vec3 normal;
@@ -431,7 +426,7 @@ void ContactFinder::Impl::SphereSupports(uint32_t a, uint32_t b, const Shape& sp
     if (!IsPrimitive(target.kind) || (target.kind == Geometry::Kind::kSphere && a > b)) continue;
     const LocalFrame& local = locals[g];
     const Vec3 centre = local.rotation * sphere.position + local.translation;  // in the target's frame
-    if (!Contains(Grown(target.cull, sphere.radius), centre)) continue;
+    if (!Grown(target.cull, sphere.radius).Contains(centre)) continue;
     Vec3 normal;
     const double depth = sphere.radius + PrimitiveDepth(target, centre, &normal);
     if (!(depth > -margin)) continue;
@@ -458,7 +453,7 @@ void ContactFinder::Impl::RimSupports(uint32_t a, uint32_t b, const Shape& cylin
     const LocalFrame& local = locals[g];
     const Vec3 centre = local.rotation * cylinder.position + local.translation;  // in the box's frame
     const double reach = std::hypot(cylinder.radius, cylinder.half_length);
-    if (!Contains(Grown(target.cull, reach), centre) || Standing(cylinder, target, local)) continue;
+    if (!Grown(target.cull, reach).Contains(centre) || Standing(cylinder, target, local)) continue;
     // Toward the box: against the normal of the box's surface nearest the centre.
     Vec3 face;
     collision::BoxDepth(target.half, centre, &face);

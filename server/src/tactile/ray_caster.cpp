@@ -48,11 +48,6 @@ struct Pad {
   std::vector<uint32_t> normal_runs;  // the end of each run of elements that share their normal
 };
 
-bool Contains(const Aabb& box, const Vec3& p) {  // coefficient by coefficient: cheaper than Eigen's all()
-  return p.x() >= box.lo.x() && p.x() <= box.hi.x() && p.y() >= box.lo.y() && p.y() <= box.hi.y() &&
-         p.z() >= box.lo.z() && p.z() <= box.hi.z();
-}
-
 }  // namespace
 
 struct TactileRayCaster::Impl {
@@ -253,7 +248,7 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
         }
         // A segment that misses the body's box can neither enter it nor start inside it: no ray.
         if (!SegmentMeetsBox(o, direction, pad.thickness, target.bounds)) continue;
-        const bool inside = Contains(target.bounds, o);
+        const bool inside = target.bounds.Contains(o);
         m.from_inside[rays.size()] = inside;
         // From inside the box the ray runs on until it leaves the body, so a base buried deeper than the foam
         // still reads as fully compressed; from outside only the segment matters (the first hit enters).
