@@ -169,8 +169,9 @@ struct ContactFinder::Impl {
     return x.robot_id.empty() || x.robot_id != y.robot_id;
   }
 
+  // `near` is a buffer for the targets a block of samples meets (Find's, reused pair after pair).
   void SamplesInto(uint32_t a, uint32_t b, const std::vector<WorldFrame>& world, std::vector<LocalFrame>* locals,
-                   std::vector<ContactPoint>* contacts) const;
+                   std::vector<uint32_t>* near, std::vector<ContactPoint>* contacts) const;
   const Shape* ShapeOf(uint32_t body, uint32_t geometry) const {
     for (const Shape& shape : shapes[body]) {
       if (shape.index == geometry) return &shape;
@@ -272,6 +273,8 @@ void ContactFinder::Find(const std::vector<Pose>& body_poses, std::vector<Contac
     world[i].bounds = Grown(collision::TransformAabb(m.body_bounds[i], world[i].rotation, world[i].position), margin);
   }
   std::vector<LocalFrame> locals(m.max_shapes);
+  std::vector<uint32_t> near;
+  near.reserve(m.max_shapes);
   // Every ordered pair: (a, b) reports a's samples inside b, so walking a then b gives the promised order.
   // Quadratic in bodies, but a scene has tens of bodies and the box test is a few comparisons.
   for (uint32_t a = 0; a < n; ++a) {
@@ -280,7 +283,7 @@ void ContactFinder::Find(const std::vector<Pose>& body_poses, std::vector<Contac
       if (b == a || m.shapes[b].empty() || !m.Interacts(a, b)) continue;
       if (world[a].bounds.Empty() || world[b].bounds.Empty() || !world[a].bounds.Overlaps(world[b].bounds)) continue;
       const size_t first = contacts->size();
-      m.SamplesInto(a, b, world, &locals, contacts);
+      m.SamplesInto(a, b, world, &locals, &near, contacts);
       const size_t samples_end = contacts->size();
       m.SupportsInto(a, b, world, locals, contacts);
       // Samples come in feature order; support features sort after their sphere's samples: when there are
@@ -294,7 +297,8 @@ void ContactFinder::Find(const std::vector<Pose>& body_poses, std::vector<Contac
 }
 
 void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<WorldFrame>& world,
-                                      std::vector<LocalFrame>* locals, std::vector<ContactPoint>* contacts) const {
+                                      std::vector<LocalFrame>* locals, std::vector<uint32_t>* near,
+                                      std::vector<ContactPoint>* contacts) const {
   const WorldFrame& fa = world[a];
   const WorldFrame& fb = world[b];
   const std::vector<Shape>& targets = shapes[b];
@@ -319,8 +323,6 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
   std::vector<Support> supported(targets.size());  // how this block's geometry meets each target
   std::vector<std::array<uint8_t, 6>> facing(targets.size());  // box on box: per target, per own face
   uint32_t supported_geometry = std::numeric_limits<uint32_t>::max();  // the geometry the two above are for
-  std::vector<uint32_t> near;  // the targets whose box the block meets
-  near.reserve(targets.size());
   for (uint32_t index = 0; index < own.blocks.size(); ++index) {
     if (index % collision::kBlocksPerGroup == 0 && !own.groups[index / collision::kBlocksPerGroup].bounds.Overlaps(query)) {
       index += collision::kBlocksPerGroup - 1;  // the whole group is away from b
@@ -328,11 +330,11 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
     }
     const collision::SampleBlock& block = own.blocks[index];
     if (!block.bounds.Overlaps(query)) continue;
-    near.clear();
+    near->clear();  // the targets whose box the block meets
     for (uint32_t g = 0; g < targets.size(); ++g) {
-      if (block.bounds.Overlaps((*locals)[g].cull_in_sampled)) near.push_back(g);
+      if (block.bounds.Overlaps((*locals)[g].cull_in_sampled)) near->push_back(g);
     }
-    if (near.empty()) continue;
+    if (near->empty()) continue;
     const auto geometry = static_cast<uint32_t>(own.features[block.begin] >> 32);  // a block is one geometry's
     const Geometry::Kind kind = geometry_kinds[a][geometry];
     const Shape* own_shape = ShapeOf(a, geometry);
@@ -361,7 +363,7 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
       double best_depth = -std::numeric_limits<double>::infinity();
       size_t best = targets.size();
       Vec3 best_normal = Vec3::UnitZ();
-      for (const uint32_t g : near) {
+      for (const uint32_t g : *near) {
         if (supported[g] == Support::kAll || (supported[g] == Support::kRim && OnRim(*cylinder, s))) continue;
         const LocalFrame& local = (*locals)[g];
         const Vec3 p = local.rotation * s + local.translation;

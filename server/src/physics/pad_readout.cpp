@@ -90,16 +90,19 @@ void PadReadout::Record(const std::vector<PadLoad>& loads, SceneState* state) {
     if (!(normal > 0)) continue;                           // pulled: the foam reads nothing
     const double thickness = pad.thickness / 2;            // the real foam's
     gaps_.clear();
-    for (const PadHit& hit : hits_) {
-      if (hit.pad == load.pad && hit.body == load.body) gaps_.push_back(thickness - hit.depth);
-    }
-    if (gaps_.empty()) continue;
-    const double depth = PressDepth(gaps_, normal / element_stiffness_[load.pad]);
-    std::vector<Vec3>& forces = state->pad_forces[load.pad];
+    elements_.clear();
     for (const PadHit& hit : hits_) {
       if (hit.pad != load.pad || hit.body != load.body) continue;
-      const double pressed = depth - (thickness - hit.depth);
-      if (pressed > 0) forces[hit.element] += load.force * (element_stiffness_[load.pad] * pressed / normal);
+      gaps_.push_back(thickness - hit.depth);
+      elements_.push_back(hit.element);
+    }
+    if (gaps_.empty()) continue;
+    const double k = element_stiffness_[load.pad];
+    const double depth = PressDepth(gaps_, normal / k);
+    std::vector<Vec3>& forces = state->pad_forces[load.pad];
+    for (size_t i = 0; i < gaps_.size(); ++i) {
+      const double pressed = depth - gaps_[i];
+      if (pressed > 0) forces[elements_[i]] += load.force * (k * pressed / normal);
     }
   }
 }

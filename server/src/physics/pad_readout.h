@@ -56,8 +56,9 @@ class PadReadout {
   SceneModel sensing_;  // the scene's model with every pad's segments twice as long (header comment)
   TactileRayCaster caster_;
   std::vector<double> element_stiffness_;  // per pad: k of one element
-  std::vector<PadHit> hits_;               // Record's buffers
+  std::vector<PadHit> hits_;               // Record's buffers: the step's hits, then one load's gaps and elements
   std::vector<double> gaps_;
+  std::vector<uint32_t> elements_;
 };
 
 }  // namespace graspsim
