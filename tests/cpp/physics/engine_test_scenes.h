@@ -101,13 +101,25 @@ inline World DrivenLink(PhysicsEngineKind engine, Integrator integrator) {
   world.Add(Link("d/base", 1, Vec3::Zero(), Mat3::Identity() * 1e-3), Pose{Vec3(0, 0, 1), Quat::Identity()});
   world.Add(Link("d/arm", 0.2, Vec3(0.05, 0, 0), Mat3::Identity() * 1e-4), Pose());
   world.model->joints.push_back(test_objects::RobotJoint("d/hinge", JointType::kRevolute, "d/base", "d/arm",
-                                           Pose{Vec3(0, 0.1, 0), Quat::Identity()}, Vec3::UnitZ()));
+                                                         Pose{Vec3(0, 0.1, 0), Quat::Identity()}, Vec3::UnitZ()));
   world.AddRobot("d", 0, 0);
   JointActuator& drive = world.state.actuators[0];
   drive.motor.current_limit = 100;
   drive.motor.voltage_limit = 48;
   drive.command = {ActuatorMode::kVelocity, 0.5, -1};
   return world;
+}
+
+// DrivenLink's velocity after its first 1 ms step of implicit Euler, v1 = h f0 / (I − h D) = 0.45397 rad/s: what
+// an engine that takes the drive implicitly gives (an explicit step diverges: h |D| / I ≈ 460).
+constexpr double kDrivenLinkFirstStepVelocity = 1e-3 * 126.25 / (kLightInertia + 1e-3 * 277.5);
+
+// DrivenLink on graspsim's engine (linearly implicit Euler) after `steps` steps: the reference the other engines'
+// drives are held to (same motor model, same implicit step).
+inline SceneState GraspsimDrivenLinkAfter(int steps) {
+  World reference = DrivenLink(PhysicsEngineKind::kGraspsim, Integrator::kLinearlyImplicitEuler);
+  reference.Start()->Step(&reference.state, steps);
+  return reference.state;
 }
 
 }  // namespace graspsim::test_engines

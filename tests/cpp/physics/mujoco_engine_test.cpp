@@ -20,6 +20,8 @@ namespace {
 constexpr double kG = 9.81;
 
 using test_engines::DrivenLink;
+using test_engines::GraspsimDrivenLinkAfter;
+using test_engines::kDrivenLinkFirstStepVelocity;
 using test_engines::kLightInertia;
 using test_engines::Link;
 using test_engines::Sphere;
@@ -224,17 +226,14 @@ TEST(MujocoEngineTest, StiffDriveGoesThroughTheImplicitDamping) {
   World world = DrivenLink(PhysicsEngineKind::kMujoco, Integrator::kLinearlyImplicitEuler);
   auto engine = world.Start();
   engine->Step(&world.state, 1);
-  const double h = 1e-3;
-  EXPECT_NEAR(world.state.joint_velocities[0], h * 126.25 / (kLightInertia + h * 277.5), 1e-9);
+  EXPECT_NEAR(world.state.joint_velocities[0], kDrivenLinkFirstStepVelocity, 1e-9);
   engine->Step(&world.state, 499);
   EXPECT_NEAR(world.state.joint_velocities[0], 0.5, 1e-3);
   // graspsim's own engine runs the same motor model through the same implicit Euler step: one hinge, no
   // gravity torque, no Coriolis terms, so both agree to rounding (1e-9).
-  World reference = DrivenLink(PhysicsEngineKind::kGraspsim, Integrator::kLinearlyImplicitEuler);
-  auto graspsim = reference.Start();
-  graspsim->Step(&reference.state, 500);
-  EXPECT_NEAR(world.state.joint_velocities[0], reference.state.joint_velocities[0], 1e-9);
-  EXPECT_NEAR(world.state.joint_positions[0], reference.state.joint_positions[0], 1e-9);
+  const SceneState reference = GraspsimDrivenLinkAfter(500);
+  EXPECT_NEAR(world.state.joint_velocities[0], reference.joint_velocities[0], 1e-9);
+  EXPECT_NEAR(world.state.joint_positions[0], reference.joint_positions[0], 1e-9);
 }
 
 TEST(MujocoEngineTest, DriveReportsTheForceTheStepApplied) {
