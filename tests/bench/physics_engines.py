@@ -15,6 +15,7 @@ import statistics
 import time
 
 from _harness import log
+from tactile import CUBE_EDGE, TABLE_TOP_Z, cycle
 
 REPEATS = 5
 TIMED_STEPS = 2000
@@ -23,33 +24,27 @@ CURRENT_LIMIT_A = 1.0     # PG70 drive: 200 N at 3.5 A, so ≈ 57 N per finger
 CLOSE_SPEED = 0.02        # m/s, closing (the joint's 0 is closed)
 DEFAULTS = dict(time_step=1e-3, integrator="linearly_implicit_euler")
 ENGINES = ("graspsim", "mujoco", "bullet")
-TABLE_TOP, CUBE, LIFT = 0.75, 0.05, 0.05
+LIFT, STEP = 0.05, 1e-3
 
 
 def _one_cycle(client, engine):
-    scene = client.create_scene(f"bench_cycle_{engine}")
-    try:
-        client.add_object(scene.id, "table", builtin="table")
-        client.add_object(scene.id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + CUBE / 2, 1, 0, 0, 0])
-        client.add_robot(scene.id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, 1.05, 1, 0, 0, 0])
-        params = client.set_simulation_params(scene.id, engine=engine)
-        t0 = time.perf_counter()
-        result = client.run_work_cycle(scene.id, "cell", "cube", lift_height=LIFT, timeout=600, progress=False)
-        wall = time.perf_counter() - t0
-    finally:
-        client.delete_scene(scene.id)
+    """The tactile bench's cycle (tests/bench/tactile.py) on `engine`: steps/s and whether the cube was held."""
+    result, wall = cycle(client, hold_time=1.0, time_step=STEP, engine=engine, lift_height=LIFT, progress=False)
     hold = [i for i, stage in enumerate(result.stage) if stage == "hold"]
-    held = bool(hold) and all(abs(result.object_position[i, 2] - (TABLE_TOP + CUBE / 2 + LIFT)) < 3e-3 for i in hold)
-    return result.time[-1] / params.time_step / wall, held
+    lifted = TABLE_TOP_Z + CUBE_EDGE / 2 + LIFT
+    held = bool(hold) and all(abs(result.object_position[i, 2] - lifted) < 3e-3 for i in hold)
+    return result.time[-1] / STEP / wall, held
+
+
+def _spread(rates) -> dict:
+    return {"median": round(statistics.median(rates)), "min": round(min(rates)), "max": round(max(rates))}
 
 
 def work_cycle_figures(client) -> dict:
     per_s, held = {}, {}
     for engine in ENGINES:
         runs = [_one_cycle(client, engine) for _ in range(REPEATS)]
-        rates = [rate for rate, _ in runs]
-        per_s[engine] = {"median": round(statistics.median(rates)), "min": round(min(rates)),
-                         "max": round(max(rates))}
+        per_s[engine] = _spread([rate for rate, _ in runs])
         held[engine] = all(ok for _, ok in runs)
         log(f"work cycle on {engine}: {per_s[engine]} steps/s, held {held[engine]}")
     return {"work_cycle_steps_per_s": per_s, "work_cycle_held": held,
@@ -62,9 +57,9 @@ def pg70_closed_on_cube(client, engine: str) -> str:
     drive on the 5 cm cube. Returns the scene id."""
     scene_id = client.create_scene(f"physics_{engine}").id
     # Rotated half a turn about x; the fingers span the cube's lower 4 cm and the housing clears its top by 2 cm.
-    client.add_robot(scene_id, "pg70", builtin="schunk_pg70", base_pose=[0, 0, TABLE_TOP + 0.01 + 0.157, 0, 1, 0, 0])
+    client.add_robot(scene_id, "pg70", builtin="schunk_pg70", base_pose=[0, 0, TABLE_TOP_Z + 0.01 + 0.157, 0, 1, 0, 0])
     client.add_object(scene_id, "table", builtin="table")
-    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP + 0.025, 1, 0, 0, 0])
+    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
     client.set_simulation_params(scene_id, engine=engine, **DEFAULTS)
     client.set_joint_positions(scene_id, {FINGER: 0.03})  # open: 6 cm between the fingers
     client.step_simulation(scene_id, steps=300)           # the cube settles on the table
@@ -88,7 +83,7 @@ def grasp_engine_figures(client) -> dict:
         client.step_simulation(scene_id, steps=TIMED_STEPS)
         z2 = client.get_body_poses(scene_id, ["cube"])["cube"].position[2]
         client.delete_scene(scene_id)
-        per_s[engine] = {"median": round(statistics.median(rates)), "min": round(min(rates)), "max": round(max(rates))}
+        per_s[engine] = _spread(rates)
         held[engine] = bool(abs(z2 - z1) < 1e-3)
         drift[engine] = round((z1 - z2) * 1e6, 1)
         log(f"PG70 on the cube on {engine}: {per_s[engine]} steps/s, held {held[engine]} ({(z1 - z2) * 1e6:.1f} µm)")

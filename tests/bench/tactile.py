@@ -101,12 +101,13 @@ def mesh_object():
     return (vertices - [(low[0] + high[0]) / 2, (low[1] + high[1]) / 2, low[2]], triangles), None
 
 
-def _cycle(client, hold_time: float, time_step: float = 1e-3, mesh=None, **request):
-    """One work cycle in a fresh scene, on the 5 cm cube or on `mesh` (a free body of MESH_OBJECT_MASS whose
-    inertia the client computes from the closed mesh); returns the result and the call's wall time."""
+def cycle(client, hold_time: float, time_step: float = 1e-3, mesh=None, engine: str = "graspsim", **request):
+    """One work cycle in a fresh scene on `engine`, on the 5 cm cube or on `mesh` (a free body of
+    MESH_OBJECT_MASS whose inertia the client computes from the closed mesh); returns the result and the call's
+    wall time."""
     scene_id = client.create_scene("tactile bench").id
     try:
-        client.set_simulation_params(scene_id, time_step=time_step)
+        client.set_simulation_params(scene_id, time_step=time_step, engine=engine)
         client.add_object(scene_id, "table", builtin="table")
         if mesh is None:
             client.add_object(scene_id, CUBE, builtin="cube_5cm", pose=[0, 0, TABLE_TOP_Z + CUBE_EDGE / 2, 1, 0, 0, 0])
@@ -124,7 +125,7 @@ def _cycle(client, hold_time: float, time_step: float = 1e-3, mesh=None, **reque
 def _hold_for_cycle(client, **kwargs) -> float:
     """The hold time that makes a CYCLE_S cycle: a first cycle with a 1 s hold measures the rest of it (the
     approach depends on the object's height)."""
-    probe, wall = _cycle(client, hold_time=1.0, **kwargs)
+    probe, wall = cycle(client, hold_time=1.0, **kwargs)
     simulated = _simulated(probe)
     log(f"probe cycle: {simulated:.2f} s simulated in {wall:.2f} s")
     return max(CYCLE_S - (simulated - 1.0), 1.0)
@@ -181,7 +182,7 @@ def work_cycle(client, server_pid: int, mujoco_config) -> dict:
     cpu_per_sim_s = []   # (ours, MuJoCo's) CPU s per simulated s of each repetition
     for i in range(REPS):
         cpu = time.process_time() + process_cpu_s(server_pid)
-        ours.append(_cycle(client, hold_time))
+        ours.append(cycle(client, hold_time))
         cpu = time.process_time() + process_cpu_s(server_pid) - cpu
         if mujoco_config is not None:
             cpu_theirs = time.process_time()
@@ -189,7 +190,7 @@ def work_cycle(client, server_pid: int, mujoco_config) -> dict:
             cpu_per_sim_s.append((cpu / _simulated(ours[-1][0]),
                                   (time.process_time() - cpu_theirs) / theirs[-1]["simulated_s"]))
         if mesh is not None:
-            meshes.append(_cycle(client, mesh_hold_time, mesh=mesh))
+            meshes.append(cycle(client, mesh_hold_time, mesh=mesh))
         log(f"repetition {i + 1}/{REPS}: real-time factor ours {_rate(ours[-1]):.1f}, MuJoCo ({mujoco_config}) "
             f"{theirs[-1]['realtime_factor'] if theirs else '-'}, {MESH_OBJECT} "
             f"{f'{_rate(meshes[-1]):.1f}' if meshes else '-'}")
@@ -246,7 +247,7 @@ def work_cycle(client, server_pid: int, mujoco_config) -> dict:
         figures.update({"mesh_object_realtime_factor": None, "goal_mesh_object_100x_met": None})
 
     # The cube's cycle at a 5 ms time step, once (the lift, slip and pad sums say whether it still does the job).
-    coarse, wall_coarse = _cycle(client, hold_time=hold_time, time_step=COARSE_DT)
+    coarse, wall_coarse = cycle(client, hold_time=hold_time, time_step=COARSE_DT)
     summary_coarse = coarse.summary()
     log(f"work cycle at dt = {COARSE_DT * 1e3:g} ms: {coarse.time[-1] - coarse.time[0]:.2f} s simulated in "
         f"{wall_coarse:.2f} s")
@@ -263,7 +264,7 @@ def time_steps(client) -> dict:
     rows = []
     for dt in (1e-3, 2e-3, 3e-3, 4e-3, 5e-3):
         for coverage in (1.0, 0.15):
-            result, wall = _cycle(client, hold_time=10.0, time_step=dt, coverage=coverage, frame_rate_hz=5,
+            result, wall = cycle(client, hold_time=10.0, time_step=dt, coverage=coverage, frame_rate_hz=5,
                                   tactile_setpoint=30000)
             summary = result.summary()
             rows.append({"dt": dt, "coverage": coverage,

@@ -11,6 +11,7 @@ import graspsim
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "physics"))
 import textbook  # noqa: E402
+from _recording_support import CUBE, TABLE_TOP, build_cell  # noqa: E402
 from graspsim_engine import GraspsimEngine  # noqa: E402
 
 # Cases each engine models (MuJoCo and Bullet have one friction coefficient, so no static ≠ dynamic case) and the
@@ -75,17 +76,15 @@ def test_a_curved_pad_added_to_another_engines_scene_is_refused_at_the_step(clie
 def test_the_work_cycle_lifts_and_holds_the_cube_on_each_engine(client, scene_id, engine):
     """Every stage runs; during the hold the cube is lift_height above where it lay (within 3 mm: the foam and
     the engines' contact softness let it sink) and both pads read it, through the ray sensor on every engine."""
-    table_top, cube, lift = 0.75, 0.05, 0.05
-    client.add_object(scene_id, "table", builtin="table")
-    client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, table_top + cube / 2, 1, 0, 0, 0])
-    client.add_robot(scene_id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, 1.05, 1, 0, 0, 0])
+    lift = 0.05
+    build_cell(client, scene_id)
     client.set_simulation_params(scene_id, engine=engine)
     result = client.run_work_cycle(scene_id, "cell", "cube", lift_height=lift, hold_time=0.5, timeout=300,
                                    progress=False)
     assert result.stage[-1] == "done"
     hold = [i for i, stage in enumerate(result.stage) if stage == "hold"]
     assert hold, result.stage
-    assert result.object_position[hold, 2] == pytest.approx(table_top + cube / 2 + lift, abs=3e-3)
+    assert result.object_position[hold, 2] == pytest.approx(TABLE_TOP + CUBE / 2 + lift, abs=3e-3)
     assert min(result.left_sum[hold]) > 0 and min(result.right_sum[hold]) > 0
 
 

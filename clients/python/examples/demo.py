@@ -284,14 +284,13 @@ def three_engines(client: graspsim.Client) -> None:
     # The tactile work cycle on each engine: the pads read through the engine's contacts (docs/physics.md).
     print("the work cycle on each engine (PG70, 5 cm cube, lift 5 cm), pads read through its contacts:")
     for engine in ("graspsim", "mujoco", "bullet"):
-        scene_id = client.create_scene(f"work cycle on {engine}").id
-        client.add_object(scene_id, "table", builtin="table")
-        client.add_object(scene_id, "cube", builtin="cube_5cm", pose=[0, 0, 0.775, 1, 0, 0, 0])
-        client.add_robot(scene_id, "cell", builtin="schunk_pg70_on_z_axis", base_pose=[0, 0, 1.05, 1, 0, 0, 0])
+        scene_id = tactile_cycle.build_cell(client, f"work cycle on {engine}")
         client.set_simulation_params(scene_id, engine=engine)
-        result = client.run_work_cycle(scene_id, "cell", "cube", lift_height=0.05, progress=False)
+        result = client.run_work_cycle(scene_id, tactile_cycle.GRIPPER, tactile_cycle.CUBE, lift_height=0.05,
+                                       progress=False)
         hold = [i for i, stage in enumerate(result.stage) if stage == "hold"]
-        print(f"  {engine:<9} cube lifted {result.object_position[hold[-1], 2] - 0.775:.4f} m, pad sums "
+        resting = tactile_cycle.TABLE_TOP_Z + tactile_cycle.CUBE_EDGE / 2
+        print(f"  {engine:<9} cube lifted {result.object_position[hold[-1], 2] - resting:.4f} m, pad sums "
               f"{result.left_sum[hold[-1]]:.0f} / {result.right_sum[hold[-1]]:.0f} while held")
         client.delete_scene(scene_id)
 
