@@ -10,7 +10,16 @@
 
 namespace graspsim {
 
-class NeighborGrid {
+// The k nearest neighbours of a cloud's own points: through a grid (any cloud, below) or through the image the
+// points were seen in (image_neighbors.h). Both give the same exact answer.
+class CloudNeighbors {
+ public:
+  virtual ~CloudNeighbors() = default;
+  // The indices of the k points nearest to point i (itself included), nearest first, ties to the lower index.
+  virtual void NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const = 0;
+};
+
+class NeighborGrid : public CloudNeighbors {
  public:
   // `points` must outlive the grid and be non-empty. `cell_size` (m) > 0 only sets the speed, never the answer.
   NeighborGrid(const std::vector<Vec3>& points, double cell_size);
@@ -18,6 +27,7 @@ class NeighborGrid {
   // The indices of the k points nearest to `query` (itself included when it is one of the points), nearest first.
   // Fewer than k only when the cloud has fewer points.
   void Nearest(const Vec3& query, int k, std::vector<uint32_t>* out) const;
+  void NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const override { Nearest(points_[i], k, out); }
 
   // A cell size for ~k neighbours within a ring or two of cells when the points sample a surface: the mean
   // sample spacing estimated from the bounding box (the area of a surface in a box grows like its diagonal²).

@@ -1,5 +1,10 @@
 #include "perception/normals.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
 #include <Eigen/Eigenvalues>
 
 #include "core/error.h"
@@ -9,7 +14,9 @@
 
 namespace graspsim {
 
-std::vector<Vec3> EstimateNormals(const std::vector<Vec3>& points, const NormalEstimationParams& params) {
+namespace {
+
+void CheckNormalInput(const std::vector<Vec3>& points, const NormalEstimationParams& params) {
   if (points.size() < 3) {
     ThrowInvalidArgument("points: " + std::to_string(points.size()) + " points; a plane fit needs at least 3");
   }
@@ -20,28 +27,130 @@ std::vector<Vec3> EstimateNormals(const std::vector<Vec3>& points, const NormalE
   for (size_t i = 0; i < points.size(); ++i) {
     if (!points[i].allFinite()) CheckFinite("points[" + std::to_string(i) + "]", points[i]);  // names only a bad one
   }
+}
 
-  const NeighborGrid grid(points, NeighborGrid::SuggestCellSize(points, params.k));
+// The smallest eigenvector of a 3 × 3 covariance (the direction of least spread), facing the viewpoint from `at`.
+// The closed-form solver: about 3× faster than the iterative one; the smallest eigenvector of a neighbourhood this
+// flat is well separated, and the covariances here are relative to a nearby point, so no digits are lost.
+Vec3 LeastSpreadTowards(const Mat3& covariance, const Vec3& at, const Vec3& viewpoint) {
+  Eigen::SelfAdjointEigenSolver<Mat3> eigen;
+  eigen.computeDirect(covariance);
+  Vec3 n = eigen.eigenvectors().col(0);  // eigenvalues ascending
+  if (n.dot(viewpoint - at) < 0) n = -n;
+  return n.normalized();
+}
+
+Vec3 PlaneFitNormal(const std::vector<Vec3>& points, uint32_t i, const std::vector<uint32_t>& neighbours,
+                    const Vec3& viewpoint) {
+  // Covariance about the neighbours' mean, accumulated relative to the query point to keep the digits.
+  Vec3 mean = Vec3::Zero();
+  for (uint32_t j : neighbours) mean += points[j] - points[i];
+  mean /= double(neighbours.size());
+  Mat3 covariance = Mat3::Zero();
+  for (uint32_t j : neighbours) {
+    const Vec3 d = points[j] - points[i] - mean;
+    covariance += d * d.transpose();
+  }
+  return LeastSpreadTowards(covariance, points[i], viewpoint);
+}
+
+}  // namespace
+
+std::vector<Vec3> EstimateNormals(const std::vector<Vec3>& points, const NormalEstimationParams& params) {
+  CheckNormalInput(points, params);
+  return EstimateNormals(points, NeighborGrid(points, NeighborGrid::SuggestCellSize(points, params.k)), params);
+}
+
+std::vector<Vec3> EstimateNormals(const std::vector<Vec3>& points, const CloudNeighbors& neighbors,
+                                  const NormalEstimationParams& params) {
+  CheckNormalInput(points, params);
   std::vector<Vec3> normals(points.size());
   std::vector<uint32_t> neighbours;
   for (size_t i = 0; i < points.size(); ++i) {
-    grid.Nearest(points[i], params.k, &neighbours);
-    // Covariance about the neighbours' mean, accumulated relative to the query point to keep the digits.
-    Vec3 mean = Vec3::Zero();
-    for (uint32_t j : neighbours) mean += points[j] - points[i];
-    mean /= double(neighbours.size());
-    Mat3 covariance = Mat3::Zero();
-    for (uint32_t j : neighbours) {
-      const Vec3 d = points[j] - points[i] - mean;
-      covariance += d * d.transpose();
+    neighbors.NearestTo(uint32_t(i), params.k, &neighbours);
+    normals[i] = PlaneFitNormal(points, uint32_t(i), neighbours, params.viewpoint);
+  }
+  return normals;
+}
+
+std::vector<Vec3> EstimateImageNormals(const Observation& observation, const std::vector<Vec3>& points,
+                                       const std::vector<uint32_t>& pixels, double radius_m, const Vec3& viewpoint) {
+  NormalEstimationParams fallback;
+  fallback.viewpoint = viewpoint;
+  CheckNormalInput(points, fallback);
+  CheckFinite("radius_m", radius_m);
+  if (!(radius_m > 0)) ThrowInvalidArgument("radius_m: " + FormatNumber(radius_m) + " must be positive");
+  if (pixels.size() != points.size()) {
+    ThrowInvalidArgument("pixels: " + std::to_string(pixels.size()) + " for " + std::to_string(points.size()) +
+                         " points");
+  }
+  const CameraIntrinsics& cam = observation.intrinsics;
+  // The summed-area tables cover the pixels' bounding box; sums are of coordinates relative to the cloud's mean
+  // (m), so the window covariances keep their digits.
+  int u_lo = cam.width, u_hi = -1, v_lo = cam.height, v_hi = -1;
+  Vec3 centre = Vec3::Zero();
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int u = int(pixels[i] % uint32_t(cam.width)), v = int(pixels[i] / uint32_t(cam.width));
+    u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u), v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
+    centre += points[i];
+  }
+  centre /= double(points.size());
+  const int box_w = u_hi - u_lo + 1, box_h = v_hi - v_lo + 1;
+  using Moments = std::array<double, 10>;  // count, x, y, z, xx, xy, xz, yy, yz, zz
+  std::vector<Moments> table(size_t(box_w + 1) * size_t(box_h + 1), Moments{});
+  const auto at = [&](int row, int col) -> Moments& { return table[size_t(row) * size_t(box_w + 1) + size_t(col)]; };
+  {
+    std::vector<int32_t> point_at(size_t(box_w) * box_h, -1);
+    for (size_t i = 0; i < points.size(); ++i) {
+      const int u = int(pixels[i] % uint32_t(cam.width)) - u_lo, v = int(pixels[i] / uint32_t(cam.width)) - v_lo;
+      point_at[size_t(v) * box_w + u] = int32_t(i);
     }
-    // The closed-form 3 × 3 solver (about 3× faster than the iterative one; the smallest eigenvector of a
-    // neighbourhood this flat is well separated, and the covariance is relative to the point, so no digits lost).
-    Eigen::SelfAdjointEigenSolver<Mat3> eigen;
-    eigen.computeDirect(covariance);
-    Vec3 n = eigen.eigenvectors().col(0);  // eigenvalues ascending: the direction of least spread
-    if (n.dot(params.viewpoint - points[i]) < 0) n = -n;
-    normals[i] = n.normalized();
+    for (int v = 0; v < box_h; ++v) {
+      Moments row{};
+      for (int u = 0; u < box_w; ++u) {
+        const int32_t i = point_at[size_t(v) * box_w + u];
+        if (i >= 0) {
+          const Vec3 p = points[i] - centre;
+          const double m[10] = {1, p.x(), p.y(), p.z(), p.x() * p.x(), p.x() * p.y(), p.x() * p.z(),
+                                p.y() * p.y(), p.y() * p.z(), p.z() * p.z()};
+          for (int c = 0; c < 10; ++c) row[c] += m[c];
+        }
+        const Moments& above = at(v, u + 1);
+        Moments& here = at(v + 1, u + 1);
+        for (int c = 0; c < 10; ++c) here[c] = above[c] + row[c];
+      }
+    }
+  }
+
+  std::vector<Vec3> normals(points.size());
+  std::vector<uint32_t> sparse;  // windows with fewer than 3 points
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int u = int(pixels[i] % uint32_t(cam.width)) - u_lo, v = int(pixels[i] / uint32_t(cam.width)) - v_lo;
+    const double z = observation.depth[pixels[i]];
+    const int r = std::clamp(int(std::lround(radius_m * std::max(cam.fx, cam.fy) / z)), 1, 256);
+    const int c0 = std::max(0, u - r), c1 = std::min(box_w, u + r + 1), r0 = std::max(0, v - r),
+              r1 = std::min(box_h, v + r + 1);
+    const Moments &a = at(r1, c1), &b = at(r0, c1), &c = at(r1, c0), &d = at(r0, c0);
+    double m[10];
+    for (int j = 0; j < 10; ++j) m[j] = a[j] - b[j] - c[j] + d[j];
+    if (m[0] < 2.5) {
+      sparse.push_back(uint32_t(i));
+      continue;
+    }
+    const Vec3 mean = Vec3(m[1], m[2], m[3]) / m[0];
+    Mat3 covariance;
+    covariance << m[4] / m[0], m[5] / m[0], m[6] / m[0], m[5] / m[0], m[7] / m[0], m[8] / m[0], m[6] / m[0],
+        m[8] / m[0], m[9] / m[0];
+    covariance -= mean * mean.transpose();
+    normals[i] = LeastSpreadTowards(covariance, points[i], viewpoint);
+  }
+  if (!sparse.empty()) {
+    const NeighborGrid grid(points, NeighborGrid::SuggestCellSize(points, fallback.k));
+    std::vector<uint32_t> neighbours;
+    for (uint32_t i : sparse) {
+      grid.Nearest(points[i], fallback.k, &neighbours);
+      normals[i] = PlaneFitNormal(points, i, neighbours, viewpoint);
+    }
   }
   return normals;
 }

@@ -72,6 +72,7 @@ Observation FromImage(const DepthImage& image, const Pose& camera_pose, size_t m
     if (!valid || !obs.mask[i]) continue;
     const int u = int(i % size_t(k.width)), v = int(i / size_t(k.width));
     obs.points.push_back(camera_pose * Vec3((u - k.cx) * z / k.fx, (v - k.cy) * z / k.fy, z));
+    obs.pixels.push_back(uint32_t(i));
   }
   if (obs.points.empty()) {
     ThrowInvalidArgument(std::string("depth_image.depth: no pixel") + (image.mask.empty() ? "" : " inside the mask") +

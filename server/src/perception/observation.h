@@ -40,6 +40,7 @@ struct PartialView {
 // the nearest point per pixel and the mask the pixels hit, closed by a 3 × 3 morphological closing.
 struct Observation {
   std::vector<Vec3> points;      // the object's points, world frame, m
+  std::vector<uint32_t> pixels;  // organized input: the pixel each point was seen at (empty for a derived camera)
   Pose camera_pose;              // camera in world
   CameraIntrinsics intrinsics;
   std::vector<float> depth;      // observed depth per pixel, m; +inf where there was no return

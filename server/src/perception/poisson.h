@@ -21,6 +21,7 @@
 // leaks there the mesh still closes (clipped by the box) instead of ballooning into the margin.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "core/math.h"
@@ -64,7 +65,10 @@ struct PoissonResult {
 // points and normals (one per point, any length > 0; outward) in m. Throws Error(kInvalidArgument) naming the
 // field and value for an empty cloud, points all on a line (or all equal), non-finite or zero normals, a count
 // mismatch, or parameters outside their ranges.
+// `known_outside`, when given, names space the caller knows holds no object (shape completion: space the camera
+// saw empty, free_space.h): grid nodes there count as outside for the extraction, as the border does.
+using KnownOutside = std::function<bool(const Vec3& point)>;
 PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                                 const PoissonParams& params = {});
+                                 const PoissonParams& params = {}, const KnownOutside& known_outside = {});
 
 }  // namespace graspsim

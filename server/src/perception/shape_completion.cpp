@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include <Eigen/Eigenvalues>
@@ -10,6 +11,8 @@
 
 #include "core/error.h"
 #include "perception/cloud_filters.h"
+#include "perception/free_space.h"
+#include "perception/image_neighbors.h"
 #include "perception/neighbor_grid.h"
 #include "perception/normals.h"
 
@@ -35,38 +38,79 @@ void CheckSpread(const std::vector<Vec3>& points, size_t input_points) {
   if (!(spread(1) > 1e-12 * spread(2))) ThrowInvalidArgument("points: all " + what + " lie on one line");
 }
 
+// The seen points after the filter, with the pixel each was seen at while the filter has kept the points as they
+// were (organized input, no cube merging two points): their neighbours are then searched in the image.
+struct SeenCloud {
+  std::vector<Vec3> points;
+  std::vector<uint32_t> pixels;  // empty: unorganized from here on
+
+  std::unique_ptr<CloudNeighbors> Neighbors(const Observation& observation, int k) const {
+    if (!pixels.empty()) {
+      return std::make_unique<ImageNeighbors>(observation.intrinsics, points, pixels, ImageNeighbors::RadiusFor(k));
+    }
+    return std::make_unique<NeighborGrid>(points, NeighborGrid::SuggestCellSize(points, k));
+  }
+};
+
 // Filter: voxels (given, or automatic above target_points), then statistical outliers. Voxels first: the outlier
 // test then runs on ~1.5k points instead of 39k, and an isolated outlier stays alone in its voxel, still isolated.
-std::vector<Vec3> FilterCloud(const std::vector<Vec3>& points, const CompletionOptions& options) {
+SeenCloud FilterCloud(const Observation& observation, const CompletionOptions& options) {
+  const std::vector<Vec3>& points = observation.points;
+  SeenCloud cloud;
   double voxel = options.voxel_size;
-  std::vector<Vec3> merged;
+  std::vector<int64_t> lone_source;
   if (voxel > 0) {
-    merged = VoxelDownsample(points, voxel);
+    cloud.points = VoxelDownsample(points, voxel, &lone_source);
+    const bool every_point_kept = std::all_of(lone_source.begin(), lone_source.end(), [](int64_t i) { return i >= 0; });
+    if (every_point_kept && !observation.pixels.empty()) {
+      for (int64_t i : lone_source) cloud.pixels.push_back(observation.pixels[size_t(i)]);
+    }
   } else if (options.target_points > 0 && points.size() > options.target_points) {
     // A first guess from the spacing (noise makes the nearest neighbour closer than the surface's sampling, so it
     // overshoots the count), then one correction by the count it gave.
     const double target = double(options.target_points);
     voxel = NeighborGrid::MedianSpacing(points) * std::sqrt(1.5 * double(points.size()) / target);
-    merged = VoxelDownsample(points, voxel);
-    if (double(merged.size()) > 1.2 * target) merged = VoxelDownsample(points, voxel * std::sqrt(merged.size() / target));
+    cloud.points = VoxelDownsample(points, voxel);
+    if (double(cloud.points.size()) > 1.2 * target) {
+      cloud.points = VoxelDownsample(points, voxel * std::sqrt(cloud.points.size() / target));
+    }
+  } else {
+    cloud.points = points;
+    cloud.pixels = observation.pixels;
   }
-  const std::vector<Vec3>& cloud = merged.empty() ? points : merged;
-  return options.outlier_std > 0 ? RemoveStatisticalOutliers(cloud, options.outlier_k, options.outlier_std) : cloud;
+  if (!(options.outlier_std > 0)) return cloud;
+  const std::vector<uint32_t> kept = StatisticalInliers(
+      cloud.points, *cloud.Neighbors(observation, options.outlier_k + 1), options.outlier_k, options.outlier_std);
+  SeenCloud inliers;
+  inliers.points.reserve(kept.size());
+  for (uint32_t i : kept) inliers.points.push_back(cloud.points[i]);
+  if (!cloud.pixels.empty()) {
+    inliers.pixels.reserve(kept.size());
+    for (uint32_t i : kept) inliers.pixels.push_back(cloud.pixels[i]);
+  }
+  return inliers;
 }
 
 // Normals: the seen points' towards the camera; each mirrored point takes its source's normal reflected.
-void OrientedSurfacePoints(const std::vector<Vec3>& seen, const std::optional<SymmetryPlane>& plane,
-                           const Vec3& camera, int k, std::vector<Vec3>* points, std::vector<Vec3>* normals) {
+void OrientedSurfacePoints(const SeenCloud& seen, const Observation& observation,
+                           const std::optional<SymmetryPlane>& plane, const CompletionOptions& options,
+                           std::vector<Vec3>* points, std::vector<Vec3>* normals) {
   NormalEstimationParams params;
-  params.k = k;
-  params.viewpoint = camera;
-  *normals = EstimateNormals(seen, params);
-  *points = seen;
+  params.k = options.normal_k;
+  params.viewpoint = observation.CameraCentre();
+  if (!seen.pixels.empty() && options.image_normal_radius > 0) {
+    *normals = EstimateImageNormals(observation, seen.points, seen.pixels, options.image_normal_radius,
+                                    params.viewpoint);
+  } else {
+    *normals = EstimateNormals(seen.points, params);
+  }
+  *points = seen.points;
   if (!plane) return;
-  points->reserve(2 * seen.size());
-  normals->reserve(2 * seen.size());
-  for (size_t i = 0; i < seen.size(); ++i) {
-    points->push_back(MirrorPoint(*plane, seen[i]));
+  const size_t n = seen.points.size();
+  points->reserve(2 * n);
+  normals->reserve(2 * n);
+  for (size_t i = 0; i < n; ++i) {
+    points->push_back(MirrorPoint(*plane, seen.points[i]));
     normals->push_back(MirrorDirection(*plane, (*normals)[i]));
   }
 }
@@ -123,7 +167,8 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   if (!report("filter", 0.05)) return std::nullopt;
 
   t = Clock::now();
-  const std::vector<Vec3> seen = FilterCloud(observation.points, options);
+  const SeenCloud filtered = FilterCloud(observation, options);
+  const std::vector<Vec3>& seen = filtered.points;
   CheckSpread(seen, observation.points.size());
   result.filtered_points = seen.size();
   result.ms.filter_ms = MsSince(t);
@@ -146,7 +191,7 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   if (!report("normals", 0.4)) return std::nullopt;
   t = Clock::now();
   std::vector<Vec3> points, normals;
-  OrientedSurfacePoints(seen, result.plane, observation.CameraCentre(), options.normal_k, &points, &normals);
+  OrientedSurfacePoints(filtered, observation, result.plane, options, &points, &normals);
   if (options.table_offset) {
     AddTableCap(options.symmetry.table_normal.normalized(), *options.table_offset, NeighborGrid::MedianSpacing(seen),
                 &points, &normals);
@@ -156,7 +201,13 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
 
   if (!report("surface", 0.55)) return std::nullopt;
   t = Clock::now();
-  PoissonResult surface = ReconstructSurface(points, normals, options.poisson);
+  std::optional<SeenFreeSpace> free_space;
+  KnownOutside known_outside;
+  if (options.clear_seen_free_space) {
+    free_space.emplace(observation, options.free_space_margin_px, options.free_space_depth_margin);
+    known_outside = [&free_space](const Vec3& p) { return free_space->Contains(p); };
+  }
+  PoissonResult surface = ReconstructSurface(points, normals, options.poisson, known_outside);
   result.mesh = std::move(surface.mesh);
   result.poisson = surface.stats;
   result.ms.surface_ms = MsSince(t);

@@ -3,9 +3,11 @@
 //   Observe  → the object's points and the camera's picture of them (observation.h)
 //   Filter   → statistical outlier removal, optional voxel down-sampling (cloud_filters.h)
 //   Symmetry → the best mirror plane perpendicular to the table by the visibility score (symmetry_search.h)
-//   Normals  → plane fits over k neighbours, towards the camera; mirrored points take reflected normals (normals.h);
+//   Normals  → plane fits over k neighbours (over a window of pixels for a depth image kept point for point), towards
+//              the camera; mirrored points take reflected normals (normals.h);
 //              with a known table, a cap of points over the footprint closes the underside
-//   Surface  → screened Poisson on seen + mirrored points (poisson.h): a closed mesh
+//   Surface  → screened Poisson on seen + mirrored points (poisson.h): a closed mesh, with the space the camera
+//              saw empty (free_space.h) counted as outside
 //
 // or, for the paper's baseline, Observe → Filter → Delaunay sheet of 500 samples (delaunay_baseline.h).
 // Single-threaded and deterministic: the same input gives the same mesh bit for bit.
@@ -43,6 +45,16 @@ struct CompletionOptions {
   // hull of the seen and mirrored points' projection), with normals into the table, instead of Poisson's bulge.
   std::optional<double> table_offset;
   int normal_k = 10;            // neighbours per normal, 3..100
+  // Organized input the filter left point for point (a voxel below the pixel spacing, or none): the normals are
+  // plane fits over a window of pixels spanning about this radius on the surface instead (normals.h,
+  // EstimateImageNormals). 0: the k nearest in space, as for other clouds.
+  double image_normal_radius = 0.004;
+  // Space the camera saw empty is outside the completed surface (free_space.h): beyond the mask by more than
+  // free_space_margin_px, or in front of the observed depth by more than free_space_depth_margin (m; ~3σ of a
+  // depth camera's noise at table-top range). false: the surface is Poisson's alone.
+  bool clear_seen_free_space = true;
+  double free_space_margin_px = 1.5;
+  double free_space_depth_margin = 0.004;
   PoissonParams poisson = [] { PoissonParams p; p.depth = 6; return p; }();
   DelaunayParams delaunay;
   size_t max_points = 2'000'000;  // points or pixels of the input (Limits::max_cloud_points)

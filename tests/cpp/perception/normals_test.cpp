@@ -3,12 +3,16 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <utility>
 
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "perception/cloud_filters.h"
+#include "perception/image_neighbors.h"
 #include "perception/neighbor_grid.h"
 #include "perception/normals.h"
+#include "perception/render_view.h"
 #include "perception/shapes.h"
 #include "test_util.h"
 
@@ -48,6 +52,125 @@ TEST(NeighborGridTest, MatchesBruteForce) {
       ASSERT_EQ(found.size(), 12u);
       for (int k = 0; k < 12; ++k) ASSERT_EQ(found[k], all[k].second) << "cell " << cell << ", query " << q;
     }
+  }
+}
+
+// A 1280 × 1024, f = 1200 px view of an upright cylinder (r 35 mm, 0.6 m away, 34° up), 1 mm depth noise: ~38k
+// points, the pixel spacing (~0.5 mm) below the noise, as in issue 22's full-resolution views. `flying` of the
+// object's pixels are thrown 2–10 cm along their rays.
+struct CylinderView {
+  Vec3 axis_point{0, 0, 0};
+  Observation observation;
+  std::vector<uint8_t> flying;  // per point
+};
+
+CylinderView RenderCylinderView(double flying) {
+  CameraIntrinsics k;
+  k.width = 1280, k.height = 1024, k.fx = k.fy = 1200, k.cx = 639.5, k.cy = 511.5;
+  const Pose camera = test_render::LookAt(Vec3(0.6 * std::cos(0.6), 0, 0.6 * std::sin(0.6)), Vec3(0, 0, 0.05));
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0, 0.001);
+  std::uniform_real_distribution<double> u01(0, 1);
+  std::vector<uint8_t> thrown(size_t(k.width) * k.height, 0);
+  PartialView view;
+  view.camera_pose = camera;
+  view.image = test_render::Render(test_render::Cylinder(0.035, 0.11, Vec3(0, 0, 0.055)), camera, k, [&](int u, int v) {
+    if (u01(rng) >= flying) return noise(rng);
+    thrown[size_t(v) * k.width + u] = 1;
+    return 0.02 + 0.08 * u01(rng);
+  });
+  CylinderView out;
+  out.observation = Observe(view, 1u << 22);
+  for (uint32_t pixel : out.observation.pixels) out.flying.push_back(thrown[pixel]);
+  return out;
+}
+
+// The window search returns the k nearest of the window's points, in NeighborGrid's order (ties to the lower
+// index): checked against sorting the window by hand.
+TEST(ImageNeighborsTest, TheKNearestOfTheWindowInTheGridsOrder) {
+  const CylinderView view = RenderCylinderView(0);
+  const Observation& obs = view.observation;
+  const int width = obs.intrinsics.width;
+  std::vector<int32_t> at(obs.depth.size(), -1);
+  for (size_t i = 0; i < obs.pixels.size(); ++i) at[obs.pixels[i]] = int32_t(i);
+  for (int radius : {1, 2}) {
+    const ImageNeighbors neighbors(obs.intrinsics, obs.points, obs.pixels, radius);
+    std::vector<uint32_t> found;
+    for (uint32_t i = 0; i < obs.points.size(); i += 97) {
+      const int u0 = int(obs.pixels[i] % width), v0 = int(obs.pixels[i] / width);
+      std::vector<std::pair<double, uint32_t>> window;
+      for (int v = v0 - radius; v <= v0 + radius; ++v) {
+        for (int u = u0 - radius; u <= u0 + radius; ++u) {
+          const int32_t j = at[size_t(v) * width + u];
+          if (j >= 0) window.emplace_back((obs.points[j] - obs.points[i]).squaredNorm(), uint32_t(j));
+        }
+      }
+      std::sort(window.begin(), window.end());
+      neighbors.NearestTo(i, 9, &found);
+      ASSERT_EQ(found.size(), std::min<size_t>(9, window.size()));
+      for (size_t j = 0; j < found.size(); ++j) ASSERT_EQ(found[j], window[j].second) << "point " << i;
+    }
+  }
+  EXPECT_EQ(ImageNeighbors::RadiusFor(9), 1);
+  EXPECT_EQ(ImageNeighbors::RadiusFor(10), 2);
+}
+
+// The outlier test through the image (3 × 3 windows) on the same view with 2 % of its pixels thrown 2–10 cm along
+// their rays: it must find the thrown points and keep the surface. Measured when set: 98.6 % of the thrown points
+// removed, 99.9 % of the others kept (the grid's exact k nearest: 100 / 99.98 %).
+TEST(ImageNeighborsTest, TheOutlierTestThroughTheImageFindsFlyingPixels) {
+  const CylinderView view = RenderCylinderView(0.02);
+  const Observation& obs = view.observation;
+  const auto rates = [&](const std::vector<uint32_t>& kept) {
+    std::vector<uint8_t> is_kept(obs.points.size(), 0);
+    for (uint32_t i : kept) is_kept[i] = 1;
+    double flying = 0, flying_removed = 0, surface = 0, surface_kept = 0;
+    for (size_t i = 0; i < obs.points.size(); ++i) {
+      (view.flying[i] ? flying : surface) += 1;
+      if (view.flying[i] && !is_kept[i]) flying_removed += 1;
+      if (!view.flying[i] && is_kept[i]) surface_kept += 1;
+    }
+    return std::pair{flying_removed / flying, surface_kept / surface};
+  };
+  const auto [image_removed, image_kept] =
+      rates(StatisticalInliers(obs.points, ImageNeighbors(obs.intrinsics, obs.points, obs.pixels, 1), 8, 2));
+  const auto [grid_removed, grid_kept] = rates(
+      StatisticalInliers(obs.points, NeighborGrid(obs.points, NeighborGrid::SuggestCellSize(obs.points, 9)), 8, 2));
+  std::cout << "thrown removed / surface kept: image " << image_removed << " / " << image_kept << ", grid "
+            << grid_removed << " / " << grid_kept << "\n";
+  EXPECT_GT(image_removed, 0.95);
+  EXPECT_GT(image_kept, 0.95);
+}
+
+// Normals of a depth image against the cylinder's true (radial) normals. Over a pixel window of 4 mm radius the
+// plane fit averages ~290 points spread evenly over the patch; the k = 10 nearest in space sit in a ~1.5 mm ball
+// of noise as thick as it is wide. Measured when set: mean 3.1° (window; one-sided windows at the silhouette) against
+// 39° (k = 10 in space).
+TEST(ImageNormalsTest, WindowPlaneFitsBeatTheNearestInSpaceUnderDepthNoise) {
+  const CylinderView view = RenderCylinderView(0);
+  const Observation& obs = view.observation;
+  const auto mean_error_deg = [&](const std::vector<Vec3>& normals) {
+    double sum = 0;
+    int count = 0;
+    for (size_t i = 0; i < normals.size(); ++i) {
+      const Vec3& p = obs.points[i];
+      if (p.z() < 0.01 || p.z() > 0.1) continue;  // the side wall, away from the rim
+      sum += AngleDeg(normals[i], Vec3(p.x(), p.y(), 0));
+      ++count;
+    }
+    return sum / count;
+  };
+  const std::vector<Vec3> window = EstimateImageNormals(obs, obs.points, obs.pixels, 0.004, obs.CameraCentre());
+  NormalEstimationParams params;
+  params.viewpoint = obs.CameraCentre();
+  const std::vector<Vec3> in_space = EstimateNormals(obs.points, params);
+  const double window_deg = mean_error_deg(window), space_deg = mean_error_deg(in_space);
+  std::cout << "mean normal error: window " << window_deg << " deg, k = 10 in space " << space_deg << " deg\n";
+  EXPECT_LT(window_deg, 4.0);
+  EXPECT_LT(window_deg, space_deg / 5);
+  for (size_t i = 0; i < window.size(); ++i) {
+    ASSERT_NEAR(window[i].norm(), 1.0, 1e-12);
+    ASSERT_GE(window[i].dot(obs.CameraCentre() - obs.points[i]), 0.0);
   }
 }
 

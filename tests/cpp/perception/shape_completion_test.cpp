@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "perception/cloud_filters.h"
 #include "perception/delaunay_baseline.h"
+#include "perception/free_space.h"
 #include "perception/mesh_metrics.h"
 #include "perception/render_view.h"
 #include "perception/shape_completion.h"
@@ -115,7 +116,8 @@ TEST(ShapeCompletionTest, LargeCloudsAreDownSampledToTheTargetAndTheSubsetScoreK
   EXPECT_LT(reduced->filtered_points, 1250u);
   options.target_points = reduced->input_points;  // nothing to reduce: only the outlier filter acts
   const auto full = CompleteShape(s.view, options);
-  EXPECT_GT(full->filtered_points, reduced->input_points * 98 / 100);
+  // The outlier cut at μ + 2σ takes the tail of a near-normal spread: ~2 %.
+  EXPECT_GT(full->filtered_points, reduced->input_points * 97 / 100);
   // The paper's 7 × 5 grid: the same hypothesis wins. With 4 refinements (steps down to 0.07°) the subset's noise
   // moves the optimum by under a degree and a millimetre.
   for (int refinements : {0, 4}) {
@@ -182,6 +184,65 @@ TEST(ShapeCompletionTest, CylinderPlaneContainsTheAxis) {
   double mean = 0;
   for (const Vec3& p : seen.points) mean += to_mesh.Distance(p) / double(seen.points.size());
   EXPECT_LT(mean, 0.001);
+}
+
+// What the camera saw empty (free_space.h), on the box view: before the seen surface by more than the depth
+// margin, beside the silhouette by more than the pixel margin; not behind the surface, not inside, not what the
+// camera did not look at. Before the surface the test is against the least depth of the 3 × 3 pixels around: on the
+// faces seen at a grazing angle (1.8 mm per pixel here) a point 1 cm before the surface can still be behind a
+// neighbouring pixel's depth, and beside a depth step (the box's near vertical edge) 5 cm before can be. Measured
+// when set: 1 cm before, 97.7 % of the points' places are claimed; 5 cm before, 99.2 %.
+TEST(SeenFreeSpaceTest, BeforeTheSurfaceAndBesideTheSilhouetteOnly) {
+  const BoxScene s = MakeBoxScene(0.001);
+  const Observation obs = Observe(s.view, 1 << 22);
+  const SeenFreeSpace free_space(obs, 1.5, 0.004);
+  const Vec3 eye = obs.CameraCentre();
+  double tested = 0, claimed = 0, claimed_5cm = 0;
+  for (size_t i = 0; i < obs.points.size(); i += 37) {
+    const Vec3 ray = (obs.points[i] - eye).normalized();
+    tested += 1;
+    claimed += free_space.Contains(obs.points[i] - 0.01 * ray);
+    claimed_5cm += free_space.Contains(obs.points[i] - 0.05 * ray);
+    ASSERT_FALSE(free_space.Contains(obs.points[i] - 0.001 * ray)) << "1 mm before seen point " << i;
+    ASSERT_FALSE(free_space.Contains(obs.points[i] + 0.01 * ray)) << "1 cm behind seen point " << i;
+  }
+  std::cout << "before the seen points: " << claimed / tested * 100 << " % claimed at 1 cm, "
+            << claimed_5cm / tested * 100 << " % at 5 cm\n";
+  EXPECT_GT(claimed / tested, 0.9);
+  EXPECT_GT(claimed_5cm / tested, 0.98);
+  EXPECT_FALSE(free_space.Contains(s.pose.position));
+  const Vec3 right = s.camera.orientation * Vec3::UnitX();
+  EXPECT_TRUE(free_space.Contains(s.pose.position + 0.1 * right));    // ~55 px beside the silhouette
+  EXPECT_FALSE(free_space.Contains(s.pose.position + 1.0 * right));   // outside the image
+  EXPECT_FALSE(free_space.Contains(eye - 0.1 * (s.pose.position - eye)));  // behind the camera
+}
+
+// The completed surface stays out of the space the camera saw empty (with the margins grown by one grid cell:
+// the surface may stop at a cleared node), and without the clearing it does not: the box seen along its short
+// axis, whose mirror image Poisson closes beyond the silhouette. Measured when set: 0 of the vertices with the
+// clearing, 6 % without.
+TEST(ShapeCompletionTest, NoSurfaceWhereTheCameraSawEmpty) {
+  const BoxScene s = MakeBoxScene(0.001);
+  const Observation obs = Observe(s.view, 1 << 22);
+  CompletionOptions options = Refined();
+  options.table_offset = 0;
+  const auto cleared = CompleteShape(s.view, options);
+  options.clear_seen_free_space = false;
+  const auto plain = CompleteShape(s.view, options);
+  ASSERT_TRUE(cleared && plain);
+  EXPECT_TRUE(CountEdges(cleared->mesh).Closed());
+  const double cell = cleared->poisson.cell_size;
+  const double cell_px = cell * obs.intrinsics.fx / (s.pose.position - obs.CameraCentre()).norm();
+  const SeenFreeSpace loose(obs, 1.5 + 1.5 * cell_px, 0.004 + 1.5 * cell);
+  const auto share_inside = [&](const TriangleMesh& mesh) {
+    double inside = 0;
+    for (const auto& v : mesh.vertices) inside += loose.Contains(v.cast<double>());
+    return inside / double(mesh.vertices.size());
+  };
+  const double with = share_inside(cleared->mesh), without = share_inside(plain->mesh);
+  std::cout << "vertices in the space seen empty: " << with * 100 << " % cleared, " << without * 100 << " % plain\n";
+  EXPECT_EQ(with, 0.0);
+  EXPECT_GT(without, 0.01);
 }
 
 TEST(ShapeCompletionTest, SameInputGivesBitIdenticalMesh) {
