@@ -31,7 +31,8 @@ void CheckNormalInput(const std::vector<Vec3>& points, const NormalEstimationPar
 
 // The smallest eigenvector of a 3 × 3 covariance (the direction of least spread), facing the viewpoint from `at`.
 // The closed-form solver: about 3× faster than the iterative one; the smallest eigenvector of a neighbourhood this
-// flat is well separated, and the covariances here are relative to a nearby point, so no digits are lost.
+// flat is well separated, and the covariances here are of coordinates relative to a nearby point (or to the cloud's
+// mean, a few centimetres away), so few digits are lost.
 Vec3 LeastSpreadTowards(const Mat3& covariance, const Vec3& at, const Vec3& viewpoint) {
   Eigen::SelfAdjointEigenSolver<Mat3> eigen;
   eigen.computeDirect(covariance);
@@ -85,8 +86,11 @@ std::vector<Vec3> EstimateImageNormals(const Observation& observation, const std
                          " points");
   }
   const CameraIntrinsics& cam = observation.intrinsics;
-  // The summed-area tables cover the pixels' bounding box; sums are of coordinates relative to the cloud's mean
-  // (m), so the window covariances keep their digits.
+  // One window for the view: radius_m at the points' median depth (a table-top object's depth varies by ~10 %).
+  const double pixels_per_m = std::max(cam.fx, cam.fy) / MedianDepth(observation, pixels);
+  const int r = std::clamp(int(std::lround(radius_m * pixels_per_m)), 1, 256);
+  // The points' bounding box of pixels, and moments relative to the cloud's mean (m) so the covariances keep
+  // their digits.
   int u_lo = cam.width, u_hi = -1, v_lo = cam.height, v_hi = -1;
   Vec3 centre = Vec3::Zero();
   for (size_t i = 0; i < points.size(); ++i) {
@@ -96,53 +100,59 @@ std::vector<Vec3> EstimateImageNormals(const Observation& observation, const std
   }
   centre /= double(points.size());
   const int box_w = u_hi - u_lo + 1, box_h = v_hi - v_lo + 1;
-  using Moments = std::array<double, 10>;  // count, x, y, z, xx, xy, xz, yy, yz, zz
-  std::vector<Moments> table(size_t(box_w + 1) * size_t(box_h + 1), Moments{});
-  const auto at = [&](int row, int col) -> Moments& { return table[size_t(row) * size_t(box_w + 1) + size_t(col)]; };
-  {
-    std::vector<int32_t> point_at(size_t(box_w) * box_h, -1);
-    for (size_t i = 0; i < points.size(); ++i) {
-      const int u = int(pixels[i] % uint32_t(cam.width)) - u_lo, v = int(pixels[i] / uint32_t(cam.width)) - v_lo;
-      point_at[size_t(v) * box_w + u] = int32_t(i);
-    }
-    for (int v = 0; v < box_h; ++v) {
-      Moments row{};
-      for (int u = 0; u < box_w; ++u) {
-        const int32_t i = point_at[size_t(v) * box_w + u];
-        if (i >= 0) {
-          const Vec3 p = points[i] - centre;
-          const double m[10] = {1, p.x(), p.y(), p.z(), p.x() * p.x(), p.x() * p.y(), p.x() * p.z(),
-                                p.y() * p.y(), p.y() * p.z(), p.z() * p.z()};
-          for (int c = 0; c < 10; ++c) row[c] += m[c];
-        }
-        const Moments& above = at(v, u + 1);
-        Moments& here = at(v + 1, u + 1);
-        for (int c = 0; c < 10; ++c) here[c] = above[c] + row[c];
-      }
-    }
+  std::vector<int32_t> point_at(size_t(box_w) * box_h, -1);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int u = int(pixels[i] % uint32_t(cam.width)) - u_lo, v = int(pixels[i] / uint32_t(cam.width)) - v_lo;
+    point_at[size_t(v) * box_w + u] = int32_t(i);
   }
+  // Window sums by sliding: per column the sum over the window's rows (updated a row at a time), then along each
+  // row the sum of the window's columns. O(1) per pixel, memory per column only.
+  using Moments = std::array<double, 10>;  // count, x, y, z, xx, xy, xz, yy, yz, zz
+  const auto add_row = [&](std::vector<Moments>* columns, int v, double sign) {
+    for (int u = 0; u < box_w; ++u) {
+      const int32_t i = point_at[size_t(v) * box_w + u];
+      if (i < 0) continue;
+      const Vec3 p = points[i] - centre;
+      const double m[10] = {1, p.x(), p.y(), p.z(), p.x() * p.x(), p.x() * p.y(), p.x() * p.z(),
+                            p.y() * p.y(), p.y() * p.z(), p.z() * p.z()};
+      Moments& column = (*columns)[u];
+      for (int c = 0; c < 10; ++c) column[c] += sign * m[c];
+    }
+  };
+  std::vector<Moments> columns(box_w, Moments{});
+  for (int v = 0; v < std::min(r, box_h); ++v) add_row(&columns, v, 1);
 
   std::vector<Vec3> normals(points.size());
   std::vector<uint32_t> sparse;  // windows with fewer than 3 points
-  for (size_t i = 0; i < points.size(); ++i) {
-    const int u = int(pixels[i] % uint32_t(cam.width)) - u_lo, v = int(pixels[i] / uint32_t(cam.width)) - v_lo;
-    const double z = observation.depth[pixels[i]];
-    const int r = std::clamp(int(std::lround(radius_m * std::max(cam.fx, cam.fy) / z)), 1, 256);
-    const int c0 = std::max(0, u - r), c1 = std::min(box_w, u + r + 1), r0 = std::max(0, v - r),
-              r1 = std::min(box_h, v + r + 1);
-    const Moments &a = at(r1, c1), &b = at(r0, c1), &c = at(r1, c0), &d = at(r0, c0);
-    double m[10];
-    for (int j = 0; j < 10; ++j) m[j] = a[j] - b[j] - c[j] + d[j];
-    if (m[0] < 2.5) {
-      sparse.push_back(uint32_t(i));
-      continue;
+  for (int v = 0; v < box_h; ++v) {
+    if (v + r < box_h) add_row(&columns, v + r, 1);
+    Moments window{};
+    for (int u = 0; u < std::min(r, box_w); ++u) {
+      for (int c = 0; c < 10; ++c) window[c] += columns[u][c];
     }
-    const Vec3 mean = Vec3(m[1], m[2], m[3]) / m[0];
-    Mat3 covariance;
-    covariance << m[4] / m[0], m[5] / m[0], m[6] / m[0], m[5] / m[0], m[7] / m[0], m[8] / m[0], m[6] / m[0],
-        m[8] / m[0], m[9] / m[0];
-    covariance -= mean * mean.transpose();
-    normals[i] = LeastSpreadTowards(covariance, points[i], viewpoint);
+    for (int u = 0; u < box_w; ++u) {
+      if (u + r < box_w) {
+        for (int c = 0; c < 10; ++c) window[c] += columns[u + r][c];
+      }
+      const int32_t i = point_at[size_t(v) * box_w + u];
+      if (i >= 0) {
+        const double n = window[0];
+        if (n < 2.5) {
+          sparse.push_back(uint32_t(i));
+        } else {
+          const Vec3 mean = Vec3(window[1], window[2], window[3]) / n;
+          Mat3 covariance;
+          covariance << window[4], window[5], window[6], window[5], window[7], window[8], window[6], window[8],
+              window[9];
+          covariance = covariance / n - mean * mean.transpose();
+          normals[i] = LeastSpreadTowards(covariance, points[i], viewpoint);
+        }
+      }
+      if (u - r >= 0) {
+        for (int c = 0; c < 10; ++c) window[c] -= columns[u - r][c];
+      }
+    }
+    if (v - r >= 0) add_row(&columns, v - r, -1);
   }
   if (!sparse.empty()) {
     const NeighborGrid grid(points, NeighborGrid::SuggestCellSize(points, fallback.k));

@@ -141,6 +141,13 @@ Observation FromPoints(const std::vector<Vec3>& points, const Pose& camera_pose,
 
 }  // namespace
 
+double MedianDepth(const Observation& observation, const std::vector<uint32_t>& pixels) {
+  std::vector<float> depths(pixels.size());
+  for (size_t i = 0; i < pixels.size(); ++i) depths[i] = observation.depth[pixels[i]];
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  return depths[depths.size() / 2];
+}
+
 Observation Observe(const PartialView& view, size_t max_points) {
   Pose pose = view.camera_pose;
   CheckPose("camera_pose", &pose);

@@ -50,6 +50,9 @@ struct Observation {
   Vec3 CameraCentre() const { return camera_pose.position; }
 };
 
+// The median of the observed depths at `pixels` (non-empty), m.
+double MedianDepth(const Observation& observation, const std::vector<uint32_t>& pixels);
+
 // Validates and converts the input. Errors name the request's fields: kInvalidArgument for an empty cloud, a
 // non-finite point, a point behind the camera, bad intrinsics, a depth or mask of the wrong size, an image with
 // no finite depth in the mask; kResourceExhausted for more than `max_points` points (or pixels).

@@ -115,35 +115,54 @@ void OrientedSurfacePoints(const SeenCloud& seen, const Observation& observation
   }
 }
 
-// The underside on a known table: points every `step` (the seen cloud's spacing) over the convex hull of the
-// footprint, normals into the table.
-void AddTableCap(const Vec3& up, double offset, double step, std::vector<Vec3>* points, std::vector<Vec3>* normals) {
+// The underside on a known table: points every `step` (the camera's sampling of the object) over the convex hull of
+// the footprint, normals into the table. `points` holds the seen points, then (when mirrored) their mirror images in
+// the same order: the mirror plane stands on the table, so the footprint's hull is the hull of the seen points'
+// hull and its mirror image, and only the seen half is hulled in full.
+void AddTableCap(const Vec3& up, double offset, double step, size_t seen, std::vector<Vec3>* points,
+                 std::vector<Vec3>* normals) {
   const Vec3 ax = (std::abs(up.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(up).normalized();
   const Vec3 ay = up.cross(ax);
+  const auto on_table = [&](const Vec3& p) { return cv::Point2f(float(p.dot(ax)), float(p.dot(ay))); };
   std::vector<cv::Point2f> footprint, hull;
-  footprint.reserve(points->size());
-  for (const Vec3& p : *points) footprint.emplace_back(float(p.dot(ax)), float(p.dot(ay)));
-  cv::convexHull(footprint, hull, /*clockwise=*/false);
+  footprint.reserve(seen);
+  for (size_t i = 0; i < seen; ++i) footprint.push_back(on_table((*points)[i]));
+  std::vector<int> seen_hull;
+  cv::convexHull(footprint, seen_hull, /*clockwise=*/false, /*returnPoints=*/false);
+  std::vector<cv::Point2f> outline;
+  for (int i : seen_hull) {
+    outline.push_back(footprint[size_t(i)]);
+    if (points->size() == 2 * seen) outline.push_back(on_table((*points)[seen + size_t(i)]));
+  }
+  cv::convexHull(outline, hull, /*clockwise=*/false);
   if (hull.size() < 3) return;
   double lo_x = hull[0].x, hi_x = lo_x, lo_y = hull[0].y, hi_y = lo_y;
   for (const cv::Point2f& h : hull) {
     lo_x = std::min<double>(lo_x, h.x), hi_x = std::max<double>(hi_x, h.x);
     lo_y = std::min<double>(lo_y, h.y), hi_y = std::max<double>(hi_y, h.y);
   }
-  const auto inside = [&hull](double x, double y) {  // left of every counter-clockwise hull edge
-    for (size_t i = 0; i < hull.size(); ++i) {
-      const cv::Point2f a = hull[i], b = hull[(i + 1) % hull.size()];
-      if ((b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x) < 0) return false;
-    }
-    return true;
-  };
+  // Column by column: the hull (convex) meets the line at x in one interval of y, from the edges that span x.
   for (double x = lo_x + 0.5 * step; x < hi_x; x += step) {
+    double y_min = hi_y, y_max = lo_y;
+    for (size_t e = 0; e < hull.size(); ++e) {
+      const cv::Point2f a = hull[e], b = hull[(e + 1) % hull.size()];
+      if ((a.x - x) * (b.x - x) > 0 || a.x == b.x) continue;
+      const double y = a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x);
+      y_min = std::min(y_min, y), y_max = std::max(y_max, y);
+    }
     for (double y = lo_y + 0.5 * step; y < hi_y; y += step) {
-      if (!inside(x, y)) continue;
+      if (y < y_min || y > y_max) continue;
       points->push_back(x * ax + y * ay + offset * up);
       normals->push_back(-up);
     }
   }
+}
+
+// The camera's sampling of the object, m: the pixel's footprint at the points' median depth for a depth image kept
+// point for point (their nearest neighbours in space are picked by the noise), else the median spacing.
+double SamplingStep(const SeenCloud& seen, const Observation& observation) {
+  if (seen.pixels.empty()) return NeighborGrid::MedianSpacing(seen.points);
+  return MedianDepth(observation, seen.pixels) / std::max(observation.intrinsics.fx, observation.intrinsics.fy);
 }
 
 }  // namespace
@@ -193,8 +212,8 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   std::vector<Vec3> points, normals;
   OrientedSurfacePoints(filtered, observation, result.plane, options, &points, &normals);
   if (options.table_offset) {
-    AddTableCap(options.symmetry.table_normal.normalized(), *options.table_offset, NeighborGrid::MedianSpacing(seen),
-                &points, &normals);
+    AddTableCap(options.symmetry.table_normal.normalized(), *options.table_offset, SamplingStep(filtered, observation),
+                seen.size(), &points, &normals);
   }
   result.surface_points = points.size();
   result.ms.normals_ms = MsSince(t);
