@@ -14,7 +14,9 @@ constexpr float kNoDepth = std::numeric_limits<float>::infinity();
 }  // namespace
 
 SeenFreeSpace::SeenFreeSpace(const Observation& observation, double margin_px, double depth_margin)
-    : intrinsics_(observation.intrinsics), world_to_camera_(observation.camera_pose.Inverse()), depth_margin_(depth_margin) {
+    : intrinsics_(observation.intrinsics),
+      world_to_camera_(observation.camera_pose.Inverse()),
+      depth_margin_(depth_margin) {
   const CameraIntrinsics& k = observation.intrinsics;
   // Only a window around the mask needs its distance: every pixel outside the window is beyond the margin.
   int u_lo = k.width, u_hi = -1, v_lo = k.height, v_hi = -1;
@@ -59,7 +61,8 @@ SeenFreeSpace::SeenFreeSpace(const Observation& observation, double margin_px, d
   near_depth_.resize(size_t(window_.width) * window_.height);
   for (int v = 0; v < window_.height; ++v) {
     for (int u = 0; u < window_.width; ++u) {
-      near_depth_[size_t(v) * window_.width + u] = distance.at<float>(v, u) > margin_px ? kBeyond : least.at<float>(v, u);
+      const bool beyond = distance.at<float>(v, u) > margin_px;
+      near_depth_[size_t(v) * window_.width + u] = beyond ? kBeyond : least.at<float>(v, u);
     }
   }
 }

@@ -15,10 +15,10 @@ namespace graspsim {
 
 class SeenFreeSpace {
  public:
-  // Points projecting outside the mask by more than margin_px pixels are empty space; within the margin (the mask's
-  // edge is quantised to pixels) they are when they lie before the nearest depth of the mask there, and on the mask
-  // when before its observed depth, by more than depth_margin (m; the depth is noisy). Points behind the camera, outside its
-  // image, or where no depth was seen are unknown.
+  // Points projecting outside the mask by more than margin_px pixels are empty space. Within the margin (the mask's
+  // edge is quantised to pixels) and on the mask they are when they lie before the least depth the mask shows
+  // around their pixel by more than depth_margin (m; the depth is noisy, and changes fast across a grazing face).
+  // Points behind the camera, outside its image, or where no depth was seen are unknown.
   SeenFreeSpace(const Observation& observation, double margin_px, double depth_margin);
 
   // True when the camera saw `world_point` (m, world frame) empty.

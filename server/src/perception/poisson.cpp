@@ -349,8 +349,9 @@ PoissonResult ReconstructSurface(const std::vector<Vec3>& points, const std::vec
     // A level too fine for the samples is only interpolated: no right-hand side needed.
     const bool too_fine = depth > first && grid.h < params.refine_limit * std::sqrt(stats.sample_area);
     int reach = 1;
-    const std::vector<float> b =
-        too_fine ? std::vector<float>() : SplatNormals(merged.points, merged.normal_sums, grid, stats.sample_area, &reach);
+    const std::vector<float> b = too_fine ? std::vector<float>()
+                                          : SplatNormals(merged.points, merged.normal_sums, grid, stats.sample_area,
+                                                         &reach);
     // β = α a / h²: the screening of a patch does not depend on how densely it is sampled (Kazhdan & Hoppe,
     // eq. 3), nor on the level (χ keeps its unit jump on every grid).
     const double sqrt_beta = std::sqrt(params.screening * stats.sample_area / (grid.h * grid.h));
