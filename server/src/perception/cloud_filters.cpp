@@ -32,13 +32,9 @@ std::vector<uint32_t> StatisticalInliers(const std::vector<Vec3>& points, const 
     return kept;
   }
   std::vector<double> mean_distance(points.size());
-  std::vector<uint32_t> nearest;
   double sum = 0, sum_sq = 0;
   for (size_t i = 0; i < points.size(); ++i) {
-    neighbors.NearestTo(uint32_t(i), k + 1, &nearest);  // the point itself comes first
-    double d = 0;
-    for (size_t j = 1; j < nearest.size(); ++j) d += (points[nearest[j]] - points[i]).norm();
-    mean_distance[i] = d / double(nearest.size() - 1);
+    mean_distance[i] = neighbors.MeanDistanceToNearest(uint32_t(i), k);
     sum += mean_distance[i];
     sum_sq += mean_distance[i] * mean_distance[i];
   }
@@ -66,8 +62,28 @@ size_t VoxelGroups(const std::vector<Vec3>& points, double voxel, const Vec3& or
   if (!(voxel > 0) || !std::isfinite(voxel)) {
     ThrowInvalidArgument("voxel_size: " + FormatNumber(voxel) + " m must be positive");
   }
-  // Open addressing on the packed cube coordinates (a std::unordered_map was a third of the filter at 39k points):
-  // a power-of-two table at most half full, linear probing; kEmpty is no packed key (those use 63 bits).
+  // When the cubes over the points' bounding box are few (Poisson merging its samples per cell), a dense array of
+  // them; else open addressing on the packed cube coordinates.
+  group->resize(points.size());
+  if (points.empty()) return 0;
+  Vec3 lo = points.front(), hi = points.front();
+  for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Eigen::Vector3d first = ((lo - origin) / voxel).array().floor(), last = ((hi - origin) / voxel).array().floor();
+  const Eigen::Vector3d extent = last - first + Eigen::Vector3d::Ones();
+  if (extent.prod() <= 4.0 * double(points.size()) + 64) {
+    const int64_t nx = int64_t(extent.x()), ny = int64_t(extent.y());
+    std::vector<int32_t> group_of_cube(size_t(extent.prod()), -1);
+    uint32_t groups = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector3d c = ((points[i] - origin) / voxel).array().floor() - first.array();
+      const size_t cube = size_t((int64_t(c.z()) * ny + int64_t(c.y())) * nx + int64_t(c.x()));
+      if (group_of_cube[cube] < 0) group_of_cube[cube] = int32_t(groups++);
+      (*group)[i] = uint32_t(group_of_cube[cube]);
+    }
+    return groups;
+  }
+  // Open addressing (a std::unordered_map was a third of the filter at 39k points): a power-of-two table at most
+  // half full, linear probing; kEmpty is no packed key (those use 63 bits).
   constexpr uint64_t kEmpty = ~uint64_t(0);
   size_t slots = 16;
   while (slots < 2 * points.size()) slots *= 2;
@@ -75,7 +91,6 @@ size_t VoxelGroups(const std::vector<Vec3>& points, double voxel, const Vec3& or
   std::vector<uint32_t> group_of_slot(slots);
   const int shift = 64 - __builtin_ctzll(slots);
   uint32_t groups = 0;
-  group->resize(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     // 21 bits per axis around the origin: ±2^20 cubes, far beyond any table-top object at mm voxels.
     const Vec3 p = (points[i] - origin) / voxel;

@@ -37,6 +37,25 @@ int ImageNeighbors::RadiusFor(int k) {
   return std::max(1, int(std::ceil((std::sqrt(double(std::max(k, 1))) - 1) / 2)));
 }
 
+double ImageNeighbors::MeanDistanceToNearest(uint32_t i, int k) const {
+  thread_local std::vector<double> distances;
+  distances.clear();
+  const Vec3& query = points_[i];
+  const int u0 = local_[i].first, v0 = local_[i].second;
+  const int u_lo = std::max(0, u0 - radius_), u_hi = std::min(width_ - 1, u0 + radius_);
+  for (int v = std::max(0, v0 - radius_); v <= std::min(height_ - 1, v0 + radius_); ++v) {
+    const int32_t* row = point_at_.data() + size_t(v) * width_;
+    for (int u = u_lo; u <= u_hi; ++u) {
+      if (row[u] >= 0 && uint32_t(row[u]) != i) distances.push_back((points_[row[u]] - query).squaredNorm());
+    }
+  }
+  const size_t count = std::min(distances.size(), size_t(std::max(k, 0)));
+  if (count < distances.size()) std::nth_element(distances.begin(), distances.begin() + count, distances.end());
+  double sum = 0;
+  for (size_t j = 0; j < count; ++j) sum += std::sqrt(distances[j]);
+  return count ? sum / double(count) : 0;
+}
+
 void ImageNeighbors::NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const {
   // The best k so far, ascending by (squared distance, index): NeighborGrid's order. Insertion into a short
   // sorted array, as the grid does: the window holds a few dozen points.

@@ -28,6 +28,9 @@ class ImageNeighbors : public CloudNeighbors {
   // The k nearest to point i (itself first) among the points of its window, nearest first, ties to the lower
   // index; fewer than k when the window holds fewer.
   void NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const override;
+  // Without sorting when the window holds at most k others (the 3 × 3 window of the outlier test's k = 8).
+  double MeanDistanceToNearest(uint32_t i, int k) const override;
+  const Vec3& Point(uint32_t i) const override { return points_[i]; }
 
   // The smallest radius whose window holds k pixels (k = 9, the outlier test's 8 and the point: 3 × 3).
   static int RadiusFor(int k);

@@ -6,6 +6,14 @@
 
 namespace graspsim {
 
+double CloudNeighbors::MeanDistanceToNearest(uint32_t i, int k) const {
+  thread_local std::vector<uint32_t> nearest;
+  NearestTo(i, k + 1, &nearest);  // the point itself comes first
+  double sum = 0;
+  for (size_t j = 1; j < nearest.size(); ++j) sum += (Point(nearest[j]) - Point(i)).norm();
+  return nearest.size() > 1 ? sum / double(nearest.size() - 1) : 0;
+}
+
 NeighborGrid::NeighborGrid(const std::vector<Vec3>& points, double cell_size) : points_(points), cell_size_(cell_size) {
   Vec3 lo = points.front(), hi = points.front();
   for (const Vec3& p : points) {

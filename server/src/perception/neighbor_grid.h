@@ -17,6 +17,9 @@ class CloudNeighbors {
   virtual ~CloudNeighbors() = default;
   // The indices of the k points nearest to point i (itself included), nearest first, ties to the lower index.
   virtual void NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const = 0;
+  // The mean distance from point i to its k nearest others (the outlier test's figure; 0 when it has none).
+  virtual double MeanDistanceToNearest(uint32_t i, int k) const;
+  virtual const Vec3& Point(uint32_t i) const = 0;
 };
 
 class NeighborGrid : public CloudNeighbors {
@@ -28,6 +31,7 @@ class NeighborGrid : public CloudNeighbors {
   // Fewer than k only when the cloud has fewer points.
   void Nearest(const Vec3& query, int k, std::vector<uint32_t>* out) const;
   void NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const override { Nearest(points_[i], k, out); }
+  const Vec3& Point(uint32_t i) const override { return points_[i]; }
 
   // A cell size for ~k neighbours within a ring or two of cells when the points sample a surface: the mean
   // sample spacing estimated from the bounding box (the area of a surface in a box grows like its diagonal²).

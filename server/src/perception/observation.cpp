@@ -141,6 +141,21 @@ Observation FromPoints(const std::vector<Vec3>& points, const Pose& camera_pose,
 
 }  // namespace
 
+bool PointsFartherApartThan(const Observation& observation, double distance) {
+  if (observation.pixels.empty()) return false;
+  const CameraIntrinsics& k = observation.intrinsics;
+  double nearest = std::numeric_limits<double>::infinity(), slope_u = 0, slope_v = 0;
+  for (uint32_t pixel : observation.pixels) {
+    nearest = std::min(nearest, double(observation.depth[pixel]));
+    slope_u = std::max(slope_u, std::abs(int(pixel % uint32_t(k.width)) - k.cx) / k.fx);
+    slope_v = std::max(slope_v, std::abs(int(pixel / uint32_t(k.width)) - k.cy) / k.fy);
+  }
+  if (!(nearest > distance)) return false;
+  const double reach_u = k.fx * distance * std::sqrt(1 + slope_u * slope_u) / (nearest - distance);
+  const double reach_v = k.fy * distance * std::sqrt(1 + slope_v * slope_v) / (nearest - distance);
+  return reach_u < 0.5 && reach_v < 0.5;  // half a pixel: room for the rounding of the points' coordinates
+}
+
 double MedianDepth(const Observation& observation, const std::vector<uint32_t>& pixels) {
   std::vector<float> depths(pixels.size());
   for (size_t i = 0; i < pixels.size(); ++i) depths[i] = observation.depth[pixels[i]];

@@ -50,6 +50,12 @@ struct Observation {
   Vec3 CameraCentre() const { return camera_pose.position; }
 };
 
+// True when any two of a depth image's points (one per pixel) lie farther apart than `distance` (m): a point within
+// r of p projects within f r √(1 + t²) / (z − r) pixels of p's pixel (t = the ray's slope), and that is below one
+// pixel for r = distance at every point's depth and slope. A voxel filter whose cubes' diagonal is that distance
+// then keeps every point as it is. Always false for unorganized input.
+bool PointsFartherApartThan(const Observation& observation, double distance);
+
 // The median of the observed depths at `pixels` (non-empty), m.
 double MedianDepth(const Observation& observation, const std::vector<uint32_t>& pixels);
 

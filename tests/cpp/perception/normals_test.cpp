@@ -115,6 +115,28 @@ TEST(ImageNeighborsTest, TheKNearestOfTheWindowInTheGridsOrder) {
   EXPECT_EQ(ImageNeighbors::RadiusFor(10), 2);
 }
 
+// A voxel filter whose cubes no two pixels' points can share (observation.h's bound) keeps every point: checked by
+// running the filter at sizes from far below the bound to beyond it.
+TEST(ImageNeighborsTest, CubesBelowTheRayBoundHoldOnePointEach) {
+  const CylinderView view = RenderCylinderView(0);
+  const Observation& obs = view.observation;
+  int below = 0;
+  for (double voxel : {1e-5, 3e-5, 1e-4, 3e-4, 1e-3}) {
+    const bool bound = PointsFartherApartThan(obs, voxel * std::sqrt(3.0));
+    if (!bound) continue;
+    ++below;
+    std::vector<int64_t> lone;
+    const std::vector<Vec3> kept = VoxelDownsample(obs.points, voxel, &lone);
+    ASSERT_EQ(kept.size(), obs.points.size()) << "voxel " << voxel;
+    for (size_t i = 0; i < kept.size(); ++i) ASSERT_EQ(lone[i], int64_t(i));
+  }
+  EXPECT_GE(below, 2);                                     // 10 and 30 µm at ~0.5 mm per pixel
+  EXPECT_FALSE(PointsFartherApartThan(obs, 1e-3 * std::sqrt(3.0)));  // 1 mm cubes: two pixels' points can share
+  Observation unorganized = obs;
+  unorganized.pixels.clear();
+  EXPECT_FALSE(PointsFartherApartThan(unorganized, 1e-5));
+}
+
 // The outlier test through the image (3 × 3 windows) on the same view with 2 % of its pixels thrown 2–10 cm along
 // their rays: it must find the thrown points and keep the surface. Measured when set: 98.6 % of the thrown points
 // removed, 99.9 % of the others kept (the grid's exact k nearest: 100 / 99.98 %).
