@@ -38,19 +38,24 @@ int ImageNeighbors::RadiusFor(int k) {
 }
 
 double ImageNeighbors::MeanDistanceToNearest(uint32_t i, int k) const {
-  thread_local std::vector<double> distances;
-  distances.clear();
+  // The window's squared distances: on the stack for the outlier test's 3 × 3 (up to 15 × 15), else on the heap.
+  const size_t window = size_t(2 * radius_ + 1) * size_t(2 * radius_ + 1);
+  double local[225];
+  std::vector<double> heap;
+  if (window > 225) heap.resize(window);
+  double* distances = window > 225 ? heap.data() : local;
+  size_t found = 0;
   const Vec3& query = points_[i];
   const int u0 = local_[i].first, v0 = local_[i].second;
   const int u_lo = std::max(0, u0 - radius_), u_hi = std::min(width_ - 1, u0 + radius_);
   for (int v = std::max(0, v0 - radius_); v <= std::min(height_ - 1, v0 + radius_); ++v) {
     const int32_t* row = point_at_.data() + size_t(v) * width_;
     for (int u = u_lo; u <= u_hi; ++u) {
-      if (row[u] >= 0 && uint32_t(row[u]) != i) distances.push_back((points_[row[u]] - query).squaredNorm());
+      if (row[u] >= 0 && uint32_t(row[u]) != i) distances[found++] = (points_[row[u]] - query).squaredNorm();
     }
   }
-  const size_t count = std::min(distances.size(), size_t(std::max(k, 0)));
-  if (count < distances.size()) std::nth_element(distances.begin(), distances.begin() + count, distances.end());
+  const size_t count = std::min(found, size_t(std::max(k, 0)));
+  if (count < found) std::nth_element(distances, distances + count, distances + found);
   double sum = 0;
   for (size_t j = 0; j < count; ++j) sum += std::sqrt(distances[j]);
   return count ? sum / double(count) : 0;
