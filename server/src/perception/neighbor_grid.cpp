@@ -7,7 +7,8 @@
 namespace graspsim {
 
 double CloudNeighbors::MeanDistanceToNearest(uint32_t i, int k) const {
-  thread_local std::vector<uint32_t> nearest;
+  std::vector<uint32_t> nearest;  // not thread_local: the perception library is position-independent code, and
+                                  // its TLS would make every binary link the dynamic loader (test_deploy_files.py)
   NearestTo(i, k + 1, &nearest);  // the point itself comes first
   double sum = 0;
   for (size_t j = 1; j < nearest.size(); ++j) sum += (Point(nearest[j]) - Point(i)).norm();
