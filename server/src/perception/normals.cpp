@@ -111,7 +111,8 @@ std::vector<Vec3> EstimateImageNormals(const Observation& observation, const std
   const CameraIntrinsics& cam = observation.intrinsics;
   // One window for the view: radius_m at the points' median depth (a table-top object's depth varies by ~10 %).
   const double pixels_per_m = std::max(cam.fx, cam.fy) / MedianDepth(observation, pixels);
-  const int r = std::clamp(int(std::lround(radius_m * pixels_per_m)), 1, 256);
+  const int r = int(std::lround(std::clamp(radius_m * pixels_per_m, 1.0, 256.0)));  // clamped before rounding: a
+                                                                                      // focal length may be huge
   // The points' bounding box of pixels, and moments relative to the cloud's mean (m) so the covariances keep
   // their digits.
   int u_lo = cam.width, u_hi = -1, v_lo = cam.height, v_hi = -1;
