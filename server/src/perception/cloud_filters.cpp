@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/error.h"
 #include "core/format.h"
 #include "perception/neighbor_grid.h"
@@ -31,10 +33,9 @@ std::vector<uint32_t> StatisticalInliers(const std::vector<Vec3>& points, const 
     for (size_t i = 0; i < points.size(); ++i) kept.push_back(uint32_t(i));
     return kept;
   }
-  std::vector<double> mean_distance(points.size());
+  const std::vector<double> mean_distance = neighbors.MeanDistancesToNearest(points.size(), k);
   double sum = 0, sum_sq = 0;
   for (size_t i = 0; i < points.size(); ++i) {
-    mean_distance[i] = neighbors.MeanDistanceToNearest(uint32_t(i), k);
     sum += mean_distance[i];
     sum_sq += mean_distance[i] * mean_distance[i];
   }
@@ -123,6 +124,25 @@ std::vector<Vec3> VoxelDownsample(const std::vector<Vec3>& points, double voxel,
     for (size_t g = 0; g < groups; ++g) (*lone_source)[g] = count[g] == 1 ? first[g] : -1;
   }
   return sum;
+}
+
+Vec3 SpreadEigenvalues(const std::vector<Vec3>& points) {
+  // One pass over sums relative to the first point (a cloud's extent, not its distance from the origin, sets the
+  // digits lost), the six distinct entries by hand: Eigen's 3 × 3 outer product per point was a twentieth of a
+  // 94k-point surface.
+  const Vec3 origin = points.front();
+  double x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  for (const Vec3& p : points) {
+    const double dx = p.x() - origin.x(), dy = p.y() - origin.y(), dz = p.z() - origin.z();
+    x += dx, y += dy, z += dz;
+    xx += dx * dx, xy += dx * dy, xz += dx * dz, yy += dy * dy, yz += dy * dz, zz += dz * dz;
+  }
+  const double n = double(points.size());
+  Mat3 covariance;
+  covariance << xx - x * x / n, xy - x * y / n, xz - x * z / n,  //
+      xy - x * y / n, yy - y * y / n, yz - y * z / n,            //
+      xz - x * z / n, yz - y * z / n, zz - z * z / n;
+  return Eigen::SelfAdjointEigenSolver<Mat3>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
 }
 
 }  // namespace graspsim

@@ -29,4 +29,8 @@ size_t VoxelGroups(const std::vector<Vec3>& points, double voxel, const Vec3& or
 std::vector<Vec3> VoxelDownsample(const std::vector<Vec3>& points, double voxel,
                                   std::vector<int64_t>* lone_source = nullptr);
 
+// The eigenvalues of the points' covariance (unnormalized: the sum of (p − mean)(p − mean)ᵀ), ascending: how far
+// the cloud spreads along its three principal axes; a surface needs two. Non-empty, finite points.
+Vec3 SpreadEigenvalues(const std::vector<Vec3>& points);
+
 }  // namespace graspsim

@@ -19,13 +19,7 @@ SeenFreeSpace::SeenFreeSpace(const Observation& observation, double margin_px, d
       depth_margin_(depth_margin) {
   const CameraIntrinsics& k = observation.intrinsics;
   // Only a window around the mask needs its distance: every pixel outside the window is beyond the margin.
-  int u_lo = k.width, u_hi = -1, v_lo = k.height, v_hi = -1;
-  for (int v = 0; v < k.height; ++v) {
-    for (int u = 0; u < k.width; ++u) {
-      if (!observation.mask[size_t(v) * k.width + u]) continue;
-      u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u), v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
-    }
-  }
+  const auto [u_lo, v_lo, u_hi, v_hi] = MaskBox(observation);
   const int pad = int(std::ceil(std::max(margin_px, 0.0))) + 1;
   window_.x = std::max(0, u_lo - pad);
   window_.y = std::max(0, v_lo - pad);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -9,27 +10,30 @@
 
 namespace graspsim {
 
+PixelIndex::PixelIndex(int image_width, const std::vector<uint32_t>& pixels) {
+  int u_lo = std::numeric_limits<int>::max(), u_hi = -1, v_lo = std::numeric_limits<int>::max(), v_hi = -1;
+  for (uint32_t p : pixels) {
+    const int u = int(p % uint32_t(image_width)), v = int(p / uint32_t(image_width));
+    u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u), v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
+  }
+  if (pixels.empty()) return;
+  u0 = u_lo, v0 = v_lo;
+  width = u_hi - u_lo + 1, height = v_hi - v_lo + 1;
+  point_at.assign(size_t(width) * size_t(height), -1);
+  local.resize(pixels.size());
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const int u = int(pixels[i] % uint32_t(image_width)) - u0, v = int(pixels[i] / uint32_t(image_width)) - v0;
+    local[i] = {u, v};
+    point_at[size_t(v) * size_t(width) + size_t(u)] = int32_t(i);
+  }
+}
+
 ImageNeighbors::ImageNeighbors(const CameraIntrinsics& intrinsics, const std::vector<Vec3>& points,
                                const std::vector<uint32_t>& pixels, int radius_px)
-    : image_width_(intrinsics.width), radius_(radius_px), points_(points) {
+    : radius_(radius_px), points_(points), index_(intrinsics.width, pixels) {
   if (pixels.size() != points.size()) {
     throw Error(ErrorCode::kInternal, "ImageNeighbors: " + std::to_string(pixels.size()) + " pixels for " +
                                           std::to_string(points.size()) + " points");
-  }
-  // The index image covers the pixels' bounding box only (a table-top object fills a small part of the view).
-  int u_lo = intrinsics.width, u_hi = -1, v_lo = intrinsics.height, v_hi = -1;
-  for (uint32_t p : pixels) {
-    const int u = int(p % uint32_t(image_width_)), v = int(p / uint32_t(image_width_));
-    u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u), v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
-  }
-  u0_ = u_lo, v0_ = v_lo;
-  width_ = std::max(0, u_hi - u_lo + 1), height_ = std::max(0, v_hi - v_lo + 1);
-  point_at_.assign(size_t(width_) * size_t(height_), -1);
-  local_.resize(pixels.size());
-  for (size_t i = 0; i < pixels.size(); ++i) {
-    const int u = int(pixels[i] % uint32_t(image_width_)) - u0_, v = int(pixels[i] / uint32_t(image_width_)) - v0_;
-    local_[i] = {u, v};
-    point_at_[size_t(v) * width_ + u] = int32_t(i);
   }
 }
 
@@ -46,14 +50,9 @@ double ImageNeighbors::MeanDistanceToNearest(uint32_t i, int k) const {
   double* distances = window > 225 ? heap.data() : local;
   size_t found = 0;
   const Vec3& query = points_[i];
-  const int u0 = local_[i].first, v0 = local_[i].second;
-  const int u_lo = std::max(0, u0 - radius_), u_hi = std::min(width_ - 1, u0 + radius_);
-  for (int v = std::max(0, v0 - radius_); v <= std::min(height_ - 1, v0 + radius_); ++v) {
-    const int32_t* row = point_at_.data() + size_t(v) * width_;
-    for (int u = u_lo; u <= u_hi; ++u) {
-      if (row[u] >= 0 && uint32_t(row[u]) != i) distances[found++] = (points_[row[u]] - query).squaredNorm();
-    }
-  }
+  index_.ForEachInWindow(i, radius_, [&](uint32_t j) {
+    if (j != i) distances[found++] = (points_[j] - query).squaredNorm();
+  });
   const size_t count = std::min(found, size_t(std::max(k, 0)));
   if (count < found) std::nth_element(distances, distances + count, distances + found);
   double sum = 0;
@@ -61,38 +60,40 @@ double ImageNeighbors::MeanDistanceToNearest(uint32_t i, int k) const {
   return count ? sum / double(count) : 0;
 }
 
-void ImageNeighbors::NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const {
-  // The best k so far, ascending by (squared distance, index): NeighborGrid's order. Insertion into a short
-  // sorted array, as the grid does: the window holds a few dozen points.
-  struct Item {
-    double d;
-    uint32_t i;
-    bool operator<(const Item& o) const { return d < o.d || (d == o.d && i < o.i); }
-  };
-  Item local[32];
-  std::vector<Item> spill;
-  Item* best = local;
-  if (k > 32) {
-    spill.resize(size_t(k));
-    best = spill.data();
-  }
-  int count = 0;
-  const Vec3& query = points_[i];
-  const int u0 = local_[i].first, v0 = local_[i].second;
-  const int u_lo = std::max(0, u0 - radius_), u_hi = std::min(width_ - 1, u0 + radius_);
-  for (int v = std::max(0, v0 - radius_); v <= std::min(height_ - 1, v0 + radius_); ++v) {
-    const int32_t* row = point_at_.data() + size_t(v) * width_;
-    for (int u = u_lo; u <= u_hi; ++u) {
-      if (row[u] < 0) continue;
-      const Item item{(points_[row[u]] - query).squaredNorm(), uint32_t(row[u])};
-      if (count == k && !(item < best[k - 1])) continue;
-      int at = count < k ? count++ : k - 1;
-      for (; at > 0 && item < best[at - 1]; --at) best[at] = best[at - 1];
-      best[at] = item;
+std::vector<double> ImageNeighbors::MeanDistancesToNearest(size_t count, int k) const {
+  if (radius_ != 1 || k < 8 || count != points_.size()) return CloudNeighbors::MeanDistancesToNearest(count, k);
+  std::vector<double> sums(count, 0.0);
+  std::vector<uint8_t> found(count, 0);
+  const int w = index_.width, h = index_.height;
+  // Each point with its neighbours right, below left, below and below right: every pair of the 3 × 3 once.
+  for (int v = 0; v < h; ++v) {
+    const int32_t* row = index_.point_at.data() + size_t(v) * size_t(w);
+    const int32_t* below = v + 1 < h ? row + w : nullptr;
+    for (int u = 0; u < w; ++u) {
+      const int32_t i = row[u];
+      if (i < 0) continue;
+      const auto pair = [&](int32_t j) {
+        if (j < 0) return;
+        const double d = (points_[size_t(j)] - points_[size_t(i)]).norm();
+        sums[size_t(i)] += d, sums[size_t(j)] += d;
+        ++found[size_t(i)], ++found[size_t(j)];
+      };
+      if (u + 1 < w) pair(row[u + 1]);
+      if (below) {
+        if (u > 0) pair(below[u - 1]);
+        pair(below[u]);
+        if (u + 1 < w) pair(below[u + 1]);
+      }
     }
   }
-  out->resize(size_t(count));
-  for (int j = 0; j < count; ++j) (*out)[j] = best[j].i;
+  for (size_t i = 0; i < count; ++i) sums[i] = found[i] ? sums[i] / found[i] : 0;
+  return sums;
+}
+
+void ImageNeighbors::NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const {
+  KNearest best(k);  // NeighborGrid's order
+  index_.ForEachInWindow(i, radius_, [&](uint32_t j) { best.Offer((points_[j] - points_[i]).squaredNorm(), j); });
+  best.Write(out);
 }
 
 }  // namespace graspsim

@@ -8,6 +8,7 @@
 // verdict for a fraction of the cost. Not the exact k nearest: use NeighborGrid where that matters.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -17,6 +18,31 @@
 #include "perception/observation.h"
 
 namespace graspsim {
+
+// The points of a depth image by pixel, over their pixels' bounding box only (a table-top object fills a small
+// part of the view): the point seen at each pixel, −1 for none. pixels[i] is point i's pixel in an image
+// `image_width` wide; at most one point per pixel.
+struct PixelIndex {
+  PixelIndex(int image_width, const std::vector<uint32_t>& pixels);
+
+  // Calls f(j) for each point j seen within `radius` pixels of point i in both directions (i itself included),
+  // row by row.
+  template <typename F>
+  void ForEachInWindow(uint32_t i, int radius, F&& f) const {
+    const auto [at_u, at_v] = local[i];
+    const int u_lo = std::max(0, at_u - radius), u_hi = std::min(width - 1, at_u + radius);
+    for (int v = std::max(0, at_v - radius); v <= std::min(height - 1, at_v + radius); ++v) {
+      const int32_t* row = point_at.data() + size_t(v) * size_t(width);
+      for (int u = u_lo; u <= u_hi; ++u) {
+        if (row[u] >= 0) f(uint32_t(row[u]));
+      }
+    }
+  }
+
+  int u0 = 0, v0 = 0, width = 0, height = 0;  // the box, in the image's pixels
+  std::vector<int32_t> point_at;              // per pixel of the box, row-major
+  std::vector<std::pair<int, int>> local;     // per point: its pixel (u, v) in the box
+};
 
 class ImageNeighbors : public CloudNeighbors {
  public:
@@ -30,17 +56,17 @@ class ImageNeighbors : public CloudNeighbors {
   void NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const override;
   // Without sorting when the window holds at most k others (the 3 × 3 window of the outlier test's k = 8).
   double MeanDistanceToNearest(uint32_t i, int k) const override;
+  // In a 3 × 3 window with k ≥ 8 (every other point of the window counts), each pair's distance once for both.
+  std::vector<double> MeanDistancesToNearest(size_t count, int k) const override;
   const Vec3& Point(uint32_t i) const override { return points_[i]; }
 
   // The smallest radius whose window holds k pixels (k = 9, the outlier test's 8 and the point: 3 × 3).
   static int RadiusFor(int k);
 
  private:
-  int image_width_, radius_;
+  int radius_;
   const std::vector<Vec3>& points_;
-  int u0_ = 0, v0_ = 0, width_ = 0, height_ = 0;  // the pixels' bounding box
-  std::vector<int32_t> point_at_;                // per pixel of the box: the point seen there, −1 for none
-  std::vector<std::pair<int, int>> local_;       // per point: its pixel in the box
+  PixelIndex index_;
 };
 
 }  // namespace graspsim

@@ -15,6 +15,12 @@ double CloudNeighbors::MeanDistanceToNearest(uint32_t i, int k) const {
   return nearest.size() > 1 ? sum / double(nearest.size() - 1) : 0;
 }
 
+std::vector<double> CloudNeighbors::MeanDistancesToNearest(size_t count, int k) const {
+  std::vector<double> distances(count);
+  for (size_t i = 0; i < count; ++i) distances[i] = MeanDistanceToNearest(uint32_t(i), k);
+  return distances;
+}
+
 NeighborGrid::NeighborGrid(const std::vector<Vec3>& points, double cell_size) : points_(points), cell_size_(cell_size) {
   Vec3 lo = points.front(), hi = points.front();
   for (const Vec3& p : points) {
@@ -53,22 +59,7 @@ Eigen::Vector3i NeighborGrid::CellOf(const Vec3& p) const {
 void NeighborGrid::Nearest(const Vec3& query, int k, std::vector<uint32_t>* out) const {
   out->clear();
   if (k <= 0) return;
-  // The best k so far, sorted ascending by (squared distance, index) — the pair order makes ties deterministic.
-  // Insertion into a short sorted array beats a heap for the k of normals and outlier tests (≈ 10) and allocates
-  // nothing for k ≤ 32.
-  struct Item {
-    double d;
-    uint32_t i;
-    bool operator<(const Item& o) const { return d < o.d || (d == o.d && i < o.i); }
-  };
-  Item local[32];
-  std::vector<Item> spill;
-  Item* best = local;
-  if (k > 32) {
-    spill.resize(k);
-    best = spill.data();
-  }
-  int count = 0;
+  KNearest best(k);
   const Eigen::Vector3i center = CellOf(query);
   const int max_ring = dims_.maxCoeff();
   for (int ring = 0; ring <= max_ring; ++ring) {
@@ -84,28 +75,22 @@ void NeighborGrid::Nearest(const Vec3& query, int k, std::vector<uint32_t>* out)
           }
           const int64_t c = CellIndex(x, y, z);
           if (cell_start_[c] == cell_start_[c + 1]) continue;
-          if (count == k) {  // skip a cell that lies wholly beyond the k-th nearest so far
+          if (best.Full()) {  // skip a cell that lies wholly beyond the k-th nearest so far
             const Vec3 lo = origin_ + cell_size_ * Vec3(x, y, z);
             const Vec3 gap = (lo - query).cwiseMax(query - lo - Vec3::Constant(cell_size_)).cwiseMax(0.0);
-            if (gap.squaredNorm() > best[k - 1].d) continue;
+            if (gap.squaredNorm() > best.Worst()) continue;
           }
           for (uint32_t j = cell_start_[c]; j < cell_start_[c + 1]; ++j) {
-            const uint32_t i = order_[j];
-            const Item item{(points_[i] - query).squaredNorm(), i};
-            if (count == k && !(item < best[k - 1])) continue;
-            int at = count < k ? count++ : k - 1;
-            for (; at > 0 && item < best[at - 1]; --at) best[at] = best[at - 1];
-            best[at] = item;
+            best.Offer((points_[order_[j]] - query).squaredNorm(), order_[j]);
           }
         }
       }
     }
     // Every cell of ring r + 1 lies at least r cell sizes from the query (it sits inside the centre cell).
     const double reach = ring * cell_size_;
-    if (count == k && best[k - 1].d <= reach * reach) break;
+    if (best.Full() && best.Worst() <= reach * reach) break;
   }
-  out->resize(count);
-  for (int j = 0; j < count; ++j) (*out)[j] = best[j].i;
+  best.Write(out);
 }
 
 double NeighborGrid::SuggestCellSize(const std::vector<Vec3>& points, int k) {

@@ -3,6 +3,7 @@
 // cells; no tree to build). Results are exact and deterministic: ties in distance go to the lower index.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -19,7 +20,47 @@ class CloudNeighbors {
   virtual void NearestTo(uint32_t i, int k, std::vector<uint32_t>* out) const = 0;
   // The mean distance from point i to its k nearest others (the outlier test's figure; 0 when it has none).
   virtual double MeanDistanceToNearest(uint32_t i, int k) const;
+  // The same for every point, i = 0 .. count − 1.
+  virtual std::vector<double> MeanDistancesToNearest(size_t count, int k) const;
   virtual const Vec3& Point(uint32_t i) const = 0;
+};
+
+// The best k candidates offered so far, ascending by (squared distance, index): ties go to the lower index.
+// Insertion into a short sorted array beats a heap for the k of normals and outlier tests (≈ 10) and allocates
+// nothing for k ≤ 32.
+class KNearest {
+ public:
+  explicit KNearest(int k) : k_(std::max(k, 0)) {
+    if (k_ > kLocal) spill_.resize(size_t(k_));
+  }
+  bool Full() const { return count_ == k_; }
+  double Worst() const { return best()[k_ - 1].d; }  // the k-th squared distance; only when Full()
+  void Offer(double squared_distance, uint32_t index) {
+    const Item item{squared_distance, index};
+    Item* best = this->best();
+    if (k_ == 0 || (count_ == k_ && !(item < best[k_ - 1]))) return;
+    int at = count_ < k_ ? count_++ : k_ - 1;
+    for (; at > 0 && item < best[at - 1]; --at) best[at] = best[at - 1];
+    best[at] = item;
+  }
+  // The indices, nearest first.
+  void Write(std::vector<uint32_t>* out) const {
+    out->resize(size_t(count_));
+    for (int j = 0; j < count_; ++j) (*out)[j] = best()[j].i;
+  }
+
+ private:
+  struct Item {
+    double d;
+    uint32_t i;
+    bool operator<(const Item& o) const { return d < o.d || (d == o.d && i < o.i); }
+  };
+  static constexpr int kLocal = 32;
+  Item* best() { return k_ > kLocal ? spill_.data() : local_; }
+  const Item* best() const { return k_ > kLocal ? spill_.data() : local_; }
+  int k_, count_ = 0;
+  Item local_[kLocal];
+  std::vector<Item> spill_;
 };
 
 class NeighborGrid : public CloudNeighbors {

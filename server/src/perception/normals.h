@@ -28,15 +28,18 @@ std::vector<Vec3> EstimateNormals(const std::vector<Vec3>& points, const CloudNe
 namespace graspsim {
 
 // Normals of the points of a depth image: at each point the plane fit over the points seen within a square window
-// of pixels around it whose side spans about 2 radius_m on the surface at the points' median depth (at least
-// 3 × 3 pixels), instead of over its k nearest in space. A depth camera's noise along the rays (~1 mm) exceeds its
+// of pixels around it whose side spans about 2 radius_m on the surface at depth_m (at least 3 × 3 pixels; the
+// points' median depth, MedianDepth in observation.h: a table-top object's depth varies by ~10 %), instead of over
+// its k nearest in space. A depth camera's noise along the rays (~1 mm) exceeds its
 // pixel spacing at table-top range (~0.3–0.5 mm), so the k nearest in space are picked by their noise as much as by
 // their place and their plane tilts with it (normals_test.cpp: 39° mean error against 3°; at 39k points per view
 // the completions came out less accurate than from the voxel-averaged cloud); pixels pick neighbours by place
 // alone. The window's sums slide along the rows and columns: O(1) per point whatever the window. points[i] was
-// seen at pixel pixels[i] of observation's image (at most one point per pixel); viewpoint as above; radius_m > 0.
+// seen at pixel pixels[i] of observation's image (at most one point per pixel); viewpoint as above; radius_m and
+// depth_m > 0.
 // A window with fewer than 3 points falls back to the k = 10 plane fit in space.
 std::vector<Vec3> EstimateImageNormals(const Observation& observation, const std::vector<Vec3>& points,
-                                       const std::vector<uint32_t>& pixels, double radius_m, const Vec3& viewpoint);
+                                       const std::vector<uint32_t>& pixels, double radius_m, double depth_m,
+                                       const Vec3& viewpoint);
 
 }  // namespace graspsim

@@ -64,15 +64,24 @@ Observation FromImage(const DepthImage& image, const Pose& camera_pose, size_t m
   obs.intrinsics = k;
   obs.depth.resize(pixels);
   obs.mask.assign(pixels, 0);
-  for (size_t i = 0; i < pixels; ++i) {
-    const float z = image.depth[i];
-    const bool valid = std::isfinite(z) && z > 0;
-    obs.depth[i] = valid ? z : kNoReturn;
-    obs.mask[i] = image.mask.empty() ? valid : image.mask[i] != 0;
-    if (!valid || !obs.mask[i]) continue;
-    const int u = int(i % size_t(k.width)), v = int(i / size_t(k.width));
-    obs.points.push_back(camera_pose * Vec3((u - k.cx) * z / k.fx, (v - k.cy) * z / k.fy, z));
-    obs.pixels.push_back(uint32_t(i));
+  // Row by row, with the rotation as a matrix and the rays' slopes per column and row (a quaternion product and
+  // two divisions per pixel were a twentieth of a 39k-point completion).
+  const Mat3 rotation = camera_pose.orientation.toRotationMatrix();
+  std::vector<double> slope_u(size_t(k.width));
+  for (int u = 0; u < k.width; ++u) slope_u[size_t(u)] = (u - k.cx) / k.fx;
+  for (int v = 0; v < k.height; ++v) {
+    const double slope_v = (v - k.cy) / k.fy;
+    const size_t row = size_t(v) * size_t(k.width);
+    for (int u = 0; u < k.width; ++u) {
+      const size_t i = row + size_t(u);
+      const float z = image.depth[i];
+      const bool valid = std::isfinite(z) && z > 0;
+      obs.depth[i] = valid ? z : kNoReturn;
+      obs.mask[i] = image.mask.empty() ? valid : image.mask[i] != 0;
+      if (!valid || !obs.mask[i]) continue;
+      obs.points.push_back(rotation * Vec3(slope_u[size_t(u)] * z, slope_v * z, z) + camera_pose.position);
+      obs.pixels.push_back(uint32_t(i));
+    }
   }
   if (obs.points.empty()) {
     ThrowInvalidArgument(std::string("depth_image.depth: no pixel") + (image.mask.empty() ? "" : " inside the mask") +
@@ -154,6 +163,20 @@ bool PointsFartherApartThan(const Observation& observation, double distance) {
   const double reach_u = k.fx * distance * std::sqrt(1 + slope_u * slope_u) / (nearest - distance);
   const double reach_v = k.fy * distance * std::sqrt(1 + slope_v * slope_v) / (nearest - distance);
   return reach_u < 0.5 && reach_v < 0.5;  // half a pixel: room for the rounding of the points' coordinates
+}
+
+PixelBox MaskBox(const Observation& observation) {
+  const CameraIntrinsics& k = observation.intrinsics;
+  PixelBox box{k.width, k.height, -1, -1};
+  for (int v = 0; v < k.height; ++v) {
+    const uint8_t* row = observation.mask.data() + size_t(v) * size_t(k.width);
+    for (int u = 0; u < k.width; ++u) {
+      if (!row[u]) continue;
+      box.u_lo = std::min(box.u_lo, u), box.u_hi = std::max(box.u_hi, u);
+      box.v_lo = std::min(box.v_lo, v), box.v_hi = std::max(box.v_hi, v);
+    }
+  }
+  return box.u_hi < 0 ? PixelBox{} : box;
 }
 
 double MedianDepth(const Observation& observation, const std::vector<uint32_t>& pixels) {

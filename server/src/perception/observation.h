@@ -56,6 +56,12 @@ struct Observation {
 // then keeps every point as it is. Always false for unorganized input.
 bool PointsFartherApartThan(const Observation& observation, double distance);
 
+// The mask's bounding box, pixels, inclusive; u_hi < 0 when no pixel is in the mask.
+struct PixelBox {
+  int u_lo = 0, v_lo = 0, u_hi = -1, v_hi = -1;
+};
+PixelBox MaskBox(const Observation& observation);
+
 // The median of the observed depths at `pixels` (non-empty), m.
 double MedianDepth(const Observation& observation, const std::vector<uint32_t>& pixels);
 

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include <Eigen/Eigenvalues>
-
 #include "core/error.h"
 #include "core/format.h"
 #include "core/validate.h"
@@ -53,24 +51,13 @@ void Validate(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
     ThrowInvalidArgument("normals: " + std::to_string(normals.size()) + " normals for " +
                          std::to_string(points.size()) + " points");
   }
-  Vec3 mean = Vec3::Zero();
   for (size_t i = 0; i < points.size(); ++i) {
     // The field's name is built only for a bad value (a string per point cost ~0.5 ms on 5k points).
     if (!points[i].allFinite()) CheckFinite("points[" + std::to_string(i) + "]", points[i]);
     if (!normals[i].allFinite()) CheckFinite("normals[" + std::to_string(i) + "]", normals[i]);
     if (normals[i].squaredNorm() == 0) ThrowInvalidArgument("normals[" + std::to_string(i) + "]: zero length");
-    mean += points[i];
   }
-  mean /= double(points.size());
-  // The six distinct sums by hand: Eigen's 3 × 3 outer product per point was a twentieth of a 94k-point surface.
-  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
-  for (const Vec3& p : points) {
-    const double x = p.x() - mean.x(), y = p.y() - mean.y(), z = p.z() - mean.z();
-    xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
-  }
-  Mat3 covariance;
-  covariance << xx, xy, xz, xy, yy, yz, xz, yz, zz;
-  const Vec3 spread = Eigen::SelfAdjointEigenSolver<Mat3>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
+  const Vec3 spread = SpreadEigenvalues(points);
   if (!(spread[2] > 0)) {
     ThrowInvalidArgument("points: all " + std::to_string(points.size()) + " points coincide");
   }
@@ -296,7 +283,10 @@ MergedSamples MergePerCell(const std::vector<Vec3>& points, const std::vector<Ve
   merged.counts.assign(groups, 0.0);
   for (size_t i = 0; i < points.size(); ++i) {
     merged.points[group[i]] += points[i];
-    merged.normal_sums[group[i]] += normals[i].normalized();
+    // Unit already within rounding (the shape pipeline's normals): the square root and division skipped.
+    const double length_sq = normals[i].squaredNorm();
+    merged.normal_sums[group[i]] +=
+        std::abs(length_sq - 1) < 1e-12 ? normals[i] : Vec3(normals[i] / std::sqrt(length_sq));
     merged.counts[group[i]] += 1;
   }
   for (size_t g = 0; g < groups; ++g) merged.points[g] /= merged.counts[g];

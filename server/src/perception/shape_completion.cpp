@@ -7,7 +7,6 @@
 #include <memory>
 #include <string>
 
-#include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
@@ -30,12 +29,7 @@ double MsSince(Clock::time_point start) {
 void CheckSpread(const std::vector<Vec3>& points, size_t input_points) {
   const std::string what = std::to_string(points.size()) + " of " + std::to_string(input_points) + " points";
   if (points.size() < 10) ThrowInvalidArgument("points: " + what + " left after the outlier filter; need 10");
-  Vec3 mean = Vec3::Zero();
-  for (const Vec3& p : points) mean += p;
-  mean /= double(points.size());
-  Mat3 covariance = Mat3::Zero();
-  for (const Vec3& p : points) covariance += (p - mean) * (p - mean).transpose();
-  const Vec3 spread = Eigen::SelfAdjointEigenSolver<Mat3>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
+  const Vec3 spread = SpreadEigenvalues(points);
   if (!(spread(1) > 1e-12 * spread(2))) ThrowInvalidArgument("points: all " + what + " lie on one line");
 }
 
@@ -44,6 +38,7 @@ void CheckSpread(const std::vector<Vec3>& points, size_t input_points) {
 struct SeenCloud {
   std::vector<Vec3> points;
   std::vector<uint32_t> pixels;  // empty: unorganized from here on
+  double median_depth = 0;       // of the pixels, m (MedianDepth), when there are pixels
 
   std::unique_ptr<CloudNeighbors> Neighbors(const Observation& observation, int k) const {
     if (!pixels.empty()) {
@@ -104,7 +99,7 @@ void OrientedSurfacePoints(const SeenCloud& seen, const Observation& observation
   params.viewpoint = observation.CameraCentre();
   if (!seen.pixels.empty() && options.image_normal_radius > 0) {
     *normals = EstimateImageNormals(observation, seen.points, seen.pixels, options.image_normal_radius,
-                                    params.viewpoint);
+                                    seen.median_depth, params.viewpoint);
   } else {
     *normals = EstimateNormals(seen.points, params);
   }
@@ -121,14 +116,17 @@ void OrientedSurfacePoints(const SeenCloud& seen, const Observation& observation
 }
 
 // The underside on a known table: points every `step` (the camera's sampling of the object) over the convex hull of
-// the footprint (within a step), normals into the table. `step` is at least 1/1024 of the footprint's extent.
-void AddTableCap(const Vec3& up, double offset, double step, std::vector<Vec3>* points, std::vector<Vec3>* normals) {
+// the footprint of the seen points and their mirror images (within a step), normals into the table. `step` is at
+// least 1/1024 of the footprint's extent.
+void AddTableCap(const Vec3& up, double offset, double step, const std::vector<Vec3>& seen,
+                 const std::optional<SymmetryPlane>& plane, std::vector<Vec3>* points, std::vector<Vec3>* normals) {
   const Vec3 ax = (std::abs(up.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(up).normalized();
   const Vec3 ay = up.cross(ax);
-  std::vector<cv::Point2f> footprint(points->size()), hull;
+  const auto on_table = [&](const Vec3& p) { return cv::Point2f(float(p.dot(ax)), float(p.dot(ay))); };
+  std::vector<cv::Point2f> footprint(seen.size()), hull;
   cv::Point2f lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
-  for (size_t i = 0; i < points->size(); ++i) {
-    footprint[i] = cv::Point2f(float((*points)[i].dot(ax)), float((*points)[i].dot(ay)));
+  for (size_t i = 0; i < seen.size(); ++i) {
+    footprint[i] = on_table(seen[i]);
     lo.x = std::min(lo.x, footprint[i].x), lo.y = std::min(lo.y, footprint[i].y);
     hi.x = std::max(hi.x, footprint[i].x), hi.y = std::max(hi.y, footprint[i].y);
   }
@@ -136,7 +134,7 @@ void AddTableCap(const Vec3& up, double offset, double step, std::vector<Vec3>* 
   step = std::max(step, double(std::max(hi.x - lo.x, hi.y - lo.y)) / 1024);
   // The hull of the extremes per strip `step` wide, across x and across y: within one step of the footprint's hull
   // (a point beaten in its strip lies at most a strip's width outside the hull of those that beat it), and a few
-  // hundred points to hull instead of 70k (sorting them all was most of the cap's time).
+  // hundred points to hull instead of 39k (sorting them all was most of the cap's time).
   std::vector<std::array<int, 4>> extremes;  // per strip: the points of least y and most y in its column, least x
   const auto strip = [&](float value, float origin) { return size_t((value - origin) / float(step)); };
   for (size_t i = 0; i < footprint.size(); ++i) {
@@ -157,10 +155,14 @@ void AddTableCap(const Vec3& up, double offset, double step, std::vector<Vec3>* 
     better(&extremes[row][2], true, false);
     better(&extremes[row][3], false, false);
   }
+  // The mirror plane stands on the table (symmetry_search.h): seen from above, mirroring is a reflection of the
+  // footprint, so the mirror images of these extremes bound the mirrored footprint as closely.
   std::vector<cv::Point2f> outline;
   for (const std::array<int, 4>& e : extremes) {
     for (int i : e) {
-      if (i >= 0) outline.push_back(footprint[size_t(i)]);
+      if (i < 0) continue;
+      outline.push_back(footprint[size_t(i)]);
+      if (plane) outline.push_back(on_table(MirrorPoint(*plane, seen[size_t(i)])));
     }
   }
   cv::convexHull(outline, hull, /*clockwise=*/false);
@@ -191,7 +193,7 @@ void AddTableCap(const Vec3& up, double offset, double step, std::vector<Vec3>* 
 // point for point (their nearest neighbours in space are picked by the noise), else the median spacing.
 double SamplingStep(const SeenCloud& seen, const Observation& observation) {
   if (seen.pixels.empty()) return NeighborGrid::MedianSpacing(seen.points);
-  return MedianDepth(observation, seen.pixels) / std::max(observation.intrinsics.fx, observation.intrinsics.fy);
+  return seen.median_depth / std::max(observation.intrinsics.fx, observation.intrinsics.fy);
 }
 
 }  // namespace
@@ -215,7 +217,8 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   if (!report("filter", 0.05)) return std::nullopt;
 
   t = Clock::now();
-  const SeenCloud filtered = FilterCloud(observation, options);
+  SeenCloud filtered = FilterCloud(observation, options);
+  if (!filtered.pixels.empty()) filtered.median_depth = MedianDepth(observation, filtered.pixels);
   const std::vector<Vec3>& seen = filtered.points;
   CheckSpread(seen, observation.points.size());
   result.filtered_points = seen.size();
@@ -242,7 +245,7 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   OrientedSurfacePoints(filtered, observation, result.plane, options, &points, &normals);
   if (options.table_offset) {
     AddTableCap(options.symmetry.table_normal.normalized(), *options.table_offset, SamplingStep(filtered, observation),
-                &points, &normals);
+                seen, result.plane, &points, &normals);
   }
   result.surface_points = points.size();
   result.ms.normals_ms = MsSince(t);

@@ -94,14 +94,7 @@ Vec3 MirrorDirection(const SymmetryPlane& plane, const Vec3& d) { return d - 2 *
 
 SymmetrySearch::SymmetrySearch(const Observation& observation) : observation_(observation) {
   const CameraIntrinsics& k = observation.intrinsics;
-  int lo_x = k.width, hi_x = -1, lo_y = k.height, hi_y = -1;
-  for (int y = 0; y < k.height; ++y) {
-    const uint8_t* row = observation.mask.data() + size_t(y) * size_t(k.width);
-    for (int x = 0; x < k.width; ++x) {
-      if (!row[x]) continue;
-      lo_x = std::min(lo_x, x), hi_x = std::max(hi_x, x), lo_y = std::min(lo_y, y), hi_y = std::max(hi_y, y);
-    }
-  }
+  auto [lo_x, lo_y, hi_x, hi_y] = MaskBox(observation);
   if (hi_x < 0) lo_x = hi_x = lo_y = hi_y = 0;  // no mask pixel (Observe refuses that): a one-pixel window
   const int margin = std::max({16, (hi_x - lo_x + 1) / 2, (hi_y - lo_y + 1) / 2});
   x0_ = std::max(0, lo_x - margin), y0_ = std::max(0, lo_y - margin);

@@ -164,6 +164,22 @@ TEST(ImageNeighborsTest, TheOutlierTestThroughTheImageFindsFlyingPixels) {
   EXPECT_GT(image_kept, 0.95);
 }
 
+// The outlier test's figure for every point at once (each pair of a 3 × 3 window measured once for both) is the
+// per-point figure, on the view with thrown pixels; other windows and k take the per-point path.
+TEST(ImageNeighborsTest, MeanDistancesForAllPointsAreThePerPointOnes) {
+  const CylinderView view = RenderCylinderView(0.02);
+  const Observation& obs = view.observation;
+  for (const auto [radius, k] : {std::pair{1, 8}, {1, 20}, {1, 5}, {2, 8}}) {
+    const ImageNeighbors neighbors(obs.intrinsics, obs.points, obs.pixels, radius);
+    const std::vector<double> all = neighbors.MeanDistancesToNearest(obs.points.size(), k);
+    ASSERT_EQ(all.size(), obs.points.size());
+    for (size_t i = 0; i < obs.points.size(); ++i) {
+      ASSERT_NEAR(all[i], neighbors.MeanDistanceToNearest(uint32_t(i), k), 1e-15)
+          << "radius " << radius << ", k " << k << ", point " << i;
+    }
+  }
+}
+
 // Normals of a depth image against the cylinder's true (radial) normals. Over a pixel window of 4 mm radius the
 // plane fit averages ~290 points spread evenly over the patch; the k = 10 nearest in space sit in a ~1.5 mm ball
 // of noise as thick as it is wide. Measured when set: mean 3.1° (window; one-sided windows at the silhouette) against
@@ -182,7 +198,8 @@ TEST(ImageNormalsTest, WindowPlaneFitsBeatTheNearestInSpaceUnderDepthNoise) {
     }
     return sum / count;
   };
-  const std::vector<Vec3> window = EstimateImageNormals(obs, obs.points, obs.pixels, 0.004, obs.CameraCentre());
+  const std::vector<Vec3> window =
+      EstimateImageNormals(obs, obs.points, obs.pixels, 0.004, MedianDepth(obs, obs.pixels), obs.CameraCentre());
   NormalEstimationParams params;
   params.viewpoint = obs.CameraCentre();
   const std::vector<Vec3> in_space = EstimateNormals(obs.points, params);
