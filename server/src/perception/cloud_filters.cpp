@@ -59,6 +59,17 @@ std::vector<Vec3> RemoveStatisticalOutliers(const std::vector<Vec3>& points, int
   return kept;
 }
 
+namespace {
+
+// floor(x) as an integer without the library call (std::floor is one where the build targets plain SSE2: three per
+// point were most of the voxel pass). |x| < 2^62.
+int64_t FloorToInt(double x) {
+  const int64_t truncated = int64_t(x);
+  return truncated - int64_t(x < double(truncated));
+}
+
+}  // namespace
+
 size_t VoxelGroups(const std::vector<Vec3>& points, double voxel, const Vec3& origin, std::vector<uint32_t>* group) {
   if (!(voxel > 0) || !std::isfinite(voxel)) {
     ThrowInvalidArgument("voxel_size: " + FormatNumber(voxel) + " m must be positive");
@@ -67,17 +78,22 @@ size_t VoxelGroups(const std::vector<Vec3>& points, double voxel, const Vec3& or
   // them; else open addressing on the packed cube coordinates.
   group->resize(points.size());
   if (points.empty()) return 0;
+  // By the inverse: three divisions a point were most of the pass (a point within rounding of a face may take the
+  // cube beside it).
+  const double inverse = 1 / voxel;
   Vec3 lo = points.front(), hi = points.front();
   for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Eigen::Vector3d first = ((lo - origin) / voxel).array().floor(), last = ((hi - origin) / voxel).array().floor();
-  const Eigen::Vector3d extent = last - first + Eigen::Vector3d::Ones();
-  if (extent.prod() <= 4.0 * double(points.size()) + 64) {
-    const int64_t nx = int64_t(extent.x()), ny = int64_t(extent.y());
+  const auto cube_of = [&](const Vec3& p) {
+    const Vec3 q = (p - origin) * inverse;
+    return Eigen::Matrix<int64_t, 3, 1>(FloorToInt(q.x()), FloorToInt(q.y()), FloorToInt(q.z()));
+  };
+  const Eigen::Matrix<int64_t, 3, 1> first = cube_of(lo), extent = cube_of(hi) - first + decltype(first)::Ones();
+  if (double(extent.x()) * double(extent.y()) * double(extent.z()) <= 4.0 * double(points.size()) + 64) {
     std::vector<int32_t> group_of_cube(size_t(extent.prod()), -1);
     uint32_t groups = 0;
     for (size_t i = 0; i < points.size(); ++i) {
-      const Eigen::Vector3d c = ((points[i] - origin) / voxel).array().floor() - first.array();
-      const size_t cube = size_t((int64_t(c.z()) * ny + int64_t(c.y())) * nx + int64_t(c.x()));
+      const Eigen::Matrix<int64_t, 3, 1> c = cube_of(points[i]) - first;
+      const size_t cube = size_t((c.z() * extent.y() + c.y()) * extent.x() + c.x());
       if (group_of_cube[cube] < 0) group_of_cube[cube] = int32_t(groups++);
       (*group)[i] = uint32_t(group_of_cube[cube]);
     }
@@ -94,9 +110,9 @@ size_t VoxelGroups(const std::vector<Vec3>& points, double voxel, const Vec3& or
   uint32_t groups = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     // 21 bits per axis around the origin: ±2^20 cubes, far beyond any table-top object at mm voxels.
-    const Vec3 p = (points[i] - origin) / voxel;
-    const auto axis = [](double x) { return uint64_t(int64_t(std::floor(x)) + (1 << 20)) & 0x1fffff; };
-    const uint64_t key = axis(p.x()) | axis(p.y()) << 21 | axis(p.z()) << 42;
+    const Eigen::Matrix<int64_t, 3, 1> c = cube_of(points[i]);
+    const auto axis = [](int64_t x) { return uint64_t(x + (1 << 20)) & 0x1fffff; };
+    const uint64_t key = axis(c.x()) | axis(c.y()) << 21 | axis(c.z()) << 42;
     size_t slot = size_t((key * 0x9E3779B97F4A7C15ull) >> shift);
     while (keys[slot] != kEmpty && keys[slot] != key) slot = (slot + 1) & (slots - 1);
     if (keys[slot] == kEmpty) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -169,12 +170,16 @@ PixelBox MaskBox(const Observation& observation) {
   const CameraIntrinsics& k = observation.intrinsics;
   PixelBox box{k.width, k.height, -1, -1};
   for (int v = 0; v < k.height; ++v) {
+    // Per row its first and last mask pixel: the pixels between them are never read.
     const uint8_t* row = observation.mask.data() + size_t(v) * size_t(k.width);
-    for (int u = 0; u < k.width; ++u) {
-      if (!row[u]) continue;
-      box.u_lo = std::min(box.u_lo, u), box.u_hi = std::max(box.u_hi, u);
-      box.v_lo = std::min(box.v_lo, v), box.v_hi = std::max(box.v_hi, v);
-    }
+    const uint8_t* first = std::find_if(row, row + k.width, [](uint8_t m) { return m != 0; });
+    if (first == row + k.width) continue;
+    const int last = k.width - 1 - int(std::find_if(std::make_reverse_iterator(row + k.width),
+                                                    std::make_reverse_iterator(first),
+                                                    [](uint8_t m) { return m != 0; }) -
+                                       std::make_reverse_iterator(row + k.width));
+    box.u_lo = std::min(box.u_lo, int(first - row)), box.u_hi = std::max(box.u_hi, last);
+    box.v_lo = std::min(box.v_lo, v), box.v_hi = v;
   }
   return box.u_hi < 0 ? PixelBox{} : box;
 }

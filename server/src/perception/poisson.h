@@ -3,9 +3,10 @@
 //
 // The stages, one function each in poisson.cpp:
 //   1. Grid:    a cube of side scale × (the cloud's largest extent), centred on its bounding box, with
-//               2^depth cells per side (spacing h).
+//               2^depth cells per side (spacing h). The samples of one finest cell merge into one (mean position,
+//               mean unit normal): each occupied cell counts once, whatever the sampling's density.
 //   2. Splat:   each sample carries its normal times the surface area it stands for (a = A / N, the area A
-//               estimated from the cells the samples occupy) into the gradient field V on the grid's edges,
+//               estimated from the cells the samples occupy, N the merged samples) into the gradient field V on the grid's edges,
 //               spread by a tent kernel of half-width max(2 cells, √a) — two cells at least, because a
 //               one-cell (trilinear) splat aliases the samples' positions in their cells into bumps of ~h/50;
 //               wider for sparse clouds, so they leave no gaps. Only b = Dᵀ V is stored.

@@ -108,6 +108,39 @@ TEST(PoissonTest, SparseSphereAtDepth5) {
   EXPECT_LT(d.Mean(), 0.3e-3);
 }
 
+// A depth camera samples a face turned to it several times as densely as a grazing one. A sphere sampled ten times
+// as densely on its upper half as on its lower one must come out as the evenly sampled sphere does: each finest
+// cell counts once. Measured when set (depth 5): 0.040 mm uneven against 0.037 mm even; counting every sample, as
+// before, gave 0.122 mm (the surface 0.18 mm outside the sphere on average).
+TEST(PoissonTest, UnevenSamplingGivesTheEvenSurface) {
+  const double r = 0.05;
+  const Vec3 centre(0.3, -0.2, 0.8);
+  const OrientedCloud all = test_shapes::Sphere(r, 40000, centre);
+  OrientedCloud uneven, even;
+  for (size_t i = 0; i < all.points.size(); ++i) {
+    if (all.points[i].z() > centre.z() || i % 10 == 0) {
+      uneven.points.push_back(all.points[i]);
+      uneven.normals.push_back(all.normals[i]);
+    }
+    if (i % 10 == 0) {
+      even.points.push_back(all.points[i]);
+      even.normals.push_back(all.normals[i]);
+    }
+  }
+  const auto deviation = [&](const OrientedCloud& cloud) {
+    const PoissonResult result = ReconstructSurface(cloud.points, cloud.normals, Depth(5));
+    ExpectClosed(result.mesh);
+    return Measure(
+               result.mesh, [&](const Vec3& p) { return test_shapes::SphereDistance(p, r, centre); }, cloud.points)
+        .Mean();
+  };
+  const double d_uneven = deviation(uneven), d_even = deviation(even);
+  std::cout << "sphere d5: uneven (" << uneven.points.size() << " points) " << d_uneven * 1e3 << " mm, even ("
+            << even.points.size() << ") " << d_even * 1e3 << " mm\n";
+  EXPECT_LT(d_uneven, 0.06e-3);
+  EXPECT_LT(d_uneven, 1.5 * d_even);
+}
+
 // 2.1k points at depth 7: samples ~3.9 mm apart, so depth 6 (1.95 mm cells) is the finest solved level and depth 7
 // is interpolated (refine_limit 0.35); the surface still follows the sphere within 0.05 mm.
 TEST(PoissonTest, SparseSphereAtDepth7SolvesToDepth6) {
