@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <limits>
 #include <string>
 
@@ -172,13 +171,12 @@ PixelBox MaskBox(const Observation& observation) {
   for (int v = 0; v < k.height; ++v) {
     // Per row its first and last mask pixel: the pixels between them are never read.
     const uint8_t* row = observation.mask.data() + size_t(v) * size_t(k.width);
-    const uint8_t* first = std::find_if(row, row + k.width, [](uint8_t m) { return m != 0; });
-    if (first == row + k.width) continue;
-    const int last = k.width - 1 - int(std::find_if(std::make_reverse_iterator(row + k.width),
-                                                    std::make_reverse_iterator(first),
-                                                    [](uint8_t m) { return m != 0; }) -
-                                       std::make_reverse_iterator(row + k.width));
-    box.u_lo = std::min(box.u_lo, int(first - row)), box.u_hi = std::max(box.u_hi, last);
+    const uint8_t* end = row + k.width;
+    const uint8_t* first = std::find_if(row, end, [](uint8_t m) { return m != 0; });
+    if (first == end) continue;
+    const uint8_t* last = end - 1;
+    while (!*last) --last;  // stops at `first` at the latest
+    box.u_lo = std::min(box.u_lo, int(first - row)), box.u_hi = std::max(box.u_hi, int(last - row));
     box.v_lo = std::min(box.v_lo, v), box.v_hi = v;
   }
   return box.u_hi < 0 ? PixelBox{} : box;
