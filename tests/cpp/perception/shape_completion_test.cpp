@@ -50,6 +50,13 @@ Pose EyeAt(const Vec3& target, double distance, double azimuth, double elevation
   return test_render::LookAt(eye, target);
 }
 
+// Bohg et al.'s mesh deviation against an upright capped cylinder standing on the table, centred at `centre`.
+Deviation CylinderDeviation(const TriangleMesh& mesh, double r, double h, const Vec3& centre) {
+  test_shapes::OrientedCloud truth = test_shapes::Cylinder(r, h, 0.002);
+  for (Vec3& p : truth.points) p += centre;
+  return Measure(mesh, [&](const Vec3& p) { return test_shapes::CylinderDistance(p - centre, r, h); }, truth.points);
+}
+
 // Distance from a point to the plane, and angle between the plane's normal and an axis (either sign).
 double PlaneDistance(const SymmetryPlane& plane, const Vec3& p) { return std::abs((p - plane.point).dot(plane.normal)); }
 double AxisAngleDeg(const Vec3& a, const Vec3& b) {
@@ -151,10 +158,7 @@ TEST(ShapeCompletionTest, CylinderSeenFromOneSideIsCompletedWithinOneMillimetre)
   const auto result = CompleteShape(view, options);
   ASSERT_TRUE(result && result->plane);
   EXPECT_TRUE(CountEdges(result->mesh).Closed());
-  test_shapes::OrientedCloud truth = test_shapes::Cylinder(r, h, 0.002);
-  for (Vec3& p : truth.points) p += centre;
-  const Deviation d = Measure(
-      result->mesh, [&](const Vec3& p) { return test_shapes::CylinderDistance(p - centre, r, h); }, truth.points);
+  const Deviation d = CylinderDeviation(result->mesh, r, h, centre);
   const double axis_offset = PlaneDistance(*result->plane, centre);
   std::cout << "cylinder: " << result->input_points << " points, deviation " << d.mesh_to_shape * 1e3 << " / "
             << d.shape_to_mesh * 1e3 << " mm, plane " << axis_offset * 1e3 << " mm from the axis, "
@@ -187,10 +191,7 @@ TEST(ShapeCompletionTest, CylinderKeptPointForPointIsCompletedWithinAMillimetreA
   ASSERT_TRUE(result && result->plane);
   EXPECT_GT(result->filtered_points, 30000u);
   EXPECT_TRUE(CountEdges(result->mesh).Closed());
-  test_shapes::OrientedCloud truth = test_shapes::Cylinder(r, h, 0.002);
-  for (Vec3& p : truth.points) p += centre;
-  const Deviation d = Measure(
-      result->mesh, [&](const Vec3& p) { return test_shapes::CylinderDistance(p - centre, r, h); }, truth.points);
+  const Deviation d = CylinderDeviation(result->mesh, r, h, centre);
   const double axis_offset = PlaneDistance(*result->plane, centre);
   std::cout << "cylinder, all " << result->filtered_points << " points: deviation " << d.mesh_to_shape * 1e3 << " / "
             << d.shape_to_mesh * 1e3 << " mm, plane " << axis_offset * 1e3 << " mm from the axis\n";
