@@ -169,7 +169,7 @@ TEST(ImageNeighborsTest, TheOutlierTestThroughTheImageFindsFlyingPixels) {
 TEST(ImageNeighborsTest, MeanDistancesForAllPointsAreThePerPointOnes) {
   const CylinderView view = RenderCylinderView(0.02);
   const Observation& obs = view.observation;
-  for (const auto [radius, k] : {std::pair{1, 8}, {1, 20}, {1, 5}, {2, 8}}) {
+  for (const auto& [radius, k] : {std::pair{1, 8}, {1, 20}, {1, 5}, {2, 8}}) {
     const ImageNeighbors neighbors(obs.intrinsics, obs.points, obs.pixels, radius);
     const std::vector<double> all = neighbors.MeanDistancesToNearest(obs.points.size(), k);
     ASSERT_EQ(all.size(), obs.points.size());
