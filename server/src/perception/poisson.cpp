@@ -265,11 +265,11 @@ void ClipToSamples(const Grid& grid, const std::vector<Vec3>& points, double mar
 // The samples merged per cell of the finest grid, as Kazhdan & Hoppe merge the samples that fall in one leaf node:
 // one sample per occupied cell, at the mean position of its samples with the mean of their unit normals. A dense
 // camera cloud (39k points, their mirror images and the table cap: 94k) then costs the splat and the screening
-// what its ~2k occupied cells cost, and a cloud sparser than the cells passes unchanged, bit for bit. Each cell
-// counts once, however many samples it holds: the indicator's jump follows the samples' density, and a depth
-// camera's density follows the incidence (a face turned to it holds several times the points per area of a
+// what its ~2k occupied cells cost, and a cloud sparser than the cells passes unchanged (its normals made unit).
+// Each cell counts once, however many samples it holds: the indicator's jump follows the samples' density, and a
+// depth camera's density follows the incidence (a face turned to it holds several times the points per area of a
 // grazing one, and the table cap as many as the densest face), which shifted the surface where the density
-// changes (issue 22: 0.6 mm of the completions' reverse deviation; `PoissonTest.UnevenSamplingGivesTheEvenSurface`).
+// changes (issue 22: 0.3 mm of the completions' reverse deviation; `PoissonTest.UnevenSamplingGivesTheEvenSurface`).
 // Kazhdan's density estimate does the same at the scale of a kernel; here it is the finest cell's.
 struct MergedSamples {
   std::vector<Vec3> points, normals;
