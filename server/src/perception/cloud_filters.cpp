@@ -62,7 +62,7 @@ std::vector<Vec3> RemoveStatisticalOutliers(const std::vector<Vec3>& points, int
 namespace {
 
 // floor(x) as an integer without the library call (std::floor is one where the build targets plain SSE2: three per
-// point were most of the voxel pass). |x| < 2^62.
+// point were most of the voxel pass). |x| < 2^52.
 int64_t FloorToInt(double x) {
   const int64_t truncated = int64_t(x);
   return truncated - int64_t(x < double(truncated));
@@ -83,6 +83,13 @@ size_t VoxelGroups(const std::vector<Vec3>& points, double voxel, const Vec3& or
   const double inverse = 1 / voxel;
   Vec3 lo = points.front(), hi = points.front();
   for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  // Cube coordinates within ±2^20 (the hash's 21 bits per axis; far below where a double stops counting whole
+  // numbers): beyond, distinct cubes would share a key, and a voxel of 1e-30 m merged every point into one.
+  const double farthest = std::max((lo - origin).cwiseAbs().maxCoeff(), (hi - origin).cwiseAbs().maxCoeff());
+  if (!(farthest * inverse < double(1 << 20))) {
+    ThrowInvalidArgument("voxel_size: " + FormatNumber(voxel) + " m is too small for points " +
+                         FormatNumber(farthest) + " m from the grid's origin (at most 2^20 voxels along an axis)");
+  }
   const auto cube_of = [&](const Vec3& p) {
     const Vec3 q = (p - origin) * inverse;
     return Eigen::Matrix<int64_t, 3, 1>(FloorToInt(q.x()), FloorToInt(q.y()), FloorToInt(q.z()));

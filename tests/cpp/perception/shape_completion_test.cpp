@@ -332,6 +332,21 @@ TEST(ShapeCompletionTest, FiltersDropOutliersAndMergeVoxels) {
   const std::vector<Vec3> voxels = VoxelDownsample(grid, 0.004 - 1e-9);  // 2 × 2 points per voxel
   EXPECT_EQ(voxels.size(), 15u * 15u);
   EXPECT_NEAR(voxels.front().x(), 0.001, 1e-12);
+  // A voxel too small for the points' coordinates (beyond 2^20 cubes along an axis) is refused naming it; before,
+  // 1e-30 m merged all 900 points into one.
+  EXPECT_EQ(VoxelDownsample(grid, 1e-7).size(), grid.size());
+  for (double tiny : {1e-9, 1e-30, 1e-300}) {
+    try {
+      VoxelDownsample(grid, tiny);
+      ADD_FAILURE() << "no error for voxel " << tiny;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+      EXPECT_NE(std::string(e.what()).find("voxel_size: "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("is too small for points 0.058 m from the grid's origin"),
+                std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 // Bad input names the field and the value.
