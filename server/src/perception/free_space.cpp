@@ -19,7 +19,7 @@ SeenFreeSpace::SeenFreeSpace(const Observation& observation, double margin_px, d
       depth_margin_(depth_margin) {
   const CameraIntrinsics& k = observation.intrinsics;
   // Only a window around the mask needs its distance: every pixel outside the window is beyond the margin.
-  const auto [u_lo, v_lo, u_hi, v_hi] = MaskBox(observation);
+  const auto [u_lo, v_lo, u_hi, v_hi] = observation.mask_box;
   const int pad = int(std::ceil(std::max(margin_px, 0.0))) + 1;
   window_.x = std::max(0, u_lo - pad);
   window_.y = std::max(0, v_lo - pad);

@@ -148,23 +148,7 @@ Observation FromPoints(const std::vector<Vec3>& points, const Pose& camera_pose,
   return obs;
 }
 
-}  // namespace
-
-bool PointsFartherApartThan(const Observation& observation, double distance) {
-  if (observation.pixels.empty()) return false;
-  const CameraIntrinsics& k = observation.intrinsics;
-  double nearest = std::numeric_limits<double>::infinity(), slope_u = 0, slope_v = 0;
-  for (uint32_t pixel : observation.pixels) {
-    nearest = std::min(nearest, double(observation.depth[pixel]));
-    slope_u = std::max(slope_u, std::abs(int(pixel % uint32_t(k.width)) - k.cx) / k.fx);
-    slope_v = std::max(slope_v, std::abs(int(pixel / uint32_t(k.width)) - k.cy) / k.fy);
-  }
-  if (!(nearest > distance)) return false;
-  const double reach_u = k.fx * distance * std::sqrt(1 + slope_u * slope_u) / (nearest - distance);
-  const double reach_v = k.fy * distance * std::sqrt(1 + slope_v * slope_v) / (nearest - distance);
-  return reach_u < 0.5 && reach_v < 0.5;  // half a pixel: room for the rounding of the points' coordinates
-}
-
+// Scanned once here for the stages that window the image around the mask.
 PixelBox MaskBox(const Observation& observation) {
   const CameraIntrinsics& k = observation.intrinsics;
   PixelBox box{k.width, k.height, -1, -1};
@@ -182,6 +166,23 @@ PixelBox MaskBox(const Observation& observation) {
   return box.u_hi < 0 ? PixelBox{} : box;
 }
 
+}  // namespace
+
+bool PointsFartherApartThan(const Observation& observation, double distance) {
+  if (observation.pixels.empty()) return false;
+  const CameraIntrinsics& k = observation.intrinsics;
+  double nearest = std::numeric_limits<double>::infinity(), slope_u = 0, slope_v = 0;
+  for (uint32_t pixel : observation.pixels) {
+    nearest = std::min(nearest, double(observation.depth[pixel]));
+    slope_u = std::max(slope_u, std::abs(int(pixel % uint32_t(k.width)) - k.cx) / k.fx);
+    slope_v = std::max(slope_v, std::abs(int(pixel / uint32_t(k.width)) - k.cy) / k.fy);
+  }
+  if (!(nearest > distance)) return false;
+  const double reach_u = k.fx * distance * std::sqrt(1 + slope_u * slope_u) / (nearest - distance);
+  const double reach_v = k.fy * distance * std::sqrt(1 + slope_v * slope_v) / (nearest - distance);
+  return reach_u < 0.5 && reach_v < 0.5;  // half a pixel: room for the rounding of the points' coordinates
+}
+
 double MedianDepth(const Observation& observation, const std::vector<uint32_t>& pixels) {
   std::vector<float> depths(pixels.size());
   for (size_t i = 0; i < pixels.size(); ++i) depths[i] = observation.depth[pixels[i]];
@@ -192,7 +193,10 @@ double MedianDepth(const Observation& observation, const std::vector<uint32_t>& 
 Observation Observe(const PartialView& view, size_t max_points) {
   Pose pose = view.camera_pose;
   CheckPose("camera_pose", &pose);
-  return view.image ? FromImage(*view.image, pose, max_points) : FromPoints(view.points, pose, max_points);
+  Observation observation =
+      view.image ? FromImage(*view.image, pose, max_points) : FromPoints(view.points, pose, max_points);
+  observation.mask_box = MaskBox(observation);
+  return observation;
 }
 
 }  // namespace graspsim

@@ -27,6 +27,11 @@ struct DepthImage {
   std::vector<uint8_t> mask;  // width × height, nonzero = object pixel; empty = every pixel with a depth
 };
 
+// A box of pixels, inclusive; u_hi < 0 when empty.
+struct PixelBox {
+  int u_lo = 0, v_lo = 0, u_hi = -1, v_hi = -1;
+};
+
 // The input of shape completion: an organized depth image, or unorganized points, with the camera pose.
 struct PartialView {
   std::optional<DepthImage> image;  // organized input; when absent, `points`
@@ -45,6 +50,7 @@ struct Observation {
   CameraIntrinsics intrinsics;
   std::vector<float> depth;      // observed depth per pixel, m; +inf where there was no return
   std::vector<uint8_t> mask;     // 1 = object pixel
+  PixelBox mask_box;             // the mask's bounding box (the symmetry score's and the free space's windows)
   bool derived_camera = false;
 
   Vec3 CameraCentre() const { return camera_pose.position; }
@@ -55,12 +61,6 @@ struct Observation {
 // pixel for r = distance at every point's depth and slope. A voxel filter whose cubes' diagonal is that distance
 // then keeps every point as it is. Always false for unorganized input.
 bool PointsFartherApartThan(const Observation& observation, double distance);
-
-// The mask's bounding box, pixels, inclusive; u_hi < 0 when no pixel is in the mask.
-struct PixelBox {
-  int u_lo = 0, v_lo = 0, u_hi = -1, v_hi = -1;
-};
-PixelBox MaskBox(const Observation& observation);
 
 // The median of the observed depths at `pixels` (non-empty), m.
 double MedianDepth(const Observation& observation, const std::vector<uint32_t>& pixels);

@@ -247,10 +247,9 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   // deviation 3.65 → 3.20 mm at 39k points, with Poisson's equal cells). Above target_points it searches the cloud
   // spread evenly.
   const bool spread_evenly = options.target_points > 0 && seen.size() > options.target_points;
+  const double step = spread_evenly || options.table_offset ? SamplingStep(filtered, observation) : 0;
   result.plane = SymmetrySearch(observation)
-                     .Find(spread_evenly ? EvenlySpread(seen, SamplingStep(filtered, observation), options.target_points)
-                                         : seen,
-                           options.symmetry);
+                     .Find(spread_evenly ? EvenlySpread(seen, step, options.target_points) : seen, options.symmetry);
   result.ms.symmetry_ms = MsSince(t);
 
   if (!report("normals", 0.4)) return std::nullopt;
@@ -258,8 +257,8 @@ std::optional<CompletionResult> CompleteShape(const PartialView& view, const Com
   std::vector<Vec3> points, normals;
   OrientedSurfacePoints(filtered, observation, result.plane, options, &points, &normals);
   if (options.table_offset) {
-    AddTableCap(options.symmetry.table_normal.normalized(), *options.table_offset, SamplingStep(filtered, observation),
-                seen, result.plane, &points, &normals);
+    AddTableCap(options.symmetry.table_normal.normalized(), *options.table_offset, step, seen, result.plane, &points,
+                &normals);
   }
   result.surface_points = points.size();
   result.ms.normals_ms = MsSince(t);

@@ -94,7 +94,7 @@ Vec3 MirrorDirection(const SymmetryPlane& plane, const Vec3& d) { return d - 2 *
 
 SymmetrySearch::SymmetrySearch(const Observation& observation) : observation_(observation) {
   const CameraIntrinsics& k = observation.intrinsics;
-  auto [lo_x, lo_y, hi_x, hi_y] = MaskBox(observation);
+  auto [lo_x, lo_y, hi_x, hi_y] = observation.mask_box;
   if (hi_x < 0) lo_x = hi_x = lo_y = hi_y = 0;  // no mask pixel (Observe refuses that): a one-pixel window
   const int margin = std::max({16, (hi_x - lo_x + 1) / 2, (hi_y - lo_y + 1) / 2});
   x0_ = std::max(0, lo_x - margin), y0_ = std::max(0, lo_y - margin);
