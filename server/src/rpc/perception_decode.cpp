@@ -66,6 +66,14 @@ CompletionOptions OptionsFromProto(const v1::CompleteShapeRequest& request, cons
     ThrowInvalidArgument("refinements: " + std::to_string(request.refinements()) + " is outside 0..5");
   }
   options.symmetry.refinements = int(request.refinements());
+  if (request.has_fine_shifts()) {
+    const uint32_t fine = request.fine_shifts();
+    if (fine == 1 || fine > 100) {
+      ThrowInvalidArgument("fine_shifts: " + std::to_string(fine) + " is outside 2..100 (0 = none, absent = " +
+                           std::to_string(options.symmetry.fine_shifts) + ")");
+    }
+    options.symmetry.fine_shifts = int(fine);
+  }
   if (!std::isfinite(request.voxel_size()) || request.voxel_size() < 0) {
     ThrowInvalidArgument("voxel_size: " + FormatNumber(request.voxel_size()) +
                          " m must be ≥ 0 (0 = automatic: above 1,500 points, a voxel for ~1,500)");

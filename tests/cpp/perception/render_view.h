@@ -69,6 +69,30 @@ inline Solid Cylinder(double r, double h, const Vec3& centre) {
   };
 }
 
+// A cup: the upright cylinder (r, h, centre) with a bore of radius `bore` open at the top, `floor` thick at the
+// bottom. Both solids are convex, so a ray meets each over one interval; the cup's first point is where the ray
+// enters the outer one, unless that lies inside the bore, where it is the ray's exit from the bore (the inner wall
+// or the floor).
+inline Solid Cup(double r, double h, double bore, double floor, const Vec3& centre) {
+  const Solid outer = Cylinder(r, h, centre);
+  // The bore runs from the floor to 1 cm above the rim, so the top is open.
+  const double bore_h = h - floor + 0.01;
+  const Solid inner = Cylinder(bore, bore_h, centre + Vec3(0, 0, floor - h / 2 + bore_h / 2));
+  const auto exit = [](const Solid& solid, const Vec3& o, const Vec3& d) {
+    constexpr double kFar = 100;  // m, beyond the scene: cast back from there
+    const std::optional<double> back = solid(o + kFar * d, -d);
+    return back ? kFar - *back : 0.0;
+  };
+  return [=](const Vec3& o, const Vec3& d) -> std::optional<double> {
+    const std::optional<double> enter = outer(o, d), enter_bore = inner(o, d);
+    if (!enter || !enter_bore || *enter < *enter_bore) return enter;
+    const double leave_bore = exit(inner, o, d);
+    if (*enter >= leave_bore) return enter;
+    if (leave_bore < exit(outer, o, d)) return leave_bore;
+    return std::nullopt;
+  };
+}
+
 inline Solid Sphere(double r, const Vec3& centre) {
   return [r, centre](const Vec3& o, const Vec3& d) -> std::optional<double> {
     const Vec3 oc = o - centre;

@@ -87,7 +87,8 @@ class PerceptionMethods:
                        depth: Optional[ArrayLike] = None, intrinsics: Optional[ArrayLike] = None,
                        mask: Optional[ArrayLike] = None,
                        table_pose: Optional[PoseLike] = None, method: str = "mirror", orientations: int = 0,
-                       shifts: int = 0, octree_depth: int = 0, refinements: int = 0, voxel_size: float = 0.0,
+                       shifts: int = 0, octree_depth: int = 0, refinements: int = 0,
+                       fine_shifts: Optional[int] = None, voxel_size: float = 0.0,
                        add_to_scene_id: SceneLike = "", object_name: str = "", object_mass: float = 0.0,
                        on_progress: Optional[Callable[[str, float], None]] = None,
                        timeout: Optional[float] = None, progress: bool = True) -> CompletedShape:
@@ -98,7 +99,8 @@ class PerceptionMethods:
         table the object stands on (z up; its plane through the pose's origin) — the unseen underside is then
         closed flat; None = world z up, underside left to the surface fit. method "mirror" (symmetry search,
         Poisson surface) or "delaunay" (the paper's baseline). orientations × shifts hypotheses (0 = 7 × 5),
-        octree_depth 5..8 (0 = 6), refinements 0..5 finer passes. add_to_scene_id: the mesh also becomes a free
+        octree_depth 5..8 (0 = 6), refinements 0..5 finer passes, fine_shifts 2..100 shifts refined at the best
+        orientation (None = the server's 17, 0 = none: the paper's grid alone). add_to_scene_id: the mesh also becomes a free
         object of that scene (object_name, object_mass kg, 0 = 0.1). on_progress(stage, fraction) per stage;
         progress=True shows a tqdm bar on stderr. Leaving the call early (on_progress raising, KeyboardInterrupt)
         cancels the server's job.
@@ -108,6 +110,8 @@ class PerceptionMethods:
             octree_depth=octree_depth, refinements=refinements, voxel_size=voxel_size,
             add_to_scene_id=scene_id_of(add_to_scene_id, "add_to_scene_id"), object_name=object_name,
             object_mass=object_mass)
+        if fine_shifts is not None:
+            request.fine_shifts = fine_shifts
         if method not in METHODS:
             raise ValueError(f"method: {method!r} is not one of {sorted(METHODS)}")
         request.method = METHODS[method]

@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 # "table_pose"; or a (name, camera_pose, points) tuple
 ViewLike = Union[Dict[str, Any], Tuple[str, Any, Any]]
 
-SHAPE_PARAMS = {"method", "orientations", "shifts", "octree_depth", "refinements", "voxel_size"}
+SHAPE_PARAMS = {"method", "orientations", "shifts", "octree_depth", "refinements", "fine_shifts", "voxel_size"}
 _f64 = pa.float64()
 SCHEMA = pa.schema([
     ("key", pa.string()), ("view", pa.string()), ("params", pa.string()), ("vertices", pa.int64()),
