@@ -195,7 +195,8 @@ class BulletEngine : public PhysicsEngine {
     if (pads_) pads_->Prepare(state);
   }
 
-  StepStats Step(SceneState* state, int steps) override {
+  using PhysicsEngine::Step;
+  StepStats Step(SceneState* state, int steps, Readings /*recorded always: they come with the step*/) override {
     const SceneState backup = *state;
     PrepareState(state);
     try {

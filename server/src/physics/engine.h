@@ -32,9 +32,14 @@ class PhysicsEngine {
   virtual const SceneModel& model() const = 0;
   // Sizes a state's velocity, sleep and sensor arrays for this model (new entries zero).
   virtual void PrepareState(SceneState* state) const = 0;
+  // What a step call records at its end besides the motion: the sensors' readings (joint wrenches, pad forces).
+  // kSkip leaves them as they were, for a caller that steps again before anything reads them (the work cycle
+  // between its control periods and frames); an engine that gets them for free may record them anyway.
+  enum class Readings { kRecord, kSkip };
   // Advances `steps` steps. On divergence throws Error(kFailedPrecondition) naming what diverged and leaves
   // *state as it was before the call.
-  virtual StepStats Step(SceneState* state, int steps) = 0;
+  virtual StepStats Step(SceneState* state, int steps, Readings readings) = 0;
+  StepStats Step(SceneState* state, int steps) { return Step(state, steps, Readings::kRecord); }
   // The contact points and their forces (on body_a, world, N) of the last sub-step.
   virtual const std::vector<ContactPoint>& contacts() const = 0;
   virtual const std::vector<Vec3>& contact_forces() const = 0;

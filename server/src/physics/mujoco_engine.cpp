@@ -94,7 +94,8 @@ class MujocoEngine : public PhysicsEngine {
     if (pads_) pads_->Prepare(state);
   }
 
-  StepStats Step(SceneState* state, int steps) override {
+  using PhysicsEngine::Step;
+  StepStats Step(SceneState* state, int steps, Readings /*recorded always: they come with the step*/) override {
     const SceneState backup = *state;
     PrepareState(state);
     try {

@@ -76,7 +76,7 @@ ContactParams Simulation::PairParams(uint32_t a, uint32_t b) const {
   return CombineContactParams(body_params_[a], body_params_[b]);
 }
 
-StepStats Simulation::Step(SceneState* state, int steps) {
+StepStats Simulation::Step(SceneState* state, int steps, Readings readings) {
   // Step in place, keeping a copy to restore: a diverged run leaves the caller's state as it was. The copy
   // assignment reuses the buffers of the last call. The contacts (a good part of the state's bytes) are not
   // copied: only the end of a step that succeeded writes them, so they are moved aside and back instead.
@@ -91,7 +91,7 @@ StepStats Simulation::Step(SceneState* state, int steps) {
       for (int sub = 0; sub < params_.substeps; ++sub) {
         // What the sensors read (joint wrenches, pad forces) is recorded by the call's last sub-step only: every
         // earlier one would be overwritten unread.
-        SubStep(state, h, /*record_readings=*/s == steps - 1 && sub == params_.substeps - 1);
+        SubStep(state, h, readings == Readings::kRecord && s == steps - 1 && sub == params_.substeps - 1);
         CheckFinite(*state);
       }
       ++state->step;

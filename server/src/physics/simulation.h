@@ -46,7 +46,8 @@ class Simulation : public PhysicsEngine {
 
   // Advances `steps` steps. On divergence throws Error(kFailedPrecondition) naming the body or joint, the step
   // and the quantity, and leaves *state as it was before the call.
-  StepStats Step(SceneState* state, int steps) override;
+  using PhysicsEngine::Step;
+  StepStats Step(SceneState* state, int steps, Readings readings) override;
 
   // The contact points and their forces (on body_a, world, N) of the last sub-step. Tactile pad contacts are
   // among them: body_a the touching body, body_b the pad's link, feature = PadFeature(pad, element) (tactile/pad_contacts.h).

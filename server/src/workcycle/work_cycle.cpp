@@ -93,7 +93,8 @@ uint64_t WorkCycle::Advance(PhysicsEngine* simulation, SceneState* state, uint64
   while (!finished_ && taken < max_steps) {
     // The axis drive's set-point moves every step; the drive's own position loop follows it.
     SetCommand(state, axis_, ActuatorMode::kPosition, move_.At(state->time + dt_), -1);
-    simulation->Step(state, 1);
+    simulation->Step(state, 1, ReadingsWanted(*state, taken + 1 == max_steps) ? PhysicsEngine::Readings::kRecord
+                                                                              : PhysicsEngine::Readings::kSkip);
     ++steps_;
     ++taken;
     // The controller runs every control period; while the fingers close it also watches the pads every step
@@ -113,6 +114,15 @@ uint64_t WorkCycle::Advance(PhysicsEngine* simulation, SceneState* state, uint64
     finished_ = stage_ == WorkCycleStage::kDone;
   }
   return taken;
+}
+
+bool WorkCycle::ReadingsWanted(const SceneState& state, bool last_of_call) const {
+  // What reads the pads and joint wrenches after this step: the controller (every control period, and every step
+  // while the fingers close), a frame, or whoever gets the state after the call (a recording, a viewer). A frame
+  // is wanted a step early rather than late: the time after the step is predicted, so it may round the other way.
+  if (last_of_call || steps_ + 1 >= next_control_) return true;
+  if (stage_ == WorkCycleStage::kGrasp && !force_control_) return true;
+  return state.time + dt_ >= start_time_ + double(frames_due_) / request_.frame_rate_hz - 1.5 * dt_;
 }
 
 void WorkCycle::Start(SceneState* state) {

@@ -99,6 +99,8 @@ class WorkCycle {
   void Plan(const SceneState& state);
   void Start(SceneState* state);
   bool Touching(const SceneState& state) const;
+  // Whether the next step must record the sensors' readings (PhysicsEngine::Readings).
+  bool ReadingsWanted(const SceneState& state, bool last_of_call) const;
   void Control(SceneState* state);
   void Enter(WorkCycleStage stage, SceneState* state);
   void ForceControl(SceneState* state, double mean_sum);
