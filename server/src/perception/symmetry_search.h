@@ -32,8 +32,9 @@
 //      last pass (an eighth of a step apart at the default 17). The paper's 5 shifts reach 1.25 × the farthest seen
 //      point; for a hollow object seen from above that is the inner far wall, so they step 16 mm apart on the YCB
 //      mug and none falls near its axis, where the score's minimum is. Over the 64 views of `tests/bench/run
-//      shape` (all points, depth 5) this took the mean deviation completion → truth from 3.20 to 2.56 mm and the
-//      centroid error from 3.30 to 2.82 % (the mug's from 7.5 to 5.1 mm); its 17 scores add 0.4–0.9 ms to the 35's ~5 ms stage.
+//      shape` (all points, depth 5) this took the mean deviation completion → truth from 3.20 to 2.55 mm and the
+//      centroid error from 3.28 to 2.79 % (the mug's from 7.5 to 5.1 mm); its 17 scores add 0.4–0.9 ms to the
+//      stage's ~5 ms.
 #pragma once
 
 #include <vector>
