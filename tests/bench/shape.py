@@ -30,8 +30,8 @@ service cannot turn the voxel filter off (voxel_size 0 = automatic), so "all poi
 - dev_mm_forward: mean exact distance from 20k uniform samples of the true mesh to the completion; dev_mm_reverse:
   from 20k samples of the completion to the true mesh; centroid_pct: area-weighted surface centroids, % of the
   turned truth's bounding-box diagonal (as centroid_err_pct); means over all 64 views of the all-points
-  completions, *_default of the default path's, *_paper_grid of the paper's 35 hypotheses alone; per_object_39k. reverse_mm_by_region: where dev_mm_reverse comes
-  from (score()); goal_*_met: issue 22's GOALS.
+  completions, *_default of the default path's, *_paper_grid of the paper's 35 hypotheses alone; per_object_39k.
+  reverse_mm_by_region: where dev_mm_reverse comes from (score()); goal_*_met: issue 22's GOALS.
 Reconstruction alone: graspsim_perception_bench (tests/stress/perception_bench.cpp): oriented points with exact
 normals on a sphere and a box, ours against pcl::Poisson (one thread) in the same run: pcl_poisson_ms_39k and
 the reconstruction_* keys.
@@ -164,8 +164,9 @@ def score(truth, view, shape, yaw):
 def full_resolution():
     """Every object and orientation of the evaluation seen at ~39.4k points (_shape_eval.view_39k), completed
     through a graspsim-server by Mirror-d5 (35 + 17 hypotheses, table known) with all points (VOXEL_ALL_POINTS),
-    with the default down-sampling, and with all points by the paper's 35 hypotheses alone (fine_shifts 0). Timing: the reply's CompletionTimings.total_ms (server side, CompleteShape alone,
-    one thread), REPEATS per view; accuracy: score()."""
+    with the default down-sampling, and with all points by the paper's 35 hypotheses alone (fine_shifts 0).
+    Timing: the reply's CompletionTimings.total_ms (server side, CompleteShape alone, one thread), REPEATS per
+    view; accuracy: score()."""
     objects = ev.evaluation_objects(ycb_paths())
     log(f"shape: {len(objects)} objects x 8 orientations at ~39k points through the server, all points "
         f"({REPEATS} timed) and the default down-sampling")
@@ -188,10 +189,12 @@ def full_resolution():
                 start = time.perf_counter()
                 item["all"].append(complete(item, VOXEL_ALL_POINTS))
                 item["wall"].append(time.perf_counter() - start)
+    def scored(item, path):  # the completion a path's accuracy is of: "all" repeats, the first is scored
+        return item["all"][0] if path == "all" else item[path]
+
     for item in items:
         for path in ("all", "default", "paper_grid"):
-            shape = item["all"][0] if path == "all" else item[path]
-            item[f"score_{path}"] = score(truths[item["name"]], item["view"], shape, item["yaw"])
+            item[f"score_{path}"] = score(truths[item["name"]], item["view"], scored(item, path), item["yaw"])
 
     def accuracy(chosen):
         out = {}
@@ -217,8 +220,8 @@ def full_resolution():
             k: round(float(np.median([s.timings_ms[k] for i in ycb for s in i["all"]])), 2)
             for k in ycb[0]["all"][0].timings_ms},
         "views_39k": {"views": len(items), "depth": 5,
-                      "hypotheses": {path: span(i[path][0].hypotheses if path == "all" else i[path].hypotheses
-                                                for i in items) for path in ("all", "paper_grid")},
+                      "hypotheses": {path: span(scored(i, path).hypotheses for i in items)
+                                     for path in ("all", "paper_grid")},
                       "voxel_size_m_all_points": VOXEL_ALL_POINTS,
                       "points": span(i["default"].input_points for i in items),
                       "after_filter_all_points": span(i["all"][0].filtered_points for i in items),

@@ -6,8 +6,9 @@
 // 0.6 m away and 35° above the table renders the object turned to 8 orientations (0°, 45°, …, 315° about z) by
 // Embree ray casts: depth along the optical axis plus Gaussian noise (σ = 1 mm, seeded), and the object's mask.
 // Each view is completed by Mirror-d5, Mirror-d7 (the paper's 7 × 5 = 35 hypotheses plus the service's 17 fine
-// shifts, symmetry_search.h step 6; table known) and the Delaunay baseline; against the true mesh: the mean mesh deviation both ways (20k uniform samples of each
-// surface against the other, mm) and the centroid error (uniform-surface centroids, % of the bounding-box diagonal).
+// shifts, symmetry_search.h step 6; table known) and the Delaunay baseline; against the true mesh: the mean mesh
+// deviation both ways (20k uniform samples of each surface against the other, mm) and the centroid error
+// (uniform-surface centroids, % of the bounding-box diagonal).
 // Timing: the cylinder's view scaled (focal length) to the paper's ~2.1k and ~39k points, median of 3 runs of
 // CompleteShape (one thread), per stage, and its CPU time. runtime_vs_error: depth × hypotheses × down-sampling
 // on the procedural shapes at 4 orientations.

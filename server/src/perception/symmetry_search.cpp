@@ -205,19 +205,21 @@ SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const Symmet
     plane.shift = shift;
     return plane;
   };
+  int hypotheses = 0;
+  // Scores one hypothesis (3. and 4.); it replaces *winner only when lower by more than the tie tolerance.
+  const auto try_plane = [&](double alpha, double shift, SymmetryPlane* winner) {
+    SymmetryPlane plane = plane_at(alpha, shift);
+    plane.score = Score(scored, plane, params.depth_tolerance);
+    ++hypotheses;
+    if (plane.score < winner->score - kTieTolerance || !std::isfinite(winner->score)) *winner = plane;
+  };
   double angle_half = params.max_angle_deg * kDegree, angle_centre = 0;
   double shift_lo = 0, shift_hi = max_shift;
   SymmetryPlane best;
   best.score = INFINITY;
-  int hypotheses = 0;
   for (int pass = 0; pass <= params.refinements; ++pass) {
     for (double alpha : AnglesByDistance(angle_centre, angle_half, params.orientations)) {
-      for (double shift : Steps(shift_lo, shift_hi, params.shifts)) {
-        SymmetryPlane plane = plane_at(alpha, shift);
-        plane.score = Score(scored, plane, params.depth_tolerance);  // 3. and 4.
-        ++hypotheses;
-        if (plane.score < best.score - kTieTolerance || !std::isfinite(best.score)) best = plane;
-      }
+      for (double shift : Steps(shift_lo, shift_hi, params.shifts)) try_plane(alpha, shift, &best);
     }
     // 5. The next pass spans ± one step of this one around the best.
     const double angle_step = params.orientations > 1 ? 2 * angle_half / (params.orientations - 1) : angle_half;
@@ -232,16 +234,13 @@ SymmetryPlane SymmetrySearch::Find(const std::vector<Vec3>& points, const Symmet
   }
   // 6. The shift alone, finer, at the best orientation: across ± one step of the last pass, nearest first, its own
   // best taken when it is no worse than the grid's (within the tie tolerance: a nearer plane then wins).
-  SymmetryPlane fine_best;
-  fine_best.score = INFINITY;
-  const double alpha = best.angle_deg * kDegree;
-  for (double shift : params.fine_shifts > 0 ? Steps(shift_lo, shift_hi, params.fine_shifts) : std::vector<double>{}) {
-    SymmetryPlane plane = plane_at(alpha, shift);
-    plane.score = Score(scored, plane, params.depth_tolerance);
-    ++hypotheses;
-    if (plane.score < fine_best.score - kTieTolerance || !std::isfinite(fine_best.score)) fine_best = plane;
+  if (params.fine_shifts > 0) {
+    SymmetryPlane fine_best;
+    fine_best.score = INFINITY;
+    const double alpha = best.angle_deg * kDegree;
+    for (double shift : Steps(shift_lo, shift_hi, params.fine_shifts)) try_plane(alpha, shift, &fine_best);
+    if (fine_best.score <= best.score + kTieTolerance) best = fine_best;
   }
-  if (fine_best.score <= best.score + kTieTolerance) best = fine_best;
   best.hypotheses = hypotheses;
   return best;
 }

@@ -108,7 +108,7 @@ uint64_t WorkCycle::Advance(PhysicsEngine* simulation, SceneState* state, uint64
     }
     // Frames on the frame-rate grid, plus one at the first step of each stage (the last: "done"), so that a stage
     // shorter than a frame period (a release takes ~10 ms) still shows, and the stream says when each began.
-    const bool due = state->time >= start_time_ + double(frames_due_) / request_.frame_rate_hz - dt_ / 2;
+    const bool due = state->time >= NextFrameTime() - dt_ / 2;
     if (due) ++frames_due_;
     if (due || stage_ != before) frames->push_back(Frame(*state));
     finished_ = stage_ == WorkCycleStage::kDone;
@@ -122,8 +122,10 @@ bool WorkCycle::ReadingsWanted(const SceneState& state, bool last_of_call) const
   // is wanted a step early rather than late: the time after the step is predicted, so it may round the other way.
   if (last_of_call || steps_ + 1 >= next_control_) return true;
   if (stage_ == WorkCycleStage::kGrasp && !force_control_) return true;
-  return state.time + dt_ >= start_time_ + double(frames_due_) / request_.frame_rate_hz - 1.5 * dt_;
+  return state.time + dt_ >= NextFrameTime() - 1.5 * dt_;
 }
+
+double WorkCycle::NextFrameTime() const { return start_time_ + double(frames_due_) / request_.frame_rate_hz; }
 
 void WorkCycle::Start(SceneState* state) {
   started_ = true;

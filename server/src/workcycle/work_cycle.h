@@ -101,6 +101,7 @@ class WorkCycle {
   bool Touching(const SceneState& state) const;
   // Whether the next step must record the sensors' readings (PhysicsEngine::Readings).
   bool ReadingsWanted(const SceneState& state, bool last_of_call) const;
+  double NextFrameTime() const;  // s: when the next frame on the frame-rate grid is due
   void Control(SceneState* state);
   void Enter(WorkCycleStage stage, SceneState* state);
   void ForceControl(SceneState* state, double mean_sum);

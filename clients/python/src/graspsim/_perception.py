@@ -100,10 +100,10 @@ class PerceptionMethods:
         closed flat; None = world z up, underside left to the surface fit. method "mirror" (symmetry search,
         Poisson surface) or "delaunay" (the paper's baseline). orientations × shifts hypotheses (0 = 7 × 5),
         octree_depth 5..8 (0 = 6), refinements 0..5 finer passes, fine_shifts 2..100 shifts refined at the best
-        orientation (None = the server's 17, 0 = none: the paper's grid alone). add_to_scene_id: the mesh also becomes a free
-        object of that scene (object_name, object_mass kg, 0 = 0.1). on_progress(stage, fraction) per stage;
-        progress=True shows a tqdm bar on stderr. Leaving the call early (on_progress raising, KeyboardInterrupt)
-        cancels the server's job.
+        orientation (None = the server's 17, 0 = none: the paper's grid alone). add_to_scene_id: the mesh also
+        becomes a free object of that scene (object_name, object_mass kg, 0 = 0.1). on_progress(stage, fraction)
+        per stage; progress=True shows a tqdm bar on stderr. Leaving the call early (on_progress raising,
+        KeyboardInterrupt) cancels the server's job.
         """
         request = perception_pb2.CompleteShapeRequest(
             camera_pose=as_pose(camera_pose).to_proto(), orientations=orientations, shifts=shifts,
