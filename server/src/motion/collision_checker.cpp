@@ -70,6 +70,28 @@ void StoreVector(const Vec3& v, float* out) {
   for (int i = 0; i < 3; ++i) out[i] = static_cast<float>(v[i]);
 }
 
+// A link's offset for the kernel; a rotation that is a signed permutation to 1e-9 is stored exactly, as one.
+void StoreOffset(const Rigid& offset, kernel::Link* link) {
+  Mat3 r = offset.rotation;
+  int permutation[3];
+  bool permuted = true;
+  for (int j = 0; j < 3 && permuted; ++j) {
+    Eigen::Index k;
+    r.col(j).cwiseAbs().maxCoeff(&k);
+    permutation[j] = static_cast<int>(k);
+    const Vec3 unit = Vec3::Unit(k) * (r(k, j) < 0 ? -1.0 : 1.0);
+    permuted = (r.col(j) - unit).cwiseAbs().maxCoeff() < 1e-9;
+    if (permuted) r.col(j) = unit;
+  }
+  if (permuted) {
+    for (int j = 0; j < 3; ++j) link->permutation[j] = permutation[j];
+    StoreRotation(r, link->rotation);
+  } else {
+    StoreRotation(offset.rotation, link->rotation);
+  }
+  StoreVector(offset.translation, link->translation);
+}
+
 }  // namespace
 
 CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, Obstacles obstacles, double resolution)
@@ -77,7 +99,10 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
   const std::vector<ArmLink>& links = arm_.links();
   // The kernel turns revolute joints about z only: each revolute link's frame is rotated by A (A z = its axis),
   // so its offset becomes A_parent^T O A, its spheres A^T c, its children's offsets A^T O_child.
+  // Rigid links are folded into their parent's frame (their offset composed into their spheres and their
+  // children's offsets, their own made the identity), so FK copies a transform for them instead of multiplying.
   std::vector<Mat3> to_kernel_frame(links.size(), Mat3::Identity());
+  std::vector<Rigid> folded(links.size());  // kernel frame of the link FK places -> the link's kernel frame
   sphere_begin_.push_back(0);
   for (size_t l = 0; l < links.size(); ++l) {
     const LinkSpheres& link_spheres = spheres_.links[l];
@@ -94,12 +119,19 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
     }
     const Mat3& frame = to_kernel_frame[l];
     const Mat3 parent_frame = link.parent >= 0 ? to_kernel_frame[link.parent] : Mat3::Identity();
-    StoreRotation(parent_frame.transpose() * links[l].offset.rotation * frame, link.rotation);
-    StoreVector(parent_frame.transpose() * links[l].offset.translation, link.translation);
+    Rigid offset{parent_frame.transpose() * links[l].offset.rotation * frame,
+                 parent_frame.transpose() * links[l].offset.translation};
+    if (link.parent >= 0) offset = folded[link.parent] * offset;
+    if (link.kind == kernel::kRigid && link.parent >= 0) {
+      folded[l] = offset;
+      offset = Rigid();
+      link.same_frame_as_parent = 1;
+    }
+    StoreOffset(offset, &link);
     StoreVector(links[l].axis.normalized(), link.axis);  // prismatic: its frame is not rotated
     link.sphere_begin = static_cast<int32_t>(sphere_x_.size());
     for (size_t s = 0; s < link_spheres.centres.size(); ++s) {
-      const Vec3 c = frame.transpose() * link_spheres.centres[s];
+      const Vec3 c = folded[l] * (frame.transpose() * link_spheres.centres[s]);
       sphere_x_.push_back(static_cast<float>(c.x()));
       sphere_y_.push_back(static_cast<float>(c.y()));
       sphere_z_.push_back(static_cast<float>(c.z()));
@@ -108,7 +140,7 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
     }
     link.sphere_end = static_cast<int32_t>(sphere_x_.size());
     sphere_begin_.push_back(static_cast<uint32_t>(radii_.size()));
-    StoreVector(frame.transpose() * link_spheres.bound_centre, link.bound_centre);
+    StoreVector(folded[l] * (frame.transpose() * link_spheres.bound_centre), link.bound_centre);
     link.bound_radius = link_spheres.bound_radius < 0 ? -1.0f
                                                       : static_cast<float>(link_spheres.bound_radius) + 2 * kernel::kFloatMargin;
     // Links rigid on the base never move: where they meet the scene (the base standing on the table) no plan
@@ -164,6 +196,7 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
   pair_inflation_.assign(spheres_.self_pairs.size(), 2.0f);
   kernel_.link_inflation = link_inflation_.data();
   kernel_.pair_inflation = pair_inflation_.data();
+  kernel_.place_every_sphere = !obstacles_.grids.empty();  // the mesh pass (TestLanes) reads them
   // Per self pair: when one link carries the other, only the dofs between them move one relative to the other.
   for (const auto& [pa, pb] : spheres_.self_pairs) {
     PairMotion motion;
@@ -191,18 +224,19 @@ void CollisionChecker::SetLane(int lane, const Eigen::Ref<const VecX>& a, const 
   inflate_[lane] = static_cast<float>(inflate);
 }
 
-uint32_t CollisionChecker::TestLanes(int count, bool stop_at_first) const {
+uint32_t CollisionChecker::TestLanes(int count, uint32_t stop) const {
   for (int lane = count; lane < kernel::kLanes; ++lane) {
     for (size_t i = 0; i < arm_.dof(); ++i) lanes_[i * kernel::kLanes + lane] = lanes_[i * kernel::kLanes];
     inflate_[lane] = inflate_[0];
   }
   checks_ += count;
-  uint32_t hits = kernel::CollidingLanes(kernel_, lanes_.data(), inflate_, scratch_.data(), stop_at_first);
   const uint32_t used = (1u << count) - 1;
+  stop &= used;
+  uint32_t hits = kernel::CollidingLanes(kernel_, lanes_.data(), inflate_, scratch_.data(), kernel::StopLanes{stop});
   hits &= used;
-  if (obstacles_.grids.empty() || (hits != 0 && stop_at_first)) return hits;
-  // Meshes: the spheres the kernel placed, lane by lane, against each distance grid's lower bound. The kernel
-  // placed every sphere only when it ran to the end, i.e. when it found nothing or was asked for every lane.
+  if (obstacles_.grids.empty() || (hits & stop) != 0) return hits;
+  // Meshes: the spheres the kernel placed (all of them: Model::place_every_sphere is set when there are meshes),
+  // lane by lane for the lanes still free, against each distance grid's lower bound.
   const float* centres = kernel::SphereCentres(kernel_, scratch_.data());
   for (int lane = 0; lane < count; ++lane) {
     if (hits & (1u << lane)) continue;
@@ -220,7 +254,7 @@ uint32_t CollisionChecker::TestLanes(int count, bool stop_at_first) const {
         }
       }
     }
-    if (hits && stop_at_first) return hits;
+    if ((hits & stop) != 0) return hits;
   }
   return hits;
 }
@@ -265,24 +299,25 @@ bool CollisionChecker::WithinLimits(const Eigen::Ref<const VecX>& q) const {
 bool CollisionChecker::IsValid(const Eigen::Ref<const VecX>& q) const {
   if (!WithinLimits(q)) return false;
   SetLane(0, q, q, 0, 0);
-  return TestLanes(1, true) == 0;
+  return TestLanes(1, 1u) == 0;
 }
 
 bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
   if (!WithinLimits(a) || !WithinLimits(b)) return false;
   const double travel = ScaleInflation(a, b);  // the most any point moves; inflation scaled per link and pair
   // Intervals [t0, t1] of the segment, each covered when both its ends pass inflated by (t1 - t0) travel / 2.
-  // Round one: intervals of kCoarseSteps · resolution of travel, and both ends of the motion tested exactly.
+  // Round one: intervals of kCoarseSteps · resolution of travel, every end tested exactly too: a motion into an
+  // obstacle (most motions a search tries in clutter) then ends at its first batch, where the inflated tests
+  // alone would fail and ask for the exact ones a round later.
   // Each round tests what the intervals need, then halves the intervals not covered; a point that fails
   // inflated is also tested exactly in the next round, and one that touches exactly ends the motion.
   const int64_t coarse = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(travel / (kCoarseSteps * resolution_))));
   const double smallest = resolution_ * std::ldexp(1.0, -kMaxHalvings);  // of travel
   intervals_.clear();
   for (int64_t i = 0; i < coarse; ++i) {
-    intervals_.push_back({static_cast<double>(i) / coarse, static_cast<double>(i + 1) / coarse, kUnknown, kUnknown});
+    intervals_.push_back(
+        {static_cast<double>(i) / coarse, static_cast<double>(i + 1) / coarse, kFailedInflated, kFailedInflated});
   }
-  intervals_.front().pass0 = kFailedInflated;  // asks for the exact test of the motion's ends in round one
-  intervals_.back().pass1 = kFailedInflated;
   while (!intervals_.empty()) {
     tests_.clear();
     const auto need = [&](double t, float inflate) {
@@ -303,7 +338,9 @@ bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eige
     for (size_t first = 0; first < tests_.size(); first += kernel::kLanes) {
       const int count = static_cast<int>(std::min<size_t>(kernel::kLanes, tests_.size() - first));
       for (int lane = 0; lane < count; ++lane) SetLane(lane, a, b, tests_[first + lane].t, tests_[first + lane].inflate);
-      const uint32_t hits = TestLanes(count, false);
+      uint32_t exact = 0;  // lanes tested as they are: one that touches decides the motion
+      for (int lane = 0; lane < count; ++lane) exact |= (tests_[first + lane].inflate == 0.0f ? 1u : 0u) << lane;
+      const uint32_t hits = TestLanes(count, exact);
       for (int lane = 0; lane < count; ++lane) {
         tests_[first + lane].touches = (hits >> lane) & 1u;
         if (tests_[first + lane].touches && tests_[first + lane].inflate == 0.0f) return false;  // touches as it is

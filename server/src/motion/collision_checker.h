@@ -73,8 +73,9 @@ class CollisionChecker {
 
  private:
   // The kernel on lanes_ / inflate_ (filled by the caller; `count` lanes used, the rest copies of lane 0) plus
-  // the scalar mesh pass; bit per lane that collides.
-  uint32_t TestLanes(int count, bool stop_at_first) const;
+  // the scalar mesh pass; bit per lane that collides. Returns early once a lane of `stop` collides (other lanes'
+  // bits may then be missing).
+  uint32_t TestLanes(int count, uint32_t stop) const;
   void SetLane(int lane, const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b, double t,
                double inflate) const;
   bool WithinLimits(const Eigen::Ref<const VecX>& q) const;

@@ -1,6 +1,7 @@
 // RRT-Connect (Kuffner & LaValle 2000) as VAMP runs it: two trees in flat arrays, nearest neighbour by a linear
 // scan (trees stay small on the problems it is for; a scan of a few hundred 7-vectors beats a tree structure's
-// bookkeeping), every new edge through the checker's batched, conservative motion test.
+// bookkeeping), the smaller tree grown while one is twice the other, dynamic domains, every new edge through
+// the checker's batched, conservative motion test.
 #include <cmath>
 #include <random>
 
@@ -17,11 +18,14 @@ class Tree {
   int Add(const VecX& q, int parent) {
     values_.insert(values_.end(), q.data(), q.data() + dof_);
     parents_.push_back(parent);
+    radii_.push_back(INFINITY);
     return static_cast<int>(parents_.size()) - 1;
   }
   Eigen::Map<const VecX> At(int i) const { return {values_.data() + static_cast<size_t>(i) * dof_, static_cast<long>(dof_)}; }
   int Parent(int i) const { return parents_[i]; }
-  int Nearest(const VecX& q) const {
+  size_t Size() const { return parents_.size(); }
+  double& Radius(int i) { return radii_[i]; }  // its dynamic domain; infinite until an extension from it fails
+  int Nearest(const VecX& q, double* distance) const {
     int best = 0;
     double best_d = INFINITY;
     const double* v = values_.data();
@@ -30,6 +34,7 @@ class Tree {
       for (size_t k = 0; k < dof_; ++k) d += (v[k] - q[k]) * (v[k] - q[k]);
       if (d < best_d) best_d = d, best = static_cast<int>(i);
     }
+    *distance = std::sqrt(best_d);
     return best;
   }
   // Node i and its ancestors, root last.
@@ -43,7 +48,13 @@ class Tree {
   size_t dof_;
   std::vector<double> values_;
   std::vector<int> parents_;
+  std::vector<double> radii_;
 };
+
+// Dynamic domain (Yershova et al. 2005), with VAMP's settings: a node whose extension failed only extends
+// towards samples within its domain, kDomainRadius rad at the first failure, shrunk by kDomainAlpha at each
+// further failure down to kDomainMinRadius, grown by it at each success. Samples beyond it cost no check.
+constexpr double kDomainRadius = 4.0, kDomainAlpha = 1e-4, kDomainMinRadius = 1.0;
 
 // At most `range` from `from` towards `to`; *reached when that is `to` itself.
 VecX Step(const Eigen::Ref<const VecX>& from, const VecX& to, double range, bool* reached) {
@@ -77,15 +88,26 @@ SearchResult SearchRrtConnect(const CollisionChecker& checker, const VecX& start
       }
       if (std::chrono::duration<double>(Clock::now() - began).count() > options.timeout) return result;
     }
+    if (a->Size() >= 2 * b->Size()) std::swap(a, b);  // balance: grow the smaller tree while one is twice the other
     for (size_t i = 0; i < n; ++i) sample[i] = arm.lower()[i] + unit(rng) * (arm.upper()[i] - arm.lower()[i]);
     // Extend a towards the sample by one step.
-    const int near = a->Nearest(sample);
+    double near_distance;
+    const int near = a->Nearest(sample, &near_distance);
+    double& domain = a->Radius(near);
+    if (near_distance > domain) {  // outside the nearest node's dynamic domain: not tried
+      std::swap(a, b);
+      continue;
+    }
     bool reached;
     const VecX added = Step(a->At(near), sample, range, &reached);
-    if (checker.IsMotionValid(a->At(near), added)) {  // tests `added` itself first
+    if (!checker.IsMotionValid(a->At(near), added)) {  // tests `added` itself first
+      domain = std::isinf(domain) ? kDomainRadius : std::max(domain * (1 - kDomainAlpha), kDomainMinRadius);
+    } else {
+      if (!std::isinf(domain)) domain *= 1 + kDomainAlpha;
       const int a_node = a->Add(added, near);
       // Connect b to the new node, step by step, while the steps are free.
-      int b_node = b->Nearest(added);
+      double unused;
+      int b_node = b->Nearest(added, &unused);
       while (true) {
         const VecX next = Step(b->At(b_node), added, range, &reached);
         if (!checker.IsMotionValid(b->At(b_node), next)) break;

@@ -4,11 +4,11 @@
 
 namespace graspsim::motion::kernel {
 
-uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first) {
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop) {
 #if defined(__x86_64__)
-  if (UseAvx2Kernels()) return avx2::CollidingLanes(model, q, inflate, scratch, stop_at_first);
+  if (UseAvx2Kernels()) return avx2::CollidingLanes(model, q, inflate, scratch, stop);
 #endif
-  return generic::CollidingLanes(model, q, inflate, scratch, stop_at_first);
+  return generic::CollidingLanes(model, q, inflate, scratch, stop);
 }
 
 const char* KernelIsa() {

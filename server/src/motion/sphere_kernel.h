@@ -23,6 +23,10 @@ struct Link {
   int32_t kind = kRigid;
   float rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // parent frame -> joint frame, row-major
   float translation[3] = {0, 0, 0};
+  // rotation is a signed permutation (column j = ±e_permutation[j]; URDF offsets mostly turn by quarter turns):
+  // FK then permutes the parent's columns instead of multiplying. -1: a general rotation.
+  int32_t permutation[3] = {-1, -1, -1};
+  int32_t same_frame_as_parent = 0;  // rigid with an identity offset (the checker folds rigid links so): FK copies
   float axis[3] = {0, 0, 1};    // unit, joint frame; a revolute joint turns about z (frames chosen so: the checker
                                 // rotates each revolute link's frame to put its axis on z)
   int32_t sphere_begin = 0, sphere_end = 0;  // its spheres, [begin, end) of Model's sphere arrays
@@ -59,20 +63,35 @@ struct Model {
   // each other, can move). Null: 1 per link, 2 per pair (each sphere inflated alike).
   const float* link_inflation = nullptr;
   const float* pair_inflation = nullptr;
+  // Place every sphere, not only those a test reads (a caller that tests the spheres further, e.g. against
+  // meshes, needs them all; see CollidingLanes).
+  bool place_every_sphere = false;
 };
 
+// Lanes whose collision ends a CollidingLanes call at once: the answer is then decided for its caller (a
+// configuration tested as it is, in a motion check), so the other lanes need not be finished.
+struct StopLanes {
+  uint32_t mask = 0;
+};
+constexpr StopLanes kRunToEnd{0};
+constexpr StopLanes kStopAtFirst{(1u << kLanes) - 1};
+
 // Floats of scratch CollidingLanes needs: every link's world transform and bounding-sphere centre, and every
-// sphere's world centre, per lane.
+// sphere's world centre, per lane; then a flag per link (its spheres placed in this call; kLanes more because the
+// 4-wide build's second half addresses the scratch 4 floats on).
 inline int64_t ScratchSize(const Model& model) {
-  return (static_cast<int64_t>(model.link_count) * 15 + static_cast<int64_t>(model.sphere_count) * 3) * kLanes;
+  return (static_cast<int64_t>(model.link_count) * 15 + static_cast<int64_t>(model.sphere_count) * 3) * kLanes +
+         model.link_count + kLanes;
 }
 
 // q: one row of kLanes floats per dof (q[d * kLanes + lane]); inflate: per lane, m added to the spheres' radii
 // (scaled per link and per self pair, see Model).
-// Returns the lanes (bit per lane) where some sphere touches an obstacle or a sphere of a self pair. With
-// `stop_at_first` it returns as soon as one lane is found (the mask then names at least one). When it returns 0,
-// the sphere centres are in scratch: x, y, z of sphere s at SphereCentres(model, scratch) + (3 s + axis) * kLanes.
-uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first);
+// Returns the lanes (bit per lane) where some sphere touches an obstacle or a sphere of a self pair. It returns
+// as soon as a lane of `stop` collides (the mask then names at least one such lane, and other lanes may be
+// unfinished) or every lane does. A lane found colliding is not tested further. With Model::place_every_sphere,
+// when it returns with some lane free and no `stop` lane hit, every sphere's centre is in scratch: x, y, z of
+// sphere s at SphereCentres(model, scratch) + (3 s + axis) * kLanes; without it only the spheres tested are.
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop);
 
 inline const float* SphereCentres(const Model& model, const float* scratch) {
   return scratch + static_cast<int64_t>(model.link_count) * 15 * kLanes;
@@ -84,11 +103,11 @@ const char* KernelIsa();
 // The two builds CollidingLanes dispatches to (sphere_kernel_{generic,avx2}.cpp); called directly only by tests
 // that compare them. The AVX2 one needs a CPU with AVX2 and FMA.
 namespace generic {
-uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first);
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop);
 }
 #if defined(__x86_64__)
 namespace avx2 {
-uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first);
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop);
 }
 #endif
 

@@ -9,8 +9,8 @@ namespace graspsim::motion::kernel::avx2 {
 constexpr int kWidth = 8;
 #include "motion/sphere_kernel_impl.inc"
 
-uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first) {
-  return CollidingLanesImpl(model, q, inflate, scratch, stop_at_first);
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop) {
+  return CollidingLanesImpl(model, q, inflate, scratch, stop.mask);
 }
 
 }  // namespace graspsim::motion::kernel::avx2

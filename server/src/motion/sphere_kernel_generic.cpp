@@ -11,10 +11,10 @@ namespace graspsim::motion::kernel::generic {
 constexpr int kWidth = 4;
 #include "motion/sphere_kernel_impl.inc"
 
-uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, bool stop_at_first) {
-  const uint32_t low = CollidingLanesImpl(model, q, inflate, scratch, stop_at_first);
-  if (low && stop_at_first) return low;
-  return low | (CollidingLanesImpl(model, q + kWidth, inflate + kWidth, scratch + kWidth, stop_at_first) << kWidth);
+uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop) {
+  const uint32_t low = CollidingLanesImpl(model, q, inflate, scratch, stop.mask & 0xfu);
+  if (low & stop.mask) return low;
+  return low | (CollidingLanesImpl(model, q + kWidth, inflate + kWidth, scratch + kWidth, stop.mask >> kWidth) << kWidth);
 }
 
 }  // namespace graspsim::motion::kernel::generic

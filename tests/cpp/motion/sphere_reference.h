@@ -312,6 +312,7 @@ class KernelInput {
     model.cylinder_count = static_cast<int32_t>(cylinders_.size());
     model.self_pairs = pairs_.data();
     model.self_pair_count = static_cast<int32_t>(spheres.self_pairs.size());
+    model.place_every_sphere = true;  // the tests compare the centres
     scratch.assign(motion::kernel::ScratchSize(model), 0.0f);
   }
 
