@@ -92,6 +92,19 @@ void StoreOffset(const Rigid& offset, kernel::Link* link) {
   StoreVector(offset.translation, link->translation);
 }
 
+// Appends `indices` to *out in bit-reversed order of their rank (0, n/2, n/4, 3n/4, ...), so that any prefix
+// samples them evenly.
+void AppendSpreadOut(const std::vector<uint32_t>& indices, std::vector<uint32_t>* out) {
+  const size_t n = indices.size();
+  int bits = 0;
+  while ((size_t{1} << bits) < n) ++bits;
+  for (size_t rank = 0; rank < (size_t{1} << bits); ++rank) {
+    size_t reversed = 0;
+    for (int b = 0; b < bits; ++b) reversed |= ((rank >> b) & 1u) << (bits - 1 - b);
+    if (reversed < n) out->push_back(indices[reversed]);
+  }
+}
+
 }  // namespace
 
 CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, Obstacles obstacles, double resolution)
@@ -335,16 +348,29 @@ bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eige
       interval.exact1 = interval.pass1 == kFailedInflated ? need(interval.t1, 0.0f) : -1;
       interval.test1 = interval.pass1 < inflate ? need(interval.t1, inflate) : -1;
     }
-    for (size_t first = 0; first < tests_.size(); first += kernel::kLanes) {
-      const int count = static_cast<int>(std::min<size_t>(kernel::kLanes, tests_.size() - first));
-      for (int lane = 0; lane < count; ++lane) SetLane(lane, a, b, tests_[first + lane].t, tests_[first + lane].inflate);
-      uint32_t exact = 0;  // lanes tested as they are: one that touches decides the motion
-      for (int lane = 0; lane < count; ++lane) exact |= (tests_[first + lane].inflate == 0.0f ? 1u : 0u) << lane;
-      const uint32_t hits = TestLanes(count, exact);
+    // The exact tests first, spread along the motion (bit-reversed order): a motion through an obstacle is then
+    // most often refused by its first batch. The order changes which batch finds a touch, never the answer.
+    exact_tests_.clear();
+    for (size_t i = 0; i < tests_.size(); ++i) {
+      if (tests_[i].inflate == 0.0f) exact_tests_.push_back(static_cast<uint32_t>(i));
+    }
+    const size_t exact_count = exact_tests_.size();
+    order_.clear();
+    AppendSpreadOut(exact_tests_, &order_);
+    for (size_t i = 0; i < tests_.size(); ++i) {
+      if (tests_[i].inflate != 0.0f) order_.push_back(static_cast<uint32_t>(i));
+    }
+    for (size_t first = 0; first < order_.size(); first += kernel::kLanes) {
+      const int count = static_cast<int>(std::min<size_t>(kernel::kLanes, order_.size() - first));
       for (int lane = 0; lane < count; ++lane) {
-        tests_[first + lane].touches = (hits >> lane) & 1u;
-        if (tests_[first + lane].touches && tests_[first + lane].inflate == 0.0f) return false;  // touches as it is
+        const PointTest& test = tests_[order_[first + lane]];
+        SetLane(lane, a, b, test.t, test.inflate);
       }
+      // Lanes tested as they are: one that touches decides the motion.
+      const uint32_t exact = first >= exact_count ? 0u : (1u << std::min<size_t>(count, exact_count - first)) - 1;
+      const uint32_t hits = TestLanes(count, exact);
+      if ((hits & exact) != 0) return false;  // touches as it is
+      for (int lane = 0; lane < count; ++lane) tests_[order_[first + lane]].touches = (hits >> lane) & 1u;
     }
     next_.clear();
     for (Interval& interval : intervals_) {

@@ -12,11 +12,12 @@
 // over the interval stays inside the inflated spheres of one of them; a self pair likewise with the motion of one
 // link relative to the other (only the joints between them), so a wrist near its own forearm is not inflated by
 // what the shoulder does. Checks start kCoarseSteps · resolution
-// apart (far from obstacles, few checks cover the motion); an interval whose ends fail is halved, its points
-// tested again with half the inflation (and exactly: a point that touches as it is ends the motion), down to
-// resolution / 2^kMaxHalvings. So a motion through a passage a few millimetres wide, or ending at a goal 1 mm from
-// a shelf, is accepted when it is free, at the price of more checks there only; a valid motion touches nothing
-// anywhere on it.
+// apart (far from obstacles, few checks cover the motion), each of these points also tested as it is (a motion
+// into an obstacle, most of what a search tries in clutter, is then refused at once); an interval whose ends fail
+// is halved, its points tested again with half the inflation (and exactly: a point that touches as it is ends
+// the motion), down to resolution / 2^kMaxHalvings. Each round's exact tests go first, spread along the motion.
+// So a motion through a passage a few millimetres wide, or ending at a goal 1 mm from a shelf, is accepted when
+// it is free, at the price of more checks there only; a valid motion touches nothing anywhere on it.
 #pragma once
 
 #include <cstdint>
@@ -118,6 +119,7 @@ class CollisionChecker {
   struct PointTest { double t; float inflate; bool touches; };
   mutable std::vector<Interval> intervals_, next_;
   mutable std::vector<PointTest> tests_;
+  mutable std::vector<uint32_t> exact_tests_, order_;  // this round's exact tests; all in the order batched
   // The scalar test's buffers.
   std::vector<uint32_t> sphere_begin_;           // per link: first sphere in the flat arrays (size links + 1)
   std::vector<double> radii_;                    // as the kernel's (float margin included)
