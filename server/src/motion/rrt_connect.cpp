@@ -18,14 +18,14 @@ class Tree {
   int Add(const VecX& q, int parent) {
     values_.insert(values_.end(), q.data(), q.data() + dof_);
     parents_.push_back(parent);
-    radii_.push_back(INFINITY);
+    domains_.push_back(INFINITY);
     return static_cast<int>(parents_.size()) - 1;
   }
   Eigen::Map<const VecX> At(int i) const { return {values_.data() + static_cast<size_t>(i) * dof_, static_cast<long>(dof_)}; }
   int Parent(int i) const { return parents_[i]; }
   size_t Size() const { return parents_.size(); }
-  double& Radius(int i) { return radii_[i]; }  // its dynamic domain; infinite until an extension from it fails
-  int Nearest(const VecX& q, double* distance) const {
+  double& Domain(int i) { return domains_[i]; }  // its dynamic domain; infinite until an extension from it fails
+  int Nearest(const VecX& q, double* distance = nullptr) const {
     int best = 0;
     double best_d = INFINITY;
     const double* v = values_.data();
@@ -34,7 +34,7 @@ class Tree {
       for (size_t k = 0; k < dof_; ++k) d += (v[k] - q[k]) * (v[k] - q[k]);
       if (d < best_d) best_d = d, best = static_cast<int>(i);
     }
-    *distance = std::sqrt(best_d);
+    if (distance) *distance = std::sqrt(best_d);
     return best;
   }
   // Node i and its ancestors, root last.
@@ -48,7 +48,7 @@ class Tree {
   size_t dof_;
   std::vector<double> values_;
   std::vector<int> parents_;
-  std::vector<double> radii_;
+  std::vector<double> domains_;
 };
 
 // Dynamic domain (Yershova et al. 2005), with VAMP's settings: a node whose extension failed only extends
@@ -93,7 +93,7 @@ SearchResult SearchRrtConnect(const CollisionChecker& checker, const VecX& start
     // Extend a towards the sample by one step.
     double near_distance;
     const int near = a->Nearest(sample, &near_distance);
-    double& domain = a->Radius(near);
+    double& domain = a->Domain(near);
     if (near_distance > domain) {  // outside the nearest node's dynamic domain: not tried
       std::swap(a, b);
       continue;
@@ -106,8 +106,7 @@ SearchResult SearchRrtConnect(const CollisionChecker& checker, const VecX& start
       if (!std::isinf(domain)) domain *= 1 + kDomainAlpha;
       const int a_node = a->Add(added, near);
       // Connect b to the new node, step by step, while the steps are free.
-      double unused;
-      int b_node = b->Nearest(added, &unused);
+      int b_node = b->Nearest(added);
       while (true) {
         const VecX next = Step(b->At(b_node), added, range, &reached);
         if (!checker.IsMotionValid(b->At(b_node), next)) break;
