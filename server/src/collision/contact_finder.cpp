@@ -142,6 +142,20 @@ struct LocalFrame {
 
 Aabb Grown(const Aabb& box, double margin) { return {box.lo.array() - margin, box.hi.array() + margin}; }
 
+// Find's working buffers. A finder is shared by every simulation of its model (one per thread at a time), and a
+// work cycle calls Find every step: per-thread buffers keep it free of allocations without a lock.
+struct FindBuffers {
+  std::vector<WorldFrame> world;
+  std::vector<LocalFrame> locals;
+  std::vector<uint32_t> near;
+  std::vector<Support> supported;
+  std::vector<std::array<uint8_t, 6>> facing;
+};
+FindBuffers& ThreadFindBuffers() {
+  thread_local FindBuffers buffers;
+  return buffers;
+}
+
 }  // namespace
 
 struct ContactFinder::Impl {
@@ -266,14 +280,17 @@ void ContactFinder::Find(const std::vector<Pose>& body_poses, std::vector<Contac
                                           " poses for " + std::to_string(n) + " bodies");
   }
   const double margin = std::max(m.options.margin, 0.0);
-  std::vector<WorldFrame> world(n);
+  FindBuffers& buffers = ThreadFindBuffers();
+  std::vector<WorldFrame>& world = buffers.world;
+  world.resize(n);
   for (size_t i = 0; i < n; ++i) {
     world[i].rotation = body_poses[i].orientation.toRotationMatrix();
     world[i].position = body_poses[i].position;
     world[i].bounds = Grown(collision::TransformAabb(m.body_bounds[i], world[i].rotation, world[i].position), margin);
   }
-  std::vector<LocalFrame> locals(m.max_shapes);
-  std::vector<uint32_t> near;
+  std::vector<LocalFrame>& locals = buffers.locals;
+  locals.resize(m.max_shapes);
+  std::vector<uint32_t>& near = buffers.near;
   near.reserve(m.max_shapes);
   // Every ordered pair: (a, b) reports a's samples inside b, so walking a then b gives the promised order.
   // Quadratic in bodies, but a scene has tens of bodies and the box test is a few comparisons.
@@ -320,8 +337,10 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
   }
 
   const collision::BodySamples& own = samples[a];
-  std::vector<Support> supported(targets.size());  // how this block's geometry meets each target
-  std::vector<std::array<uint8_t, 6>> facing(targets.size());  // box on box: per target, per own face
+  std::vector<Support>& supported = ThreadFindBuffers().supported;  // how this block's geometry meets each target
+  std::vector<std::array<uint8_t, 6>>& facing = ThreadFindBuffers().facing;  // box on box: per target, own face
+  supported.assign(targets.size(), Support::kNone);
+  facing.assign(targets.size(), {});
   uint32_t supported_geometry = std::numeric_limits<uint32_t>::max();  // the geometry the two above are for
   for (uint32_t index = 0; index < own.blocks.size(); ++index) {
     if (index % collision::kBlocksPerGroup == 0 && !own.groups[index / collision::kBlocksPerGroup].bounds.Overlaps(query)) {

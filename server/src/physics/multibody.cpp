@@ -16,6 +16,21 @@ Vec6 CrossForce(const Vec6& a, const Vec6& f) {
 
 bool Moves(const JointSpec& joint) { return joint.type != JointType::kFixed; }
 
+// The recursive algorithms' per-node buffers. A Multibody is shared by every Simulation of its model (one per
+// thread at a time): per-thread buffers keep the step free of allocations without a lock.
+struct NodeBuffers {
+  std::vector<Eigen::Matrix<double, 6, 6>> inertia;
+  std::vector<Vec6> S, V, A, F;
+  Eigen::MatrixXd Mu;
+  Eigen::VectorXd u, bu, v;
+};
+NodeBuffers& ThreadBuffers(size_t nodes) {
+  thread_local NodeBuffers buffers;
+  for (std::vector<Vec6>* column : {&buffers.S, &buffers.V, &buffers.A, &buffers.F}) column->resize(nodes);
+  buffers.inertia.resize(nodes);
+  return buffers;
+}
+
 }  // namespace
 
 Multibody::Multibody(const SceneModel& model)
@@ -45,23 +60,29 @@ Multibody::Multibody(const SceneModel& model)
     }
   }
   // u = G v: free bodies map one to one, each moving joint to its leader (itself when independent).
-  G_ = Eigen::MatrixXd::Zero(nu_, nv_);
+  full_column_.assign(nu_, -1);
+  full_multiplier_.assign(nu_, 0);
   for (size_t b = 0; b < model.bodies.size(); ++b) {
-    if (free_offset_[b] >= 0) G_.block(free_offset_[b], free_offset_[b], 6, 6).setIdentity();
+    for (int k = 0; free_offset_[b] >= 0 && k < 6; ++k) {
+      full_column_[free_offset_[b] + k] = free_offset_[b] + k;
+      full_multiplier_[free_offset_[b] + k] = 1;
+    }
   }
   for (const Node& node : nodes_) {
     if (node.full < 0) continue;
     const JointSpec& joint = model.joints[node.joint];
     if (!joint.mimic) {
       leader_[node.joint] = static_cast<int>(node.joint);
-      G_(node.full, joint_offset_[node.joint]) = 1;
+      full_column_[node.full] = joint_offset_[node.joint];
+      full_multiplier_[node.full] = 1;
       continue;
     }
     const size_t leader = model.joint_index.at(joint.mimic->joint_id);
     if (joint_offset_[leader] < 0) continue;  // a follower of a fixed joint does not move
     leader_[node.joint] = static_cast<int>(leader);
     mimic_offset_[node.joint] = joint.mimic->offset;
-    G_(node.full, joint_offset_[leader]) = joint.mimic->multiplier;
+    full_column_[node.full] = joint_offset_[leader];
+    full_multiplier_[node.full] = joint.mimic->multiplier;
   }
 }
 
@@ -78,7 +99,16 @@ Eigen::VectorXd Multibody::Velocities(const SceneState& state) const {
   return v;
 }
 
-Eigen::VectorXd Multibody::FullVelocities(const Eigen::VectorXd& v) const { return G_ * v; }
+Eigen::VectorXd Multibody::FullVelocities(const Eigen::VectorXd& v) const {
+  Eigen::VectorXd u;
+  FullVelocities(v, &u);
+  return u;
+}
+
+void Multibody::FullVelocities(const Eigen::VectorXd& v, Eigen::VectorXd* u) const {
+  u->resize(nu_);
+  for (int i = 0; i < nu_; ++i) (*u)[i] = full_column_[i] < 0 ? 0 : full_multiplier_[i] * v[full_column_[i]];
+}
 
 void Multibody::SetVelocities(const Eigen::VectorXd& v, SceneState* state) const {
   for (size_t b = 0; b < model_.bodies.size(); ++b) {
@@ -117,7 +147,15 @@ Multibody::Mat6 Multibody::SpatialInertia(const SceneState& state, size_t body) 
 }
 
 Eigen::MatrixXd Multibody::MassMatrix(const SceneState& state) const {
-  Eigen::MatrixXd Mu = Eigen::MatrixXd::Zero(nu_, nu_);
+  Eigen::MatrixXd M;
+  MassMatrix(state, &M);
+  return M;
+}
+
+void Multibody::MassMatrix(const SceneState& state, Eigen::MatrixXd* M) const {
+  NodeBuffers& buffers = ThreadBuffers(nodes_.size());
+  Eigen::MatrixXd& Mu = buffers.Mu;
+  Mu.setZero(nu_, nu_);
   for (size_t b = 0; b < model_.bodies.size(); ++b) {
     const int o = free_offset_[b];
     if (o < 0) continue;
@@ -127,8 +165,8 @@ Eigen::MatrixXd Multibody::MassMatrix(const SceneState& state) const {
   }
   // Composite-rigid-body algorithm in world coordinates: each node's subtree inertia, then M_ij = S_iᵀ I^c_j S_j
   // for every ancestor i of j.
-  std::vector<Mat6> composite(nodes_.size());
-  std::vector<Vec6> S(nodes_.size());
+  std::vector<Mat6>& composite = buffers.inertia;
+  std::vector<Vec6>& S = buffers.S;
   for (size_t n = 0; n < nodes_.size(); ++n) {
     composite[n] = SpatialInertia(state, nodes_[n].child_body);
     S[n] = MotionSubspace(state, nodes_[n]);
@@ -147,26 +185,46 @@ Eigen::MatrixXd Multibody::MassMatrix(const SceneState& state) const {
       Mu(k, i) = Mu(i, k) = S[a].dot(F);
     }
   }
-  return G_.transpose() * Mu * G_;
+  // Gᵀ M_u G, entry by entry (G has one entry per row at most).
+  M->setZero(nv_, nv_);
+  for (int i = 0; i < nu_; ++i) {
+    const int ci = full_column_[i];
+    if (ci < 0) continue;
+    for (int k = 0; k < nu_; ++k) {
+      const int ck = full_column_[k];
+      if (ck >= 0) (*M)(ci, ck) += full_multiplier_[i] * full_multiplier_[k] * Mu(i, k);
+    }
+  }
 }
 
 Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravity,
                                       const Eigen::VectorXd* velocities) const {
-  const Eigen::VectorXd v = velocities ? *velocities : Velocities(state);
-  Eigen::VectorXd bu = Eigen::VectorXd::Zero(nu_);
-  for (size_t b = 0; b < model_.bodies.size(); ++b) {
-    const int o = free_offset_[b];
+  Eigen::VectorXd b;
+  BiasForces(state, gravity, velocities, &b);
+  return b;
+}
+
+void Multibody::BiasForces(const SceneState& state, const Vec3& gravity, const Eigen::VectorXd* velocities,
+                           Eigen::VectorXd* b) const {
+  NodeBuffers& buffers = ThreadBuffers(nodes_.size());
+  if (velocities == nullptr) buffers.v = Velocities(state);
+  const Eigen::VectorXd& v = velocities ? *velocities : buffers.v;
+  Eigen::VectorXd& bu = buffers.bu;
+  bu.setZero(nu_);
+  for (size_t body = 0; body < model_.bodies.size(); ++body) {
+    const int o = free_offset_[body];
     if (o < 0) continue;
-    const Mat3 R = state.body_poses[b].orientation.toRotationMatrix();
+    const Mat3 R = state.body_poses[body].orientation.toRotationMatrix();
     const Vec3 w = v.segment<3>(o + 3);
-    bu.segment<3>(o) = -model_.bodies[b].inertial.mass * gravity;
-    bu.segment<3>(o + 3) = w.cross(R * model_.bodies[b].inertial.inertia * R.transpose() * w);
+    bu.segment<3>(o) = -model_.bodies[body].inertial.mass * gravity;
+    bu.segment<3>(o + 3) = w.cross(R * (model_.bodies[body].inertial.inertia * (R.transpose() * w)));
   }
   // Recursive Newton–Euler with q̈ = 0 and the base accelerating at −g (which stands in for gravity).
-  const Eigen::VectorXd u = FullVelocities(v);
+  Eigen::VectorXd& u = buffers.u;
+  FullVelocities(v, &u);
   Vec6 base_acceleration;
   base_acceleration = Stack(Vec3::Zero(), -gravity);
-  std::vector<Vec6> V(nodes_.size()), A(nodes_.size()), F(nodes_.size()), S(nodes_.size());
+  std::vector<Vec6>&V = buffers.V, &A = buffers.A, &F = buffers.F, &S = buffers.S;
   for (size_t n = 0; n < nodes_.size(); ++n) {
     const Node& node = nodes_[n];
     const Vec6 parent_velocity = node.parent >= 0 ? V[node.parent] : Vec6::Zero();
@@ -182,7 +240,11 @@ Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravi
     if (nodes_[n].full >= 0) bu[nodes_[n].full] = S[n].dot(F[n]);
     if (nodes_[n].parent >= 0) F[nodes_[n].parent] += F[n];
   }
-  return G_.transpose() * bu;
+  // Gᵀ b_u.
+  b->setZero(nv_);
+  for (int i = 0; i < nu_; ++i) {
+    if (full_column_[i] >= 0) (*b)[full_column_[i]] += full_multiplier_[i] * bu[i];
+  }
 }
 
 std::vector<Multibody::Vec6> Multibody::JointWrenches(const SceneState& state, const Eigen::VectorXd& v,
@@ -237,7 +299,7 @@ void Multibody::BodyJacobian(const SceneState& state, size_t body, SpatialJacobi
     const Node& node = nodes_[n];
     if (node.full < 0 || leader_[node.joint] < 0) continue;
     const int column = joint_offset_[leader_[node.joint]];
-    W->col(column) += G_(node.full, column) * MotionSubspace(state, node);
+    W->col(column) += full_multiplier_[node.full] * MotionSubspace(state, node);
   }
 }
 

@@ -38,9 +38,13 @@ class Multibody {
 
   // M(q), nv × nv, symmetric positive definite (block diagonal across free bodies and robots).
   Eigen::MatrixXd MassMatrix(const SceneState& state) const;
+  // The same into *M, reusing its buffer (a work cycle's step: no allocation).
+  void MassMatrix(const SceneState& state, Eigen::MatrixXd* M) const;
   // b(q, v) with gravity g (m/s², world); v from the state unless `velocities` is given.
   Eigen::VectorXd BiasForces(const SceneState& state, const Vec3& gravity,
                              const Eigen::VectorXd* velocities = nullptr) const;
+  void BiasForces(const SceneState& state, const Vec3& gravity, const Eigen::VectorXd* velocities,
+                  Eigen::VectorXd* b) const;
   // W (6 × nv) such that W v = [ω; v_O], the body's angular velocity and the velocity of the body-fixed point at
   // the world origin (Featherstone's spatial velocity, world coordinates). A point p then moves at
   // v_O + ω × p. Zero for static bodies; a link's depends on every joint between the robot base and the link.
@@ -85,6 +89,7 @@ class Multibody {
   Mat6 SpatialInertia(const SceneState& state, size_t body) const;
   // The joint velocities u of every moving joint (u = G v).
   Eigen::VectorXd FullVelocities(const Eigen::VectorXd& v) const;
+  void FullVelocities(const Eigen::VectorXd& v, Eigen::VectorXd* u) const;
 
   const SceneModel& model_;
   int nv_ = 0, nu_ = 0;            // reduced and full velocity counts
@@ -92,7 +97,10 @@ class Multibody {
   std::vector<int> joint_offset_;  // per joint
   std::vector<Node> nodes_;        // fixed joints too (full = -1), so links welded to links are carried
   std::vector<int> body_node_;     // per body: the node whose child it is, or -1
-  Eigen::MatrixXd G_;              // nu × nv: u = G v (identity on free bodies, multipliers for mimic joints)
+  // u = G v (nu × nv: identity on free bodies, multipliers for mimic joints). G has at most one entry per row, so
+  // it is kept as that entry's column (-1: none) and value; M = Gᵀ M_u G and b = Gᵀ b_u are scattered by it.
+  std::vector<int> full_column_;
+  std::vector<double> full_multiplier_;
   std::vector<double> mimic_offset_;  // per joint: q = multiplier · q_leader + offset (followers only)
   std::vector<int> leader_;           // per joint: its independent leader joint (itself when independent)
 };

@@ -230,13 +230,16 @@ void Simulation::RecordJointWrenches(const Eigen::VectorXd& v, const Eigen::Vect
 
 Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v,
                                                 const Forces& forces, double h,
-                                                const Eigen::VectorXd* bias_velocity) const {
+                                                const Eigen::VectorXd* bias_velocity) {
   // M Δv = h (τ − b), or with linearised contacts (M − h D − h² K) Δv = h (τ − b) + h² K v (ContactForces
   // gives h D + h² K and h² K v at the sub-step's h). Motors are
   // linearised with every integrator: a geared drive's back-EMF damping is far too stiff for an explicit step.
-  // Sleeping free bodies keep zero velocity: their rows are pinned.
-  Eigen::MatrixXd A = multibody_.MassMatrix(state);
-  Eigen::VectorXd rhs = h * (forces.tau - multibody_.BiasForces(state, params_.gravity, bias_velocity));
+  // Sleeping free bodies keep zero velocity: their rows are pinned. The matrices are the solve's buffers.
+  Eigen::MatrixXd& A = solve_matrix_;
+  Eigen::VectorXd& rhs = solve_rhs_;
+  multibody_.MassMatrix(state, &A);
+  multibody_.BiasForces(state, params_.gravity, bias_velocity, &rhs);
+  rhs = h * (forces.tau - rhs);
   if (forces.contact_matrix.size()) {
     A -= forces.contact_matrix;
     rhs += forces.contact_rhs;
@@ -254,7 +257,8 @@ Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const E
     }
   }
   // The friction–normal coupling (ContactForce::k_slip_normal) makes A non-symmetric: LU, not LDLT.
-  return A.partialPivLu().solve(rhs);
+  solve_lu_.compute(A);
+  return solve_lu_.solve(rhs);
 }
 
 void Simulation::UpdateSleep(SceneState* state, double h) const {

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/LU>
+
 #include "collision/contact_finder.h"
 #include "physics/actuators.h"
 #include "physics/contact_law.h"
@@ -88,7 +90,7 @@ class Simulation : public PhysicsEngine {
   void RecordDriveOutputs(const Eigen::VectorXd& v, const Eigen::VectorXd& v_next, double h, SceneState* state) const;
   // Δv over h from v; the bias forces at bias_velocity when given (else at v).
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
-                                      double h, const Eigen::VectorXd* bias_velocity = nullptr) const;
+                                      double h, const Eigen::VectorXd* bias_velocity = nullptr);
   void AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state);
   // The contact kernel's view of contacts [begin, end) of one pair and one law in columns_, moving with `twist`.
   contact_kernel::ContactRun Run(size_t begin, size_t end, const Multibody::Vec6& twist, double h) const;
@@ -109,7 +111,6 @@ class Simulation : public PhysicsEngine {
   const std::vector<ContactParams>& body_params_;
   // Per scene, from here on: what the last step found, and the step's buffers.
   std::vector<ContactPoint> contacts_;
-  std::vector<ContactParams> contact_params_;  // per contact: the pair's combined law, or the pad's
   std::vector<PadHit> pad_hits_;
   std::vector<Vec3> forces_;
   // Buffers reused from step to step (a work cycle steps one step per call: allocations would dominate).
@@ -119,6 +120,10 @@ class Simulation : public PhysicsEngine {
   std::vector<std::pair<ContactKey, Vec3>> spare_bristles_;  // swapped with the state's each sub-step
   std::vector<Multibody::Vec6> twists_;  // per pair
   Multibody::SpatialJacobian jacobian_b_;  // ContactForces: W_b of the pair at hand, its buffer reused
+  Multibody::SpatialJacobian block_times_jacobian_;  // ContactForces: the pair's 6 × 6 block times its W
+  Eigen::MatrixXd solve_matrix_;           // SolveVelocityChange's system, its factors and right-hand side
+  Eigen::PartialPivLU<Eigen::MatrixXd> solve_lu_;
+  Eigen::VectorXd solve_rhs_;
   // Per contact, one array per coordinate: the contact kernel's inputs and outputs (physics/contact_kernel.h),
   // filled by ContactForces; AdvanceBristles reads the same contacts (the last evaluation's) and writes next_z*.
   struct ContactColumns {

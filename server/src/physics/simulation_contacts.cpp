@@ -83,14 +83,6 @@ void Simulation::FindContacts(SceneState* state) {
     return model_->bodies[body].motion == BodyMotion::kStatic || state->sleeping[body];
   };
   std::erase_if(contacts_, [&](const ContactPoint& c) { return resting(c.body_a) && resting(c.body_b); });
-  // Contacts come grouped by body pair: the pair's law is combined once per group.
-  contact_params_.clear();
-  for (size_t i = 0; i < contacts_.size(); ++i) {
-    const ContactPoint& c = contacts_[i];
-    const bool same_pair = i > 0 && contacts_[i - 1].body_a == c.body_a && contacts_[i - 1].body_b == c.body_b;
-    const ContactParams params = same_pair ? contact_params_.back() : PairParams(c.body_a, c.body_b);
-    contact_params_.push_back(params);
-  }
   AddPadContacts(*state);
   for (const ContactPoint& c : contacts_) {
     if (state->sleeping[c.body_a] || state->sleeping[c.body_b]) {
@@ -109,7 +101,6 @@ void Simulation::AddPadContacts(const SceneState& state) {
   for (const PadHit& hit : pad_hits_) {
     contacts_.push_back(
         {hit.body, pad_links_[hit.pad], PadFeature(hit.pad, hit.element), hit.point, hit.normal, hit.depth});
-    contact_params_.push_back(pad_params_[hit.pad]);
   }
 }
 
@@ -138,7 +129,10 @@ contact_kernel::ContactRun Simulation::Run(size_t begin, size_t end, const Multi
   run.depth = c.depth.data() + begin;
   run.zx = c.zx.data() + begin, run.zy = c.zy.data() + begin, run.zz = c.zz.data() + begin;
   for (int k = 0; k < 6; ++k) run.twist[k] = twist[k];
-  run.law = contact_params_[begin];
+  // A run shares one law (RunEnd): a pad's own, or the pair's combined one for surface samples.
+  const ContactPoint& first = contacts_[begin];
+  const std::optional<PadElementRef> element = PadElementOf(first.feature);
+  run.law = element ? pad_params_[element->pad] : PairParams(first.body_a, first.body_b);
   run.friction = run.law.HasFriction();
   run.h = h;
   return run;
@@ -221,7 +215,10 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     const Multibody::SpatialJacobian& W = forces->pair_jacobians[pair];
     forces->tau.noalias() += W.transpose() * wrench;
     if (linearize) {
-      forces->contact_matrix.noalias() += W.transpose() * (block * W);
+      // Coefficient-wise products: at these sizes (6 rows, a few dozen columns) a blocked product's setup and
+      // temporaries cost more than the arithmetic.
+      block_times_jacobian_.noalias() = block.lazyProduct(W);
+      forces->contact_matrix.noalias() += W.transpose().lazyProduct(block_times_jacobian_);
       forces->contact_rhs.noalias() += (h * h) * (W.transpose() * stiffness_twist);
     }
     begin = end;
