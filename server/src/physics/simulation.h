@@ -68,9 +68,7 @@ class Simulation : public PhysicsEngine {
     // The first pair_count are this evaluation's; the rest are kept for their buffers (no allocation per step).
     std::vector<Multibody::SpatialJacobian> pair_jacobians;
     size_t pair_count = 0;
-    std::vector<size_t> contact_pair;  // per contact: its pair
     std::vector<double> normal_force;  // per contact, N
-    std::vector<Vec3> bristle;         // per contact: z at the start of the step
   };
 
   // The stages of one sub-step, in order.
@@ -131,6 +129,12 @@ class Simulation : public PhysicsEngine {
     void Resize(size_t n);
   };
   ContactColumns columns_;
+  // The runs of contacts [begin, end) of one pair and one law (the contact kernel's unit) of the last
+  // ContactForces, in order, with their pair's index.
+  struct ContactRunRange {
+    size_t begin = 0, end = 0, pair = 0;
+  };
+  std::vector<ContactRunRange> runs_;
   // Per contact pair of the last ContactForces: its bodies and the wrench [Σ p × f; Σ f] on body_a.
   struct PairWrench {
     uint32_t body_a = 0, body_b = 0;

@@ -156,8 +156,6 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   }
   const size_t n = contacts_.size();
   forces->normal_force.resize(n);
-  forces->contact_pair.resize(n);
-  forces->bristle.resize(n);
   forces->pair_count = 0;
   forces_.resize(n);
   pair_wrenches_.clear();
@@ -169,6 +167,10 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   ContactColumns& columns = columns_;
   columns.Resize(n);
   twists_.clear();
+  runs_.clear();
+  double *px = columns.px.data(), *py = columns.py.data(), *pz = columns.pz.data();
+  double *nx = columns.nx.data(), *ny = columns.ny.data(), *nz = columns.nz.data(), *depth = columns.depth.data();
+  double *zx = columns.zx.data(), *zy = columns.zy.data(), *zz = columns.zz.data();
   size_t cursor = 0;  // into state.bristles, which is in the contacts' order
   for (size_t begin = 0; begin < n;) {
     const uint32_t a = contacts_[begin].body_a, b = contacts_[begin].body_b;
@@ -182,23 +184,26 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     size_t end = begin;
     for (; end < n && contacts_[end].body_a == a && contacts_[end].body_b == b; ++end) {
       const ContactPoint& c = contacts_[end];
-      const Vec3 z = forces->bristle[end] = BristleAt(state.bristles, ContactKey{a, b, c.feature}, &cursor);
-      columns.px[end] = c.point.x(), columns.py[end] = c.point.y(), columns.pz[end] = c.point.z();
-      columns.nx[end] = c.normal.x(), columns.ny[end] = c.normal.y(), columns.nz[end] = c.normal.z();
-      columns.depth[end] = c.depth;
-      columns.zx[end] = z.x(), columns.zy[end] = z.y(), columns.zz[end] = z.z();
-      forces->contact_pair[end] = pair;
+      const Vec3 z = BristleAt(state.bristles, ContactKey{a, b, c.feature}, &cursor);
+      px[end] = c.point.x(), py[end] = c.point.y(), pz[end] = c.point.z();
+      nx[end] = c.normal.x(), ny[end] = c.normal.y(), nz[end] = c.normal.z();
+      depth[end] = c.depth;
+      zx[end] = z.x(), zy[end] = z.y(), zz[end] = z.z();
+    }
+    for (size_t run_begin = begin; run_begin < end;) {
+      const size_t run_end = RunEnd(contacts_, run_begin, end);
+      runs_.push_back({run_begin, run_end, pair});
+      run_begin = run_end;
     }
     begin = end;
   }
-  for (size_t begin = 0; begin < n;) {
-    const size_t pair = forces->contact_pair[begin];
-    size_t end = begin;
-    while (end < n && forces->contact_pair[end] == pair) ++end;
+  for (size_t r = 0; r < runs_.size();) {
+    const size_t pair = runs_[r].pair, begin = runs_[r].begin;
     Vec6 wrench = Vec6::Zero(), stiffness_twist = Vec6::Zero();  // Σ Eᵀ K (E twist), for h² K v
     Mat6 block = Mat6::Zero();
-    for (size_t run_begin = begin; run_begin < end;) {
-      const size_t run_end = RunEnd(contacts_, run_begin, end);
+    size_t end = begin;
+    for (; r < runs_.size() && runs_[r].pair == pair; ++r) {
+      const size_t run_begin = runs_[r].begin, run_end = end = runs_[r].end;
       contact_kernel::RunSums sums;
       contact_kernel::EvaluateRun(Run(run_begin, run_end, twists_[pair], h), linearize, columns.fx.data() + run_begin,
                                   columns.fy.data() + run_begin, columns.fz.data() + run_begin,
@@ -208,7 +213,6 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
         AddRunBlock(sums, contacts_[run_begin].normal, &block);
         stiffness_twist += Eigen::Map<const Vec6>(sums.stiffness_twist);
       }
-      run_begin = run_end;
     }
     for (size_t i = begin; i < end; ++i) forces_[i] = Vec3(columns.fx[i], columns.fy[i], columns.fz[i]);
     pair_wrenches_.push_back({contacts_[begin].body_a, contacts_[begin].body_b, wrench});
@@ -221,7 +225,6 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
       forces->contact_matrix.noalias() += W.transpose().lazyProduct(block_times_jacobian_);
       forces->contact_rhs.noalias() += (h * h) * (W.transpose() * stiffness_twist);
     }
-    begin = end;
   }
 }
 
@@ -232,31 +235,21 @@ void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v,
   // their bristle state; frictionless contacts never get one. Built in the contacts' (sorted) order into the
   // previous step's buffer.
   ContactColumns& columns = columns_;
-  const size_t n = contacts_.size();
   twists_.clear();
   for (size_t pair = 0; pair < forces.pair_count; ++pair) twists_.push_back(forces.pair_jacobians[pair] * v);
   std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
   bristles.clear();
-  for (size_t begin = 0; begin < n;) {
-    const size_t pair = forces.contact_pair[begin];
-    size_t end = begin;
-    while (end < n && forces.contact_pair[end] == pair) ++end;
-    for (size_t run_begin = begin; run_begin < end;) {
-      const size_t run_end = RunEnd(contacts_, run_begin, end);
-      contact_kernel::ContactRun run = Run(run_begin, run_end, twists_[pair], h);
-      run.step_end_normal = params_.integrator == Integrator::kLinearlyImplicitEuler;
-      if (run.friction) {  // a run shares its law: whether its contacts keep a bristle is decided once
-        contact_kernel::AdvanceRun(run, forces.normal_force.data() + run_begin, columns.next_zx.data() + run_begin,
-                                   columns.next_zy.data() + run_begin, columns.next_zz.data() + run_begin);
-        for (size_t i = run_begin; i < run_end; ++i) {
-          const ContactPoint& c = contacts_[i];
-          bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature},
-                                Vec3(columns.next_zx[i], columns.next_zy[i], columns.next_zz[i]));
-        }
-      }
-      run_begin = run_end;
+  for (const ContactRunRange& range : runs_) {
+    contact_kernel::ContactRun run = Run(range.begin, range.end, twists_[range.pair], h);
+    run.step_end_normal = params_.integrator == Integrator::kLinearlyImplicitEuler;
+    if (!run.friction) continue;  // a run shares its law: whether its contacts keep a bristle is decided once
+    double *next_zx = columns.next_zx.data(), *next_zy = columns.next_zy.data(), *next_zz = columns.next_zz.data();
+    contact_kernel::AdvanceRun(run, forces.normal_force.data() + range.begin, next_zx + range.begin,
+                               next_zy + range.begin, next_zz + range.begin);
+    for (size_t i = range.begin; i < range.end; ++i) {
+      const ContactPoint& c = contacts_[i];
+      bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature}, Vec3(next_zx[i], next_zy[i], next_zz[i]));
     }
-    begin = end;
   }
   // The contacts come as a few runs sorted by key (a pair's samples in feature order, the pads' elements after
   // the finder's pairs): merging the runs in place costs O(n · runs), where a full sort of a grasp's hundreds of
