@@ -32,9 +32,10 @@ class PhysicsEngine {
   virtual const SceneModel& model() const = 0;
   // Sizes a state's velocity, sleep and sensor arrays for this model (new entries zero).
   virtual void PrepareState(SceneState* state) const = 0;
-  // What a step call records at its end besides the motion: the sensors' readings (joint wrenches, pad forces).
-  // kSkip leaves them as they were, for a caller that steps again before anything reads them (the work cycle
-  // between its control periods and frames); an engine that gets them for free may record them anyway.
+  // What a step call records at its end besides the motion: the sensors' readings (joint wrenches, pad forces)
+  // and the contact list viewers draw (SceneState::contacts). kSkip leaves them as they were, for a caller that
+  // steps again before anything reads them (the work cycle between its control periods and frames); an engine
+  // that gets them for free may record them anyway.
   enum class Readings { kRecord, kSkip };
   // Advances `steps` steps. On divergence throws Error(kFailedPrecondition) naming what diverged and leaves
   // *state as it was before the call.

@@ -16,22 +16,21 @@ Vec6 CrossForce(const Vec6& a, const Vec6& f) {
 
 bool Moves(const JointSpec& joint) { return joint.type != JointType::kFixed; }
 
-// The recursive algorithms' per-node buffers. A Multibody is shared by every Simulation of its model (one per
+}  // namespace
+
+// The recursive algorithms' per-node arrays. A Multibody is shared by every Simulation of its model (one per
 // thread at a time): per-thread buffers keep the step free of allocations without a lock.
-struct NodeBuffers {
-  std::vector<Eigen::Matrix<double, 6, 6>> inertia;
+struct Multibody::Buffers {
+  std::vector<Mat6> inertia;  // per node: its child body's spatial inertia (CRBA: the composite one)
   std::vector<Vec6> S, V, A, F;
   Eigen::MatrixXd Mu;
   Eigen::VectorXd u, bu, v;
 };
-NodeBuffers& ThreadBuffers(size_t nodes) {
-  thread_local NodeBuffers buffers;
-  for (std::vector<Vec6>* column : {&buffers.S, &buffers.V, &buffers.A, &buffers.F}) column->resize(nodes);
-  buffers.inertia.resize(nodes);
+
+Multibody::Buffers& Multibody::ThreadBuffers() {
+  thread_local Buffers buffers;
   return buffers;
 }
-
-}  // namespace
 
 Multibody::Multibody(const SceneModel& model)
     : model_(model), free_offset_(model.bodies.size(), -1), joint_offset_(model.joints.size(), -1),
@@ -153,8 +152,45 @@ Eigen::MatrixXd Multibody::MassMatrix(const SceneState& state) const {
 }
 
 void Multibody::MassMatrix(const SceneState& state, Eigen::MatrixXd* M) const {
-  NodeBuffers& buffers = ThreadBuffers(nodes_.size());
-  Eigen::MatrixXd& Mu = buffers.Mu;
+  Buffers& buffers = ThreadBuffers();
+  NodeKinematics(state, &buffers);
+  MassMatrixFrom(state, &buffers, M);
+}
+
+Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravity,
+                                      const Eigen::VectorXd* velocities) const {
+  Eigen::VectorXd b;
+  BiasForces(state, gravity, velocities, &b);
+  return b;
+}
+
+void Multibody::BiasForces(const SceneState& state, const Vec3& gravity, const Eigen::VectorXd* velocities,
+                           Eigen::VectorXd* b) const {
+  Buffers& buffers = ThreadBuffers();
+  NodeKinematics(state, &buffers);
+  BiasForcesFrom(state, gravity, velocities, &buffers, b);
+}
+
+void Multibody::MassMatrixAndBiasForces(const SceneState& state, const Vec3& gravity,
+                                        const Eigen::VectorXd* velocities, Eigen::MatrixXd* M,
+                                        Eigen::VectorXd* b) const {
+  Buffers& buffers = ThreadBuffers();
+  NodeKinematics(state, &buffers);
+  BiasForcesFrom(state, gravity, velocities, &buffers, b);  // first: the mass matrix makes the inertias composite
+  MassMatrixFrom(state, &buffers, M);
+}
+
+void Multibody::NodeKinematics(const SceneState& state, Buffers* buffers) const {
+  buffers->S.resize(nodes_.size());
+  buffers->inertia.resize(nodes_.size());
+  for (size_t n = 0; n < nodes_.size(); ++n) {
+    buffers->S[n] = MotionSubspace(state, nodes_[n]);
+    buffers->inertia[n] = SpatialInertia(state, nodes_[n].child_body);
+  }
+}
+
+void Multibody::MassMatrixFrom(const SceneState& state, Buffers* buffers, Eigen::MatrixXd* M) const {
+  Eigen::MatrixXd& Mu = buffers->Mu;
   Mu.setZero(nu_, nu_);
   for (size_t b = 0; b < model_.bodies.size(); ++b) {
     const int o = free_offset_[b];
@@ -165,12 +201,8 @@ void Multibody::MassMatrix(const SceneState& state, Eigen::MatrixXd* M) const {
   }
   // Composite-rigid-body algorithm in world coordinates: each node's subtree inertia, then M_ij = S_iᵀ I^c_j S_j
   // for every ancestor i of j.
-  std::vector<Mat6>& composite = buffers.inertia;
-  std::vector<Vec6>& S = buffers.S;
-  for (size_t n = 0; n < nodes_.size(); ++n) {
-    composite[n] = SpatialInertia(state, nodes_[n].child_body);
-    S[n] = MotionSubspace(state, nodes_[n]);
-  }
+  std::vector<Mat6>& composite = buffers->inertia;
+  const std::vector<Vec6>& S = buffers->S;
   for (size_t n = nodes_.size(); n-- > 0;) {
     if (nodes_[n].parent >= 0) composite[nodes_[n].parent] += composite[n];
   }
@@ -197,19 +229,11 @@ void Multibody::MassMatrix(const SceneState& state, Eigen::MatrixXd* M) const {
   }
 }
 
-Eigen::VectorXd Multibody::BiasForces(const SceneState& state, const Vec3& gravity,
-                                      const Eigen::VectorXd* velocities) const {
-  Eigen::VectorXd b;
-  BiasForces(state, gravity, velocities, &b);
-  return b;
-}
-
-void Multibody::BiasForces(const SceneState& state, const Vec3& gravity, const Eigen::VectorXd* velocities,
-                           Eigen::VectorXd* b) const {
-  NodeBuffers& buffers = ThreadBuffers(nodes_.size());
-  if (velocities == nullptr) buffers.v = Velocities(state);
-  const Eigen::VectorXd& v = velocities ? *velocities : buffers.v;
-  Eigen::VectorXd& bu = buffers.bu;
+void Multibody::BiasForcesFrom(const SceneState& state, const Vec3& gravity, const Eigen::VectorXd* velocities,
+                               Buffers* buffers, Eigen::VectorXd* b) const {
+  if (velocities == nullptr) buffers->v = Velocities(state);
+  const Eigen::VectorXd& v = velocities ? *velocities : buffers->v;
+  Eigen::VectorXd& bu = buffers->bu;
   bu.setZero(nu_);
   for (size_t body = 0; body < model_.bodies.size(); ++body) {
     const int o = free_offset_[body];
@@ -220,20 +244,21 @@ void Multibody::BiasForces(const SceneState& state, const Vec3& gravity, const E
     bu.segment<3>(o + 3) = w.cross(R * (model_.bodies[body].inertial.inertia * (R.transpose() * w)));
   }
   // Recursive Newton–Euler with q̈ = 0 and the base accelerating at −g (which stands in for gravity).
-  Eigen::VectorXd& u = buffers.u;
+  Eigen::VectorXd& u = buffers->u;
   FullVelocities(v, &u);
   Vec6 base_acceleration;
   base_acceleration = Stack(Vec3::Zero(), -gravity);
-  std::vector<Vec6>&V = buffers.V, &A = buffers.A, &F = buffers.F, &S = buffers.S;
+  std::vector<Vec6>&V = buffers->V, &A = buffers->A, &F = buffers->F;
+  const std::vector<Vec6>& S = buffers->S;
+  V.resize(nodes_.size()), A.resize(nodes_.size()), F.resize(nodes_.size());
   for (size_t n = 0; n < nodes_.size(); ++n) {
     const Node& node = nodes_[n];
     const Vec6 parent_velocity = node.parent >= 0 ? V[node.parent] : Vec6::Zero();
     const Vec6 parent_acceleration = node.parent >= 0 ? A[node.parent] : base_acceleration;
-    S[n] = MotionSubspace(state, node);
     const Vec6 joint_velocity = node.full >= 0 ? Vec6(S[n] * u[node.full]) : Vec6::Zero();
     V[n] = parent_velocity + joint_velocity;
     A[n] = parent_acceleration + CrossMotion(V[n], joint_velocity);
-    const Mat6 I = SpatialInertia(state, node.child_body);
+    const Mat6& I = buffers->inertia[n];
     F[n] = I * A[n] + CrossForce(V[n], I * V[n]);
   }
   for (size_t n = nodes_.size(); n-- > 0;) {

@@ -45,6 +45,9 @@ class Multibody {
                              const Eigen::VectorXd* velocities = nullptr) const;
   void BiasForces(const SceneState& state, const Vec3& gravity, const Eigen::VectorXd* velocities,
                   Eigen::VectorXd* b) const;
+  // Both, from one pass of the joints' motion subspaces and the links' spatial inertias (a step needs both).
+  void MassMatrixAndBiasForces(const SceneState& state, const Vec3& gravity, const Eigen::VectorXd* velocities,
+                               Eigen::MatrixXd* M, Eigen::VectorXd* b) const;
   // W (6 × nv) such that W v = [ω; v_O], the body's angular velocity and the velocity of the body-fixed point at
   // the world origin (Featherstone's spatial velocity, world coordinates). A point p then moves at
   // v_O + ω × p. Zero for static bodies; a link's depends on every joint between the robot base and the link.
@@ -87,6 +90,15 @@ class Multibody {
   Vec6 MotionSubspace(const SceneState& state, const Node& node) const;
   // Spatial inertia of a body about the world origin, world coordinates.
   Mat6 SpatialInertia(const SceneState& state, size_t body) const;
+  // Per-thread working arrays of the recursive algorithms (multibody.cpp).
+  struct Buffers;
+  static Buffers& ThreadBuffers();
+  // Each node's motion subspace and its child body's spatial inertia, at the state's configuration.
+  void NodeKinematics(const SceneState& state, Buffers* buffers) const;
+  // CRBA and RNEA from NodeKinematics; the first turns the inertias into composite ones.
+  void MassMatrixFrom(const SceneState& state, Buffers* buffers, Eigen::MatrixXd* M) const;
+  void BiasForcesFrom(const SceneState& state, const Vec3& gravity, const Eigen::VectorXd* velocities,
+                      Buffers* buffers, Eigen::VectorXd* b) const;
   // The joint velocities u of every moving joint (u = G v).
   Eigen::VectorXd FullVelocities(const Eigen::VectorXd& v) const;
   void FullVelocities(const Eigen::VectorXd& v, Eigen::VectorXd* u) const;

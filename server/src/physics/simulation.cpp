@@ -78,11 +78,22 @@ ContactParams Simulation::PairParams(uint32_t a, uint32_t b) const {
 
 StepStats Simulation::Step(SceneState* state, int steps, Readings readings) {
   // Step in place, keeping a copy to restore: a diverged run leaves the caller's state as it was. The copy
-  // assignment reuses the buffers of the last call. The contacts (a good part of the state's bytes) are not
-  // copied: only the end of a step that succeeded writes them, so they are moved aside and back instead.
+  // assignment reuses the buffers of the last call. What the call leaves untouched stays out of the copy: the
+  // contact list is moved aside and back (only the end of a call that succeeded writes it), and with kSkip the
+  // readings are swapped out around the copy (a work cycle steps one step per call, most of them with kSkip).
+  const bool record = readings == Readings::kRecord;
   std::vector<SceneState::Contact> contacts = std::move(state->contacts);
   state->contacts.clear();
+  std::vector<std::vector<Vec3>> pad_forces;
+  std::vector<std::array<Vec3, 2>> joint_wrenches;
+  auto swap_readings = [&] {
+    if (record) return;
+    std::swap(pad_forces, state->pad_forces);
+    std::swap(joint_wrenches, state->joint_wrenches);
+  };
+  swap_readings();
   backup_ = *state;
+  swap_readings();
   PrepareState(state);
   const double h = params_.time_step / params_.substeps;
   StepStats stats;
@@ -91,22 +102,27 @@ StepStats Simulation::Step(SceneState* state, int steps, Readings readings) {
       for (int sub = 0; sub < params_.substeps; ++sub) {
         // What the sensors read (joint wrenches, pad forces) is recorded by the call's last sub-step only: every
         // earlier one would be overwritten unread.
-        SubStep(state, h, readings == Readings::kRecord && s == steps - 1 && sub == params_.substeps - 1);
+        SubStep(state, h, record && s == steps - 1 && sub == params_.substeps - 1);
         CheckFinite(*state);
       }
       ++state->step;
       state->time += params_.time_step;
     }
   } catch (...) {
+    swap_readings();
     *state = backup_;
+    swap_readings();
     state->contacts = std::move(contacts);
     throw;
   }
-  state->contacts = std::move(contacts);
   stats.contacts = contacts_.size();
-  state->contacts.resize(contacts_.size());
-  for (size_t i = 0; i < contacts_.size(); ++i) {
-    state->contacts[i] = {contacts_[i].body_a, contacts_[i].body_b, contacts_[i].point, forces_[i]};
+  if (!record) {
+    state->contacts = std::move(contacts);
+  } else {
+    state->contacts.resize(contacts_.size());
+    for (size_t i = 0; i < contacts_.size(); ++i) {
+      state->contacts[i] = {contacts_[i].body_a, contacts_[i].body_b, contacts_[i].point, forces_[i]};
+    }
   }
   for (size_t i = 0; i < model_->bodies.size(); ++i) {
     stats.awake_bodies += model_->bodies[i].motion == BodyMotion::kFree && !state->sleeping[i];
@@ -237,8 +253,7 @@ Eigen::VectorXd Simulation::SolveVelocityChange(const SceneState& state, const E
   // Sleeping free bodies keep zero velocity: their rows are pinned. The matrices are the solve's buffers.
   Eigen::MatrixXd& A = solve_matrix_;
   Eigen::VectorXd& rhs = solve_rhs_;
-  multibody_.MassMatrix(state, &A);
-  multibody_.BiasForces(state, params_.gravity, bias_velocity, &rhs);
+  multibody_.MassMatrixAndBiasForces(state, params_.gravity, bias_velocity, &A, &rhs);
   rhs = h * (forces.tau - rhs);
   if (forces.contact_matrix.size()) {
     A -= forces.contact_matrix;
@@ -326,6 +341,11 @@ void Simulation::CheckFinite(const SceneState& state) const {
            ", velocity " + FormatNumber(state.joint_velocities[j]));
     }
   }
+  // A NaN or infinity anywhere makes the sum non-finite: one pass of additions, and the culprit looked for only
+  // then (a sum of finite values that overflows finds none, and passes).
+  double sum = 0;
+  for (const auto& entry : state.bristles) sum += entry.second.x() + entry.second.y() + entry.second.z();
+  if (std::isfinite(sum)) return;
   for (const auto& [key, z] : state.bristles) {
     if (!z.allFinite()) fail("bristle of body '" + model_->bodies[key.body_a].id + "' is " + Vec(z));
   }
