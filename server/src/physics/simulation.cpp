@@ -116,9 +116,8 @@ StepStats Simulation::Step(SceneState* state, int steps, Readings readings) {
     throw;
   }
   stats.contacts = contacts_.size();
-  if (!record) {
-    state->contacts = std::move(contacts);
-  } else {
+  state->contacts = std::move(contacts);  // a skipped call's list as it was; a recording one reuses its buffer
+  if (record) {
     state->contacts.resize(contacts_.size());
     for (size_t i = 0; i < contacts_.size(); ++i) {
       state->contacts[i] = {contacts_[i].body_a, contacts_[i].body_b, contacts_[i].point, forces_[i]};
