@@ -135,6 +135,7 @@ class Simulation : public PhysicsEngine {
     size_t begin = 0, end = 0, pair = 0;
   };
   std::vector<ContactRunRange> runs_;
+  bool bristles_aligned_ = false;  // the last ContactForces: contact i's bristle is state.bristles[i], for every i
   // Per contact pair of the last ContactForces: its bodies and the wrench [Σ p × f; Σ f] on body_a.
   struct PairWrench {
     uint32_t body_a = 0, body_b = 0;

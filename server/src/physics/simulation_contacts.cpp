@@ -172,6 +172,9 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
   double *nx = columns.nx.data(), *ny = columns.ny.data(), *nz = columns.nz.data(), *depth = columns.depth.data();
   double *zx = columns.zx.data(), *zy = columns.zy.data(), *zz = columns.zz.data();
   size_t cursor = 0;  // into state.bristles, which is in the contacts' order
+  // Whether contact i's bristle is state.bristles[i] for every contact, and there are no others: a steady grasp,
+  // step after step. AdvanceBristles then updates them in place.
+  bristles_aligned_ = state.bristles.size() == n;
   for (size_t begin = 0; begin < n;) {
     const uint32_t a = contacts_[begin].body_a, b = contacts_[begin].body_b;
     const size_t pair = forces->pair_count++;
@@ -184,6 +187,7 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     size_t end = begin;
     for (; end < n && contacts_[end].body_a == a && contacts_[end].body_b == b; ++end) {
       const ContactPoint& c = contacts_[end];
+      bristles_aligned_ = bristles_aligned_ && cursor == end;
       const Vec3 z = BristleAt(state.bristles, ContactKey{a, b, c.feature}, &cursor);
       px[end] = c.point.x(), py[end] = c.point.y(), pz[end] = c.point.z();
       nx[end] = c.normal.x(), ny[end] = c.normal.y(), nz[end] = c.normal.z();
@@ -197,6 +201,7 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     }
     begin = end;
   }
+  bristles_aligned_ = bristles_aligned_ && cursor == n;
   for (size_t r = 0; r < runs_.size();) {
     const size_t pair = runs_[r].pair, begin = runs_[r].begin;
     Vec6 wrench = Vec6::Zero(), stiffness_twist = Vec6::Zero();  // Σ Eᵀ K (E twist), for h² K v
@@ -237,20 +242,29 @@ void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v,
   ContactColumns& columns = columns_;
   twists_.clear();
   for (size_t pair = 0; pair < forces.pair_count; ++pair) twists_.push_back(forces.pair_jacobians[pair] * v);
-  std::vector<std::pair<ContactKey, Vec3>>& bristles = spare_bristles_;
-  bristles.clear();
+  // A steady grasp's contacts are the last step's, each at its bristle's index (ContactForces): the bristles are
+  // updated in place. Otherwise they are built anew in the contacts' order.
+  const bool in_place = bristles_aligned_;
+  std::vector<std::pair<ContactKey, Vec3>>& bristles = in_place ? state->bristles : spare_bristles_;
+  if (!in_place) bristles.clear();
+  double *next_zx = columns.next_zx.data(), *next_zy = columns.next_zy.data(), *next_zz = columns.next_zz.data();
   for (const ContactRunRange& range : runs_) {
     contact_kernel::ContactRun run = Run(range.begin, range.end, twists_[range.pair], h);
     run.step_end_normal = params_.integrator == Integrator::kLinearlyImplicitEuler;
     if (!run.friction) continue;  // a run shares its law: whether its contacts keep a bristle is decided once
-    double *next_zx = columns.next_zx.data(), *next_zy = columns.next_zy.data(), *next_zz = columns.next_zz.data();
     contact_kernel::AdvanceRun(run, forces.normal_force.data() + range.begin, next_zx + range.begin,
                                next_zy + range.begin, next_zz + range.begin);
     for (size_t i = range.begin; i < range.end; ++i) {
-      const ContactPoint& c = contacts_[i];
-      bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature}, Vec3(next_zx[i], next_zy[i], next_zz[i]));
+      const Vec3 z(next_zx[i], next_zy[i], next_zz[i]);
+      if (in_place) {
+        bristles[i].second = z;
+      } else {
+        const ContactPoint& c = contacts_[i];
+        bristles.emplace_back(ContactKey{c.body_a, c.body_b, c.feature}, z);
+      }
     }
   }
+  if (in_place) return;  // every contact had a bristle, so every run has friction: all were written
   // The contacts come as a few runs sorted by key (a pair's samples in feature order, the pads' elements after
   // the finder's pairs): merging the runs in place costs O(n · runs), where a full sort of a grasp's hundreds of
   // bristles each step was a tenth of the step.

@@ -280,13 +280,9 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
       for (uint32_t e = run_begin; e < run_end; ++e) {
         if (m.best_depth[e] <= 0) continue;
         const PadElement& element = pad.elements[e];
-        PadHit& hit = hits->emplace_back();
-        hit.pad = p;
-        hit.element = e;
-        hit.body = m.best_body[e];
-        hit.depth = m.best_depth[e];
-        hit.normal = world_normal;
-        hit.point = pad_rotation.lazyProduct(element.position) + pad_world.position + m.best_t[e] * world_normal;
+        hits->push_back({p, e, m.best_body[e], m.best_depth[e],
+                         pad_rotation.lazyProduct(element.position) + pad_world.position + m.best_t[e] * world_normal,
+                         world_normal});
       }
       run_begin = run_end;
     }

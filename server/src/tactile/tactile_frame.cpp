@@ -9,8 +9,16 @@
 namespace graspsim {
 
 TactileFrame ReadTactileArray(const SceneModel& model, const SceneState& state, size_t pad) {
-  const TactileArraySpec& spec = model.tactile_arrays.at(pad);
   TactileFrame frame;
+  ReadTactileArray(model, state, pad, &frame);
+  return frame;
+}
+
+void ReadTactileArray(const SceneModel& model, const SceneState& state, size_t pad, TactileFrame* out) {
+  const TactileArraySpec& spec = model.tactile_arrays.at(pad);
+  TactileFrame& frame = *out;
+  frame.intensity_sum = 0;
+  frame.force_sum = Vec3::Zero();
   frame.rows = spec.rows;
   frame.cols = spec.cols;
   const size_t texels = size_t{spec.rows} * spec.cols;
@@ -45,7 +53,6 @@ TactileFrame ReadTactileArray(const SceneModel& model, const SceneState& state, 
     frame.intensity_sum += intensity;
     frame.force_sum += force;
   }
-  return frame;
 }
 
 }  // namespace graspsim

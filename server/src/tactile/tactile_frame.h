@@ -26,5 +26,7 @@ struct TactileFrame {
 // foam toward what it touches, so an object pressing on the pad pushes it along −z: the texel's normal force is
 // max(0, −z) of its force (a force along +z would pull the foam off and reads 0).
 TactileFrame ReadTactileArray(const SceneModel& model, const SceneState& state, size_t pad);
+// The same into *frame, reusing its buffers (a controller reading the pads every few steps).
+void ReadTactileArray(const SceneModel& model, const SceneState& state, size_t pad, TactileFrame* frame);
 
 }  // namespace graspsim

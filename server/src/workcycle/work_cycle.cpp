@@ -143,17 +143,22 @@ void WorkCycle::Start(SceneState* state) {
 }
 
 bool WorkCycle::Touching(const SceneState& state) const {
-  for (size_t pad : pads_) {
-    if (double(ReadTactileArray(*model_, state, pad).intensity_sum) > kContactThreshold) return true;
+  for (size_t pad = 0; pad < pads_.size(); ++pad) {
+    if (double(IntensitySum(state, pad)) > kContactThreshold) return true;
   }
   return false;
+}
+
+uint64_t WorkCycle::IntensitySum(const SceneState& state, size_t pad) const {
+  ReadTactileArray(*model_, state, pads_[pad], &pad_reading_);
+  return pad_reading_.intensity_sum;
 }
 
 void WorkCycle::Control(SceneState* state) {
   const SceneModel& m = *model_;
   const double t = state->time, qa = state->joint_positions[axis_], qf = state->joint_positions[finger_];
-  const uint64_t left = ReadTactileArray(m, *state, pads_[0]).intensity_sum;
-  const uint64_t right = ReadTactileArray(m, *state, pads_[1]).intensity_sum;
+  const uint64_t left = IntensitySum(*state, 0);
+  const uint64_t right = IntensitySum(*state, 1);
   const double mean = (double(left) + double(right)) / 2;
   const double setpoint = request_.tactile_setpoint;
   const std::string& gripper = request_.gripper_id;

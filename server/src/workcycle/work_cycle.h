@@ -99,6 +99,8 @@ class WorkCycle {
   void Plan(const SceneState& state);
   void Start(SceneState* state);
   bool Touching(const SceneState& state) const;
+  // The intensity sum of pad `pad` (index into pads_), read into a reused frame.
+  uint64_t IntensitySum(const SceneState& state, size_t pad) const;
   // Whether the next step must record the sensors' readings (PhysicsEngine::Readings).
   bool ReadingsWanted(const SceneState& state, bool last_of_call) const;
   double NextFrameTime() const;  // s: when the next frame on the frame-rate grid is due
@@ -114,6 +116,7 @@ class WorkCycle {
   WorkCycleSummary summary_;
   std::array<std::string, 2> pad_ids_;
   std::array<size_t, 2> pads_{};
+  mutable TactileFrame pad_reading_;  // IntensitySum's buffers
   size_t robot_ = 0, axis_ = 0, finger_ = 0, object_ = 0;
   DcMotorParams axis_drive_, finger_drive_;
   double lift_position_ = 0;     // m of axis travel that lifts by lift_height
