@@ -342,9 +342,9 @@ void Simulation::CheckFinite(const SceneState& state) const {
   }
   // A NaN or infinity anywhere makes the sum non-finite: one pass of additions, and the culprit looked for only
   // then (a sum of finite values that overflows finds none, and passes).
-  double sum = 0;
-  for (const auto& entry : state.bristles) sum += entry.second.x() + entry.second.y() + entry.second.z();
-  if (std::isfinite(sum)) return;
+  Vec3 sum = Vec3::Zero();  // three independent sums: no chain of dependent additions
+  for (const auto& entry : state.bristles) sum += entry.second;
+  if (std::isfinite(sum.x() + sum.y() + sum.z())) return;
   for (const auto& [key, z] : state.bristles) {
     if (!z.allFinite()) fail("bristle of body '" + model_->bodies[key.body_a].id + "' is " + Vec(z));
   }

@@ -84,7 +84,10 @@ void Simulation::FindContacts(SceneState* state) {
   };
   std::erase_if(contacts_, [&](const ContactPoint& c) { return resting(c.body_a) && resting(c.body_b); });
   AddPadContacts(*state);
-  for (const ContactPoint& c : contacts_) {
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    const ContactPoint& c = contacts_[i];
+    // Contacts come grouped by pair: a pair's bodies are woken (or found awake) by its first contact.
+    if (i > 0 && contacts_[i - 1].body_a == c.body_a && contacts_[i - 1].body_b == c.body_b) continue;
     if (state->sleeping[c.body_a] || state->sleeping[c.body_b]) {
       state->sleeping[c.body_a] = state->sleeping[c.body_b] = false;
       state->rest_time[c.body_a] = state->rest_time[c.body_b] = 0;

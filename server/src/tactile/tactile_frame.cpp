@@ -37,7 +37,8 @@ void ReadTactileArray(const SceneModel& model, const SceneState& state, size_t p
 
   // World → pad frame: only the rotation matters for forces.
   const Pose& link = state.body_poses.at(model.body_index.at(spec.body_id));
-  const Quat world_to_pad = (link * spec.origin).orientation.conjugate();
+  // As a matrix: one conversion per frame rather than a quaternion product per texel.
+  const Mat3 world_to_pad = (link * spec.origin).orientation.conjugate().toRotationMatrix();
   const double max_intensity = spec.max_intensity;
   for (size_t t = 0; t < texels; ++t) {
     Vec3& force = frame.forces[t];
