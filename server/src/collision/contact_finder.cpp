@@ -337,8 +337,9 @@ void ContactFinder::Impl::SamplesInto(uint32_t a, uint32_t b, const std::vector<
   }
 
   const collision::BodySamples& own = samples[a];
-  std::vector<Support>& supported = ThreadFindBuffers().supported;  // how this block's geometry meets each target
-  std::vector<std::array<uint8_t, 6>>& facing = ThreadFindBuffers().facing;  // box on box: per target, own face
+  FindBuffers& buffers = ThreadFindBuffers();
+  std::vector<Support>& supported = buffers.supported;  // how this block's geometry meets each target
+  std::vector<std::array<uint8_t, 6>>& facing = buffers.facing;  // box on box: per target, per own face
   supported.assign(targets.size(), Support::kNone);
   facing.assign(targets.size(), {});
   uint32_t supported_geometry = std::numeric_limits<uint32_t>::max();  // the geometry the two above are for

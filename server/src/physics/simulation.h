@@ -90,8 +90,7 @@ class Simulation : public PhysicsEngine {
   Eigen::VectorXd SolveVelocityChange(const SceneState& state, const Eigen::VectorXd& v, const Forces& forces,
                                       double h, const Eigen::VectorXd* bias_velocity = nullptr);
   void AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v, double h, SceneState* state);
-  // The contact kernel's view of contacts [begin, end) of one pair and one law in columns_, moving with `twist`.
-  contact_kernel::ContactRun Run(size_t begin, size_t end, const Multibody::Vec6& twist, double h) const;
+
   void UpdateSleep(SceneState* state, double h) const;
   ContactParams PairParams(uint32_t a, uint32_t b) const;
   void ClampJointLimits(SceneState* state) const;
@@ -133,8 +132,13 @@ class Simulation : public PhysicsEngine {
   // ContactForces, in order, with their pair's index.
   struct ContactRunRange {
     size_t begin = 0, end = 0, pair = 0;
+    ContactParams law;  // the run's law, combined once per evaluation (RunLaw)
   };
   std::vector<ContactRunRange> runs_;
+  // The law the run starting at contact `begin` obeys; the contact kernel's view of a run in columns_, moving
+  // with `twist`.
+  ContactParams RunLaw(size_t begin) const;
+  contact_kernel::ContactRun Run(const ContactRunRange& range, const Multibody::Vec6& twist, double h) const;
   bool bristles_aligned_ = false;  // the last ContactForces: contact i's bristle is state.bristles[i], for every i
   // Per contact pair of the last ContactForces: its bodies and the wrench [Σ p × f; Σ f] on body_a.
   struct PairWrench {

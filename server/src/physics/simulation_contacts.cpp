@@ -123,19 +123,25 @@ void Simulation::ContactColumns::Resize(size_t n) {
   }
 }
 
-contact_kernel::ContactRun Simulation::Run(size_t begin, size_t end, const Multibody::Vec6& twist, double h) const {
+ContactParams Simulation::RunLaw(size_t begin) const {
+  // A run shares one law (RunEnd): a pad's own, or the pair's combined one for surface samples.
+  const ContactPoint& first = contacts_[begin];
+  const std::optional<PadElementRef> element = PadElementOf(first.feature);
+  return element ? pad_params_[element->pad] : PairParams(first.body_a, first.body_b);
+}
+
+contact_kernel::ContactRun Simulation::Run(const ContactRunRange& range, const Multibody::Vec6& twist,
+                                           double h) const {
   contact_kernel::ContactRun run;
   const ContactColumns& c = columns_;
-  run.count = end - begin;
+  const size_t begin = range.begin;
+  run.count = range.end - begin;
   run.px = c.px.data() + begin, run.py = c.py.data() + begin, run.pz = c.pz.data() + begin;
   run.nx = c.nx.data() + begin, run.ny = c.ny.data() + begin, run.nz = c.nz.data() + begin;
   run.depth = c.depth.data() + begin;
   run.zx = c.zx.data() + begin, run.zy = c.zy.data() + begin, run.zz = c.zz.data() + begin;
   for (int k = 0; k < 6; ++k) run.twist[k] = twist[k];
-  // A run shares one law (RunEnd): a pad's own, or the pair's combined one for surface samples.
-  const ContactPoint& first = contacts_[begin];
-  const std::optional<PadElementRef> element = PadElementOf(first.feature);
-  run.law = element ? pad_params_[element->pad] : PairParams(first.body_a, first.body_b);
+  run.law = range.law;
   run.friction = run.law.HasFriction();
   run.h = h;
   return run;
@@ -199,7 +205,7 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     }
     for (size_t run_begin = begin; run_begin < end;) {
       const size_t run_end = RunEnd(contacts_, run_begin, end);
-      runs_.push_back({run_begin, run_end, pair});
+      runs_.push_back({run_begin, run_end, pair, RunLaw(run_begin)});
       run_begin = run_end;
     }
     begin = end;
@@ -211,9 +217,10 @@ void Simulation::ContactForces(const SceneState& state, const Eigen::VectorXd& v
     Mat6 block = Mat6::Zero();
     size_t end = begin;
     for (; r < runs_.size() && runs_[r].pair == pair; ++r) {
-      const size_t run_begin = runs_[r].begin, run_end = end = runs_[r].end;
+      const size_t run_begin = runs_[r].begin;
+      end = runs_[r].end;
       contact_kernel::RunSums sums;
-      contact_kernel::EvaluateRun(Run(run_begin, run_end, twists_[pair], h), linearize, columns.fx.data() + run_begin,
+      contact_kernel::EvaluateRun(Run(runs_[r], twists_[pair], h), linearize, columns.fx.data() + run_begin,
                                   columns.fy.data() + run_begin, columns.fz.data() + run_begin,
                                   forces->normal_force.data() + run_begin, &sums);
       wrench += Stack(Vec3(sums.moment), Vec3(sums.force));
@@ -252,7 +259,7 @@ void Simulation::AdvanceBristles(const Forces& forces, const Eigen::VectorXd& v,
   if (!in_place) bristles.clear();
   double *next_zx = columns.next_zx.data(), *next_zy = columns.next_zy.data(), *next_zz = columns.next_zz.data();
   for (const ContactRunRange& range : runs_) {
-    contact_kernel::ContactRun run = Run(range.begin, range.end, twists_[range.pair], h);
+    contact_kernel::ContactRun run = Run(range, twists_[range.pair], h);
     run.step_end_normal = params_.integrator == Integrator::kLinearlyImplicitEuler;
     if (!run.friction) continue;  // a run shares its law: whether its contacts keep a bristle is decided once
     contact_kernel::AdvanceRun(run, forces.normal_force.data() + range.begin, next_zx + range.begin,
