@@ -2,6 +2,7 @@
 #include "tactile/ray_caster.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "collision/embree.h"
 #include "collision/tessellation.h"
 #include "core/error.h"
+#include "tactile/near_triangles.h"
 #include "tactile/segment_box.h"
 
 namespace graspsim {
@@ -23,13 +25,18 @@ using collision::LocalMesh;
 using collision::SphereMesh;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
+// How far a pad may move relative to a mesh before its segments' candidate triangles are gathered again
+// (tactile/near_triangles.h): a held object slips far less per step; wider costs more candidates per segment.
+constexpr double kNearSlack = 0.5e-3;  // m
 
 // One body's collision geometry as the rays see it, in the body frame. A body that is a single box (a cube, a
 // table top) is met analytically by the slab test in double precision: exact, and several times cheaper per
-// segment than Embree's traversal of its 12 triangles. Everything else goes through Embree.
+// segment than Embree's traversal of its 12 triangles. Everything else is a triangle mesh: each segment is
+// tested against the triangles near it (tactile/near_triangles.h); Embree's BVH says which side of the surface
+// a base is on when its segment meets none of them.
 struct Target {
   std::optional<collision::EmbreeScene> scene;  // Embree's BVH, or none
-  std::vector<Vec3> normals;   // unit, per Embree primitive: says whether a hit enters or leaves
+  SegmentMesh triangles;       // the same triangles (Embree's primitive order) with their unit normals
   bool is_box = false;         // the single-box case: box_frame and box_extent instead of scene
   Pose box_frame;              // the box's frame in the body frame
   Aabb box_extent;             // the box in its own frame, ±half size
@@ -46,6 +53,10 @@ struct Pad {
   Aabb foam;                   // pad frame: every element's segment
   std::vector<double> x, y, z;  // the elements' positions, one array per coordinate (SegmentEntries)
   std::vector<uint32_t> normal_runs;  // the end of each run of elements that share their normal
+  // Per run, a rotation from the pad frame to one whose z is the run's normal, and per element its position
+  // there: the frame the mesh path tests segments in.
+  std::vector<Mat3> run_rotations;
+  std::vector<Vec3> run_positions;
 };
 
 }  // namespace
@@ -57,7 +68,14 @@ struct TactileRayCaster::Impl {
   mutable collision::RayBatch rays;                // one pad's segments against one body
   mutable std::vector<double> best_depth, best_t;  // per element of the current pad; depth 0: no hit
   mutable std::vector<uint32_t> best_body;
-  mutable std::vector<uint8_t> from_inside;        // per packed ray: its base is inside the body's box
+  // Per pad and mesh body (pad * bodies.size() + body): the segments' candidate triangles, and whether each
+  // element's base was inside the body when they were gathered (meaningful where NearTriangles::BaseClear).
+  struct MeshCandidates {
+    NearTriangles triangles;
+    std::vector<uint8_t> base_inside;
+  };
+  mutable std::vector<MeshCandidates> near;
+  mutable std::vector<Vec3> run_points;  // a run's candidate triangles' vertices in its segments' frame
   mutable std::vector<double> entries;             // per element of the current pad: SegmentEntries' answer
   mutable std::vector<Aabb> world_bounds;          // per body
   mutable uint64_t ray_count = 0;
@@ -65,6 +83,12 @@ struct TactileRayCaster::Impl {
   void Build(const BodySpec& body, Target* target);
   // The segments of `pad` against the single box of `target` (to_box: pad frame → box frame), body index b.
   void CastAtBox(const Pad& pad, const Target& target, const Pose& to_box, uint32_t b) const;
+  // Gathers the candidate triangles of `pad`'s segments in `target` at the pad → body map, and the sides of
+  // their bases.
+  void Gather(const Pad& pad, const Target& target, const Mat3& rotation, const Vec3& translation,
+              MeshCandidates* near_pad) const;
+  // The segments of pad `p` against the mesh of `target` (to_body: pad frame → body frame), body index b.
+  void CastAtMesh(const Pad& pad, uint32_t p, const Target& target, const Pose& to_body, uint32_t b) const;
   // The deepest hit over the bodies per element; ties stay with the lower body index (bodies go in order).
   void KeepDeepest(uint32_t element, double depth, double t, uint32_t b) const {
     if (depth > best_depth[element]) {
@@ -96,6 +120,93 @@ void TactileRayCaster::Impl::CastAtBox(const Pad& pad, const Target& target, con
     ++ray_count;
     const double depth = pad.thickness - entry;
     if (depth > 0) KeepDeepest(e, depth, entry, b);
+  }
+}
+
+void TactileRayCaster::Impl::Gather(const Pad& pad, const Target& target, const Mat3& rotation,
+                                    const Vec3& translation, MeshCandidates* near_pad) const {
+  near_pad->triangles.Gather(target.triangles, pad.elements, pad.normal_runs, pad.thickness, pad.foam, rotation,
+                             translation, kNearSlack);
+  // Which side of the surface each clear base is on: a ray from it to infinity, inside when its first hit leaves
+  // (a base outside the body's box is outside).
+  near_pad->base_inside.assign(pad.elements.size(), 0);
+  rays.Clear();
+  for (uint32_t e = 0; e < pad.elements.size(); ++e) {
+    const Vec3 o = rotation * pad.elements[e].position + translation;
+    if (near_pad->triangles.BaseClear(e) && target.bounds.Contains(o)) {
+      rays.Add(o, (rotation * pad.elements[e].normal).normalized(), kInfinity, e);
+    }
+  }
+  if (rays.size() == 0) return;
+  target.scene->Intersect(&rays);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    near_pad->base_inside[rays.Id(i)] =
+        rays.Hit(i) && target.triangles.normals[rays.Triangle(i)].dot(rays.Direction(i)) > 0;
+  }
+}
+
+void TactileRayCaster::Impl::CastAtMesh(const Pad& pad, uint32_t p, const Target& target, const Pose& to_body,
+                                        uint32_t b) const {
+  // Pad frame → body frame in one map, so each element costs a matrix-vector product.
+  const Mat3 rotation = to_body.orientation.toRotationMatrix();
+  MeshCandidates& near_pad = near[p * bodies.size() + b];
+  const NearTriangles& candidates = near_pad.triangles;
+  if (!candidates.Covers(rotation, to_body.position)) Gather(pad, target, rotation, to_body.position, &near_pad);
+  rays.Clear();
+  uint32_t run_start = 0;
+  for (size_t r = 0; r < pad.normal_runs.size(); ++r) {
+    const uint32_t run_stop = pad.normal_runs[r];
+    SegmentDirection direction;
+    direction.Set(rotation * pad.elements[run_start].normal);
+    // The run's triangles into the frame its segments run along z in (body → pad → run), vertex by vertex.
+    const Mat3 to_run = pad.run_rotations[r] * rotation.transpose();
+    const Vec3 shift = -(to_run * to_body.position);
+    run_points.resize(candidates.run_vertex_count(r));
+    const Vec3* vertices = candidates.run_vertices(r);
+    for (size_t k = 0; k < run_points.size(); ++k) run_points[k] = to_run * vertices[k] + shift;
+    const std::array<uint32_t, 3>* run_corners = candidates.run_corners(r);
+    const uint32_t* run_triangles = candidates.run_triangles(r);
+    for (uint32_t e = run_start; e < run_stop; ++e) {
+      const Vec3 o = rotation.lazyProduct(pad.elements[e].position) + to_body.position;
+      // A segment that misses the body's box can neither enter it nor start inside it.
+      if (!SegmentMeetsBox(o, direction, pad.thickness, target.bounds)) continue;
+      ++ray_count;
+      double first = std::numeric_limits<double>::infinity(), t = 0;
+      uint32_t hit = 0;
+      const Vec3& origin = pad.run_positions[e];
+      for (const uint32_t* k = candidates.begin(e); k != candidates.end(e); ++k) {
+        const std::array<uint32_t, 3>& c = run_corners[*k];
+        // Candidates come in ascending triangle order: of two at the same distance the lower index stays.
+        if (SegmentAlongZMeetsTriangle(origin, run_points[c[0]], run_points[c[1]], run_points[c[2]], pad.thickness,
+                                       &t) &&
+            t < first) {
+          first = t;
+          hit = run_triangles[*k];
+        }
+      }
+      if (first <= pad.thickness) {
+        const double facing = target.triangles.normals[hit].dot(direction.d);
+        if (facing < 0 && first < pad.thickness) {
+          KeepDeepest(e, pad.thickness - first, first, b);  // enters the surface
+        } else if (facing > 0 && target.bounds.Contains(o)) {
+          KeepDeepest(e, pad.thickness, 0, b);  // leaves first: the base is inside (outside the box it cannot be)
+        }
+      } else if (candidates.BaseClear(e)) {
+        if (near_pad.base_inside[e]) KeepDeepest(e, pad.thickness, 0, b);  // buried deeper than the foam
+      } else if (target.bounds.Contains(o)) {
+        // Nothing within the foam from a base inside the box and near the surface: buried deeper than the foam,
+        // or outside. The rest of the ray tells (its first hit leaves, or enters beyond the foam).
+        rays.Add(o, direction.d, kInfinity, e);
+      }
+    }
+    run_start = run_stop;
+  }
+  if (rays.size() == 0) return;
+  target.scene->Intersect(&rays);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (rays.Hit(i) && target.triangles.normals[rays.Triangle(i)].dot(rays.Direction(i)) > 0) {
+      KeepDeepest(rays.Id(i), pad.thickness, 0, b);
+    }
   }
 }
 
@@ -131,14 +242,17 @@ void TactileRayCaster::Impl::Build(const BodySpec& body, Target* target) {
         break;
     }
     const uint32_t base = static_cast<uint32_t>(mesh.vertices.size());
-    for (const Vec3& v : local.vertices) mesh.vertices.push_back((g.origin * v).cast<float>());
+    for (const Vec3& v : local.vertices) {
+      mesh.vertices.push_back((g.origin * v).cast<float>());
+      target->triangles.vertices.push_back(mesh.vertices.back().cast<double>());
+    }
     // Normals from the float vertices Embree will intersect; zero-area triangles are dropped (no normal to give).
     auto at = [&](uint32_t i) { return Vec3(mesh.vertices[base + i].cast<double>()); };
     for (const auto& t : local.triangles) {
       const Vec3 n = (at(t[1]) - at(t[0])).cross(at(t[2]) - at(t[0]));
       if (!(n.squaredNorm() > 0)) continue;
-      target->normals.push_back(n.normalized());
       mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+      target->triangles.AddTriangle(mesh.triangles.back(), n.normalized());
     }
   }
   if (mesh.triangles.empty()) return;
@@ -182,13 +296,23 @@ TactileRayCaster::TactileRayCaster(const SceneModel& model) : impl_(std::make_un
       }
     }
     if (!pad.elements.empty()) pad.normal_runs.push_back(static_cast<uint32_t>(pad.elements.size()));
+    uint32_t run_start = 0;
+    for (const uint32_t run_stop : pad.normal_runs) {
+      const Vec3 n = pad.elements[run_start].normal.normalized();
+      const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
+      Mat3 to_run;
+      to_run << u.transpose(), v.transpose(), n.transpose();
+      pad.run_rotations.push_back(to_run);
+      for (uint32_t e = run_start; e < run_stop; ++e) pad.run_positions.push_back(to_run * pad.elements[e].position);
+      run_start = run_stop;
+    }
     max_elements = std::max(max_elements, pad.elements.size());
   }
   m.rays.rays.reserve(max_elements);
   m.best_depth.resize(max_elements);
   m.best_t.resize(max_elements);
   m.best_body.resize(max_elements);
-  m.from_inside.resize(max_elements);
+  m.near.resize(m.pads.size() * m.bodies.size());
   m.entries.resize(max_elements);
   m.world_bounds.resize(m.bodies.size());
 }
@@ -200,6 +324,12 @@ TactileRayCaster& TactileRayCaster::operator=(TactileRayCaster&&) noexcept = def
 const std::vector<PadElement>& TactileRayCaster::Elements(uint32_t pad) const { return impl_->pads.at(pad).elements; }
 
 uint64_t TactileRayCaster::last_ray_count() const { return impl_->ray_count; }
+
+uint64_t TactileRayCaster::candidate_gathers() const {
+  uint64_t gathers = 0;
+  for (const Impl::MeshCandidates& near : impl_->near) gathers += near.triangles.gathers();
+  return gathers;
+}
 
 void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<PadHit>* hits) const {
   const Impl& m = *impl_;
@@ -232,47 +362,7 @@ void TactileRayCaster::Cast(const std::vector<Pose>& body_poses, std::vector<Pad
         m.CastAtBox(pad, target, (body_poses[b] * target.box_frame).Inverse() * pad_world, b);
         continue;
       }
-      // Pad frame → body frame in one map, so each element costs a matrix-vector product.
-      const Pose to_body = body_poses[b].Inverse() * pad_world;
-      const Mat3 rotation = to_body.orientation.toRotationMatrix();
-      const float segment_end = std::nextafter(static_cast<float>(pad.thickness), kInfinity);
-      SegmentDirection direction;
-      const Vec3* normal = nullptr;  // the pad-frame normal `direction` was made from
-      collision::RayBatch& rays = m.rays;
-      rays.Clear();
-      for (uint32_t e = 0; e < n; ++e) {
-        const Vec3 o = rotation.lazyProduct(pad.elements[e].position) + to_body.position;
-        if (normal == nullptr || pad.elements[e].normal != *normal) {
-          normal = &pad.elements[e].normal;
-          direction.Set(rotation * *normal);
-        }
-        // A segment that misses the body's box can neither enter it nor start inside it: no ray.
-        if (!SegmentMeetsBox(o, direction, pad.thickness, target.bounds)) continue;
-        const bool inside = target.bounds.Contains(o);
-        m.from_inside[rays.size()] = inside;
-        // From inside the box the ray runs on until it leaves the body, so a base buried deeper than the foam
-        // still reads as fully compressed; from outside only the segment matters (the first hit enters).
-        rays.Add(o, direction.d, inside ? kInfinity : segment_end, e);
-      }
-      if (rays.size() == 0) continue;
-      target.scene->Intersect(&rays);
-      m.ray_count += rays.size();
-      for (size_t i = 0; i < rays.size(); ++i) {
-        if (!rays.Hit(i)) continue;
-        const uint32_t e = rays.Id(i);
-        const double facing = target.normals[rays.Triangle(i)].dot(rays.Direction(i));
-        double depth = 0, t = 0;
-        if (facing < 0) {  // enters the surface
-          t = rays.T(i);
-          depth = pad.thickness - t;
-        } else if (facing > 0 && m.from_inside[i]) {
-          // Leaves first: the base is inside. (Outside the box it cannot be, whatever an open mesh says.)
-          depth = pad.thickness;
-        }
-        if (depth <= 0) continue;  // at or beyond the foam's end: no compression
-        depth = std::min(depth, pad.thickness);
-        m.KeepDeepest(e, depth, t, b);
-      }
+      m.CastAtMesh(pad, p, target, body_poses[b].Inverse() * pad_world, b);
     }
     uint32_t run_begin = 0;
     for (const uint32_t run_end : pad.normal_runs) {  // one world normal per run of elements that share theirs

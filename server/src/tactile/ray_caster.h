@@ -6,8 +6,9 @@
 //
 // Targets are every body's collision geometry: a body that is one box is met analytically (slab test, double
 // precision); any other is triangulated once per model (boxes exactly, spheres and cylinders tessellated to a
-// chord error of 0.1 mm, meshes as given) in Embree BVHs in body frames (collision/embree.h); rays are
-// transformed into each candidate body's frame. A pad only casts against bodies whose world bounding box overlaps
+// chord error of 0.1 mm, meshes as given), and each segment is tested in double precision against the triangles
+// near it, gathered while the pad moves little relative to the body (tactile/near_triangles.h), with Embree's
+// BVH (collision/embree.h) for what those cannot answer. A pad only casts against bodies whose world bounding box overlaps
 // its foam's world bounding box (nothing near: no rays at all), never against links of its own robot.
 #pragma once
 
@@ -47,6 +48,10 @@ class TactileRayCaster {
 
   // Segments cast by the last Cast (for benchmarks: rays per second).
   uint64_t last_ray_count() const;
+
+  // How often the mesh path gathered candidate triangles so far, over all pads and bodies (for tests: the
+  // candidates are kept while a pad moves little relative to the mesh).
+  uint64_t candidate_gathers() const;
 
  private:
   struct Impl;

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "collision/collision_fixtures.h"
+#include "collision/tessellation.h"
 #include "test_util.h"
 
 namespace graspsim {
@@ -285,6 +286,86 @@ TEST(TactileRaysTest, AnalyticBoxAgreesWithItsTriangleMesh) {
     compared += a.size();
   }
   EXPECT_GT(compared, 200u * kRows * kCols / 4) << "most poses must touch the pad";
+}
+
+// The first surface along the ray o + t d, t >= 0, over every triangle of `mesh` (Möller–Trumbore, double): an
+// independent reading of a pad element. Entering within the foam: thickness − t; leaving first: the base is
+// inside, thickness; else no contact (0).
+double EveryTriangleDepth(const TriangleMesh& mesh, const Vec3& o, const Vec3& d) {
+  double first = INFINITY, facing = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 a = mesh.vertices[t[0]].cast<double>(), b = mesh.vertices[t[1]].cast<double>(),
+               c = mesh.vertices[t[2]].cast<double>();
+    const Vec3 e1 = b - a, e2 = c - a, p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (det == 0) continue;
+    const Vec3 s = o - a;
+    const double u = s.dot(p) / det;
+    const Vec3 q = s.cross(e1);
+    const double v = d.dot(q) / det, along = e2.dot(q) / det;
+    if (u < 0 || v < 0 || u + v > 1 || along < 0 || along >= first) continue;
+    first = along;
+    facing = e1.cross(e2).dot(d);
+  }
+  if (facing > 0) return kThickness;
+  return facing < 0 && first < kThickness ? kThickness - first : 0;
+}
+
+TEST(TactileRaysTest, FineMeshReadsAsEveryTriangleWhileThePadCreepsAndJumps) {
+  // A finely tessellated ball as a mesh body (thousands of triangles). The mesh path gathers each segment's
+  // candidate triangles once and keeps them while the pad moves less than their slack: 400 poses, creeping
+  // 0.02–0.3 mm and a few mrad per step with a jump every 40, from 4 mm clear of the foam to the ball 8 mm past the
+  // pad's base (bases inside). Each pose is read by the caster that keeps its candidates, by a fresh caster, and
+  // by every triangle (EveryTriangleDepth): the same elements, the kept and fresh readings bit for bit.
+  const double r = 0.02;
+  const collision::LocalMesh ball = collision::SphereMesh(r);
+  auto mesh = std::make_shared<TriangleMesh>();
+  for (const Vec3& v : ball.vertices) mesh->vertices.push_back(v.cast<float>());
+  mesh->triangles = ball.triangles;
+  ASSERT_GT(mesh->triangles.size(), 2000u);
+  const SceneModel model = Scene({Body("ball", MeshGeometry(mesh))});
+  const TactileRayCaster kept(model);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  Vec3 centre(0, 0, r);
+  Quat turn = Quat::Identity();
+  size_t touching = 0, buried = 0;
+  for (int step = 0; step < 400; ++step) {
+    if (step % 40 == 0) {
+      centre = Vec3(0.01 * unit(random), 0.01 * unit(random), r - 0.002 + 0.006 * unit(random));
+      turn = QuatFromRpy(unit(random), unit(random), unit(random));
+    } else {
+      centre += 3e-4 / std::sqrt(3.0) * Vec3(unit(random), unit(random), unit(random));
+      centre.z() = std::clamp(centre.z(), r - 0.008, r + 0.004);
+      turn = turn * QuatFromRpy(3e-3 * unit(random), 3e-3 * unit(random), 3e-3 * unit(random));
+    }
+    const Pose in_pad = At(centre.x(), centre.y(), centre.z(), turn);
+    const TactileRayCaster fresh(model);
+    const auto a = Cast(kept, Poses({in_pad})), b = Cast(fresh, Poses({in_pad}));
+    ASSERT_EQ(a.size(), b.size()) << "step " << step;
+    const Pose to_body = in_pad.Inverse();  // pad frame → ball frame
+    size_t next = 0;
+    for (uint32_t e = 0; e < kRows * kCols; ++e) {
+      const PadElement& element = kept.Elements(0)[e];
+      const double expected = EveryTriangleDepth(*mesh, to_body * element.position,
+                                                 to_body.orientation * element.normal);
+      if (next < a.size() && a[next].element == e) {
+        EXPECT_EQ(a[next].depth, b[next].depth) << "step " << step << " element " << e;
+        EXPECT_EQ(a[next].point, b[next].point) << "step " << step << " element " << e;
+        EXPECT_NEAR(a[next].depth, expected, 1e-9) << "step " << step << " element " << e;
+        buried += a[next].depth == kThickness;
+        ++touching;
+        ++next;
+      } else {
+        EXPECT_EQ(expected, 0) << "step " << step << " element " << e << ": missed";
+      }
+    }
+  }
+  EXPECT_GT(touching, 400u * 10) << "most poses must touch the pad";
+  EXPECT_GT(buried, 400u) << "bases inside the ball must be read";
+  // Kept while the pad creeps: far fewer gathers than poses, at least one per jump.
+  EXPECT_GE(kept.candidate_gathers(), 10u);
+  EXPECT_LT(kept.candidate_gathers(), 200u);
 }
 
 TEST(TactileRaysTest, NothingNearCastsNoRays) {
