@@ -3,9 +3,29 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace graspsim {
+namespace {
+
+double Cross(const Eigen::Vector2d& p, const Eigen::Vector2d& q) { return p.x() * q.y() - p.y() * q.x(); }
+
+// The distance from the origin to the triangle (a, b, c) of the plane (0 inside it).
+double DistanceFromOrigin(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const double u = Cross(a, b), v = Cross(b, c), w = Cross(c, a);
+  if ((u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0)) return 0;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+    const Eigen::Vector2d edge = q - p;
+    const double squared = edge.squaredNorm();
+    const double t = squared > 0 ? std::clamp(-p.dot(edge) / squared, 0.0, 1.0) : 0.0;
+    nearest = std::min(nearest, (p + t * edge).norm());
+  }
+  return nearest;
+}
+
+}  // namespace
 
 void SegmentMesh::AddTriangle(const std::array<uint32_t, 3>& corners, const Vec3& normal) {
   triangles.push_back(corners);
@@ -57,11 +77,16 @@ void NearTriangles::Gather(const SegmentMesh& mesh, const std::vector<PadElement
   uint32_t run_start = 0;
   for (const uint32_t run_stop : run_ends) {
     const size_t run_offset = run_triangles_.size(), vertex_offset = run_vertices_.size();
+    // Across the segments (the plane normal to them): a triangle that does not come within `slack` of the
+    // segment's line there cannot meet it after a move of less than `slack`.
+    const Vec3 d = (rotation * elements[run_start].normal).normalized();
+    const Vec3 across_u = d.unitOrthogonal(), across_v = d.cross(across_u);
     for (uint32_t e = run_start; e < run_stop; ++e) {
       const Vec3 o = rotation * elements[e].position + translation;
+      auto across = [&](const Vec3& x) { return Eigen::Vector2d((x - o).dot(across_u), (x - o).dot(across_v)); };
       collision::Aabb segment, base;
       segment.Add(o);
-      segment.Add(o + length * (rotation * elements[e].normal));
+      segment.Add(o + length * d);
       base.Add(o);
       for (collision::Aabb* box : {&segment, &base}) {
         box->lo.array() -= slack;
@@ -69,6 +94,13 @@ void NearTriangles::Gather(const SegmentMesh& mesh, const std::vector<PadElement
       }
       for (const uint32_t i : near_foam_) {
         if (!mesh.boxes[i].Overlaps(segment)) continue;
+        if (mesh.boxes[i].Overlaps(base)) base_clear_[e] = 0;
+        const auto& t = mesh.triangles[i];
+        // 1 nm over the slack: rounding in the projection never drops a candidate.
+        if (DistanceFromOrigin(across(mesh.vertices[t[0]]), across(mesh.vertices[t[1]]), across(mesh.vertices[t[2]])) >
+            slack + 1e-9) {
+          continue;
+        }
         if (position_of_[i] == kNone) {
           position_of_[i] = static_cast<uint32_t>(run_triangles_.size() - run_offset);
           run_triangles_.push_back(i);
@@ -83,7 +115,6 @@ void NearTriangles::Gather(const SegmentMesh& mesh, const std::vector<PadElement
           }
         }
         positions_.push_back(position_of_[i]);
-        if (mesh.boxes[i].Overlaps(base)) base_clear_[e] = 0;
       }
       first_[e + 1] = static_cast<uint32_t>(positions_.size());
     }
