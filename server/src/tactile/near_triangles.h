@@ -1,9 +1,10 @@
 // A pad's segments against a triangle mesh without a BVH walk per segment (tactile/ray_caster.cpp's mesh path).
 //
 // A grasped object barely moves relative to the pad that holds it, so the triangles each element's segment can
-// meet are gathered once — every triangle whose box comes within `slack` of the segment's box — and kept while the
-// pad's pose relative to the body stays within `slack` of the pose they were gathered at (every point of every
-// segment moves less than that). The answers are those of a test against every triangle of the mesh: a triangle
+// meet are gathered once — every triangle whose box comes within `slack` of the segment's box and whose
+// projection across the segment comes within `slack` of its line — and kept while the pad's pose relative to
+// the body stays within `slack` of the pose they were gathered at (every point of every segment moves less than
+// that). The answers are those of a test against every triangle of the mesh: a triangle
 // the segment meets now is within `slack` of where the segment was, so it is among the candidates.
 //
 // The segment–triangle test is watertight (Woop, Benthin and Wald, "Watertight ray/triangle intersection", JCGT
