@@ -38,10 +38,19 @@ std::vector<VecX> ShortcutGreedy(const CollisionChecker& checker, const std::vec
   return out;
 }
 
-// Random: two points on two different segments joined straight when the join is free.
-void ShortcutRandom(const CollisionChecker& checker, unsigned rounds, uint64_t seed, std::vector<VecX>* path) {
+double Length(const std::vector<VecX>& path, size_t from, size_t to) {
+  double length = 0;
+  for (size_t k = from; k < to; ++k) length += (path[k + 1] - path[k]).norm();
+  return length;
+}
+
+// Random: two points on two different segments joined straight when the join is free and shortens the path by
+// at least `min_gain` of its length. The draws do not depend on which attempts are checked.
+void ShortcutRandom(const CollisionChecker& checker, unsigned rounds, double min_gain, uint64_t seed,
+                    std::vector<VecX>* path) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double length = Length(*path, 0, path->size() - 1);
   for (unsigned r = 0; r < rounds && path->size() > 2; ++r) {
     const size_t segments = path->size() - 1;
     size_t i = rng() % segments, j = rng() % segments;
@@ -49,12 +58,14 @@ void ShortcutRandom(const CollisionChecker& checker, unsigned rounds, uint64_t s
     if (i > j) std::swap(i, j);
     const VecX a = (*path)[i] + unit(rng) * ((*path)[i + 1] - (*path)[i]);
     const VecX b = (*path)[j] + unit(rng) * ((*path)[j + 1] - (*path)[j]);
-    if (!checker.IsMotionValid(a, b)) continue;
+    const double gain = ((*path)[i + 1] - a).norm() + Length(*path, i + 1, j) + (b - (*path)[j]).norm() - (b - a).norm();
+    if (gain < min_gain * length || !checker.IsMotionValid(a, b)) continue;
     std::vector<VecX> shorter(path->begin(), path->begin() + i + 1);
     shorter.push_back(a);
     shorter.push_back(b);
     shorter.insert(shorter.end(), path->begin() + j + 1, path->end());
     *path = std::move(shorter);
+    length -= gain;
   }
 }
 
@@ -127,7 +138,7 @@ PlanResult PlanPath(const CollisionChecker& checker, const VecX& start, const st
   result.raw_waypoints = raw.size();
   result.search_seconds = Seconds(began);
   std::vector<VecX> path = raw.size() > 2 ? ShortcutGreedy(checker, raw) : raw;
-  ShortcutRandom(checker, options.shortcut_rounds, options.seed, &path);
+  ShortcutRandom(checker, options.shortcut_rounds, options.shortcut_min_gain, options.seed, &path);
   VecX acceleration = options.acceleration.size() == static_cast<long>(n) ? options.acceleration
                                                                            : VecX(2.0 * arm.velocity_limits());
   result.trajectory = Trajectory(path, arm.velocity_limits(), acceleration);

@@ -111,6 +111,31 @@ TEST(MotionPlannerTest, PathsBetweenRandomConfigurationsNeverCollide) {
   }
 }
 
+TEST(MotionPlannerTest, SmallShortcutsAreNotCheckedAndThePathStaysAsShort) {
+  // Random shortcuts that would shorten the path by less than 0.5 % of it are not checked. Over 6 searched
+  // problems: fewer configurations tested than when every attempt is checked, a total length within 1 % of it
+  // (MotionBenchMaker's 700: −26 % configurations, the same mean length).
+  Fixture f("kuka_kr5_sixx_r850_barrett");
+  std::mt19937_64 rng(5);
+  double length[2] = {0, 0};
+  uint64_t checks[2] = {0, 0};
+  for (int problem = 0; problem < 6; ++problem) {
+    const VecX start = f.RandomFree(&rng), goal = f.RandomFree(&rng);
+    for (int every = 0; every < 2; ++every) {
+      PlanOptions options;
+      options.seed = problem + 1;
+      options.try_direct = false;
+      options.shortcut_rounds = 48;
+      if (every == 1) options.shortcut_min_gain = 0;
+      const PlanResult plan = PlanPath(f.checker, start, {goal}, options);
+      for (size_t k = 1; k < plan.path.size(); ++k) length[every] += (plan.path[k] - plan.path[k - 1]).norm();
+      checks[every] += plan.checks;
+    }
+  }
+  EXPECT_LT(checks[0], checks[1]);
+  EXPECT_LT(length[0], 1.01 * length[1]);
+}
+
 TEST(MotionPlannerTest, ReachesAGoalPoseAcrossThePost) {
   Fixture f("kuka_kr5_sixx_r850_barrett");
   // The flange facing down 50 cm above the table left of the post (the Barrett's fingertips 24 cm above it,
