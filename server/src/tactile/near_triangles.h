@@ -4,8 +4,8 @@
 // meet are gathered once — every triangle whose box comes within `slack` of the segment's box and whose
 // projection across the segment comes within `slack` of its line — and kept while the pad's pose relative to
 // the body stays within `slack` of the pose they were gathered at (every point of every segment moves less than
-// that). The answers are those of a test against every triangle of the mesh: a triangle
-// the segment meets now is within `slack` of where the segment was, so it is among the candidates.
+// that). The answers are those of a test against every triangle of the mesh: a triangle the segment meets now is
+// within `slack` of where the segment was, so it is among the candidates.
 //
 // The segment–triangle test is watertight (Woop, Benthin and Wald, "Watertight ray/triangle intersection", JCGT
 // 2013): a segment through an edge two triangles share meets at least one of them, so nothing slips through a

@@ -89,6 +89,16 @@ struct TactileRayCaster::Impl {
               MeshCandidates* near_pad) const;
   // The segments of pad `p` against the mesh of `target` (to_body: pad frame → body frame), body index b.
   void CastAtMesh(const Pad& pad, uint32_t p, const Target& target, const Pose& to_body, uint32_t b) const;
+  // Casts `rays` (from elements' bases to infinity) into target's BVH and calls inside(element) for each ray
+  // whose first hit leaves the surface: its base is inside the body.
+  template <typename Inside>
+  void BasesInside(const Target& target, Inside inside) const {
+    if (rays.size() == 0) return;
+    target.scene->Intersect(&rays);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (rays.Hit(i) && target.triangles.normals[rays.Triangle(i)].dot(rays.Direction(i)) > 0) inside(rays.Id(i));
+    }
+  }
   // The deepest hit over the bodies per element; ties stay with the lower body index (bodies go in order).
   void KeepDeepest(uint32_t element, double depth, double t, uint32_t b) const {
     if (depth > best_depth[element]) {
@@ -137,12 +147,7 @@ void TactileRayCaster::Impl::Gather(const Pad& pad, const Target& target, const 
       rays.Add(o, (rotation * pad.elements[e].normal).normalized(), kInfinity, e);
     }
   }
-  if (rays.size() == 0) return;
-  target.scene->Intersect(&rays);
-  for (size_t i = 0; i < rays.size(); ++i) {
-    near_pad->base_inside[rays.Id(i)] =
-        rays.Hit(i) && target.triangles.normals[rays.Triangle(i)].dot(rays.Direction(i)) > 0;
-  }
+  BasesInside(target, [&](uint32_t e) { near_pad->base_inside[e] = 1; });
 }
 
 void TactileRayCaster::Impl::CastAtMesh(const Pad& pad, uint32_t p, const Target& target, const Pose& to_body,
@@ -201,13 +206,7 @@ void TactileRayCaster::Impl::CastAtMesh(const Pad& pad, uint32_t p, const Target
     }
     run_start = run_stop;
   }
-  if (rays.size() == 0) return;
-  target.scene->Intersect(&rays);
-  for (size_t i = 0; i < rays.size(); ++i) {
-    if (rays.Hit(i) && target.triangles.normals[rays.Triangle(i)].dot(rays.Direction(i)) > 0) {
-      KeepDeepest(rays.Id(i), pad.thickness, 0, b);
-    }
-  }
+  BasesInside(target, [&](uint32_t e) { KeepDeepest(e, pad.thickness, 0, b); });
 }
 
 void TactileRayCaster::Impl::Build(const BodySpec& body, Target* target) {
