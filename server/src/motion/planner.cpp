@@ -45,7 +45,7 @@ double Length(const std::vector<VecX>& path, size_t from, size_t to) {
 }
 
 // Random: two points on two different segments joined straight when the join is free and shortens the path by
-// at least `min_gain` of its length. The draws do not depend on which attempts are checked.
+// at least `min_gain` of its length. Every round draws the same numbers, checked or not.
 void ShortcutRandom(const CollisionChecker& checker, unsigned rounds, double min_gain, uint64_t seed,
                     std::vector<VecX>* path) {
   std::mt19937_64 rng(seed);
