@@ -92,16 +92,39 @@ void StoreOffset(const Rigid& offset, kernel::Link* link) {
   StoreVector(offset.translation, link->translation);
 }
 
-// Appends `indices` to *out in bit-reversed order of their rank (0, n/2, n/4, 3n/4, ...), so that any prefix
-// samples them evenly.
-void AppendSpreadOut(const std::vector<uint32_t>& indices, std::vector<uint32_t>* out) {
-  const size_t n = indices.size();
+// The ranks 0 .. 2^bits - 1 in bit-reversed order (0, n/2, n/4, 3n/4, ...), for bits up to kMaxTableBits; worked out
+// once, as every motion check asks for them.
+constexpr int kMaxTableBits = 12;
+
+const std::vector<uint32_t>& BitReversedRanks(int bits) {
+  static const std::vector<std::vector<uint32_t>> tables = [] {
+    std::vector<std::vector<uint32_t>> out(kMaxTableBits + 1);
+    for (int b = 0; b <= kMaxTableBits; ++b) {
+      for (uint32_t rank = 0; rank < (1u << b); ++rank) {
+        uint32_t reversed = 0;
+        for (int k = 0; k < b; ++k) reversed |= ((rank >> k) & 1u) << (b - 1 - k);
+        out[b].push_back(reversed);
+      }
+    }
+    return out;
+  }();
+  return tables[bits];
+}
+
+// Appends 0 .. n - 1 to *out in bit-reversed order of their rank, so that any prefix samples them evenly.
+void AppendSpreadOut(size_t n, std::vector<uint32_t>* out) {
   int bits = 0;
   while ((size_t{1} << bits) < n) ++bits;
+  if (bits <= kMaxTableBits) {
+    for (const uint32_t reversed : BitReversedRanks(bits)) {
+      if (reversed < n) out->push_back(reversed);
+    }
+    return;
+  }
   for (size_t rank = 0; rank < (size_t{1} << bits); ++rank) {
     size_t reversed = 0;
     for (int b = 0; b < bits; ++b) reversed |= ((rank >> b) & 1u) << (bits - 1 - b);
-    if (reversed < n) out->push_back(indices[reversed]);
+    if (reversed < n) out->push_back(static_cast<uint32_t>(reversed));
   }
 }
 
@@ -225,6 +248,12 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
     }
     pair_motion_.push_back(motion);
   }
+  levers_.assign(links.size() * arm_.dof(), 0.0);
+  for (size_t l = 0; l < links.size(); ++l) {
+    for (size_t d = 0; d < arm_.dof(); ++d) levers_[l * arm_.dof() + d] = spheres_.link_lever[d][l];
+  }
+  link_travel_.assign(links.size(), 0.0);
+  joint_step_.assign(arm_.dof(), 0.0);
   lanes_.assign(std::max<size_t>(arm_.dof(), 1) * kernel::kLanes, 0.0f);
   scratch_.assign(kernel::ScratchSize(kernel_), 0.0f);
   centres_.resize(radii_.size());
@@ -273,28 +302,33 @@ uint32_t CollisionChecker::TestLanes(int count, uint32_t stop) const {
 }
 
 double CollisionChecker::ScaleInflation(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
-  const size_t links = spheres_.links.size();
-  std::vector<double>& travel = link_travel_;
-  travel.assign(links, 0.0);
+  const size_t links = spheres_.links.size(), dof = arm_.dof();
+  double* travel = link_travel_.data();
+  double* step = joint_step_.data();
+  for (size_t d = 0; d < dof; ++d) step[d] = std::abs(b[d] - a[d]);
   double largest = 0;
   for (size_t l = 0; l < links; ++l) {
-    for (size_t d = 0; d < arm_.dof(); ++d) travel[l] += std::abs(b[d] - a[d]) * spheres_.link_lever[d][l];
-    largest = std::max(largest, travel[l]);
+    const double* lever = levers_.data() + l * dof;
+    double t = 0;
+    for (size_t d = 0; d < dof; ++d) t += step[d] * lever[d];
+    travel[l] = t;
+    largest = std::max(largest, t);
   }
   if (largest <= 0) return 0;
-  for (size_t l = 0; l < links; ++l) link_inflation_[l] = static_cast<float>(travel[l] / largest);
+  const double inverse = 1.0 / largest;
+  for (size_t l = 0; l < links; ++l) link_inflation_[l] = static_cast<float>(travel[l] * inverse * 1.0001);
   for (size_t p = 0; p < pair_motion_.size(); ++p) {
     const PairMotion& m = pair_motion_[p];
     double relative = 0;
     if (m.descendant < 0) {
       relative = travel[spheres_.self_pairs[p].first] + travel[spheres_.self_pairs[p].second];
     } else {
-      for (int d = m.first_dof; d <= m.last_dof; ++d) relative += std::abs(b[d] - a[d]) * spheres_.link_lever[d][m.descendant];
+      const double* lever = levers_.data() + static_cast<size_t>(m.descendant) * dof;
+      for (int d = m.first_dof; d <= m.last_dof; ++d) relative += step[d] * lever[d];
     }
     // The float rounding of the ratio must not shrink the inflation below what the bound asks.
-    pair_inflation_[p] = static_cast<float>(relative / largest) * 1.0001f;
+    pair_inflation_[p] = static_cast<float>(relative * inverse) * 1.0001f;
   }
-  for (float& scale : link_inflation_) scale *= 1.0001f;
   return largest;
 }
 
@@ -315,84 +349,102 @@ bool CollisionChecker::IsValid(const Eigen::Ref<const VecX>& q) const {
   return TestLanes(1, 1u) == 0;
 }
 
+uint32_t CollisionChecker::MeasureLanes(int count, uint32_t stop) const {
+  for (int lane = count; lane < kernel::kLanes; ++lane) {
+    for (size_t i = 0; i < arm_.dof(); ++i) lanes_[i * kernel::kLanes + lane] = lanes_[i * kernel::kLanes];
+    inflate_[lane] = inflate_[0];
+  }
+  checks_ += count;
+  const uint32_t used = (1u << count) - 1;
+  stop &= used;
+  uint32_t hits =
+      kernel::ClearanceLanes(kernel_, lanes_.data(), inflate_, scratch_.data(), clearance_, kernel::StopLanes{stop});
+  hits &= used;
+  if (obstacles_.grids.empty() || (hits & stop) != 0) return hits;
+  // Meshes: each free lane's spheres (all placed: Model::place_every_sphere) against each distance grid's lower
+  // bound, lowering the lane's clearance as the kernel does.
+  const float* centres = kernel::SphereCentres(kernel_, scratch_.data());
+  for (int lane = 0; lane < count; ++lane) {
+    if (hits & (1u << lane)) continue;
+    double c = clearance_[lane];
+    for (size_t l = 0; l < kernel_links_.size() && c >= 0; ++l) {
+      if (!kernel_links_[l].against_obstacles) continue;
+      const double scale = std::max<double>(link_inflation_[l], 1e-12);
+      for (int32_t s = kernel_links_[l].sphere_begin; s < kernel_links_[l].sphere_end && c >= 0; ++s) {
+        const Vec3 p(centres[(3 * s) * kernel::kLanes + lane], centres[(3 * s + 1) * kernel::kLanes + lane],
+                     centres[(3 * s + 2) * kernel::kLanes + lane]);
+        for (const auto& grid : obstacles_.grids) {
+          c = std::min(c, (grid.grid->LowerBound(grid.world_to_mesh * p) - radii_[s]) / scale);
+        }
+      }
+    }
+    clearance_[lane] = static_cast<float>(c);
+    if (c < 0) hits |= 1u << lane;
+    if ((hits & stop) != 0) return hits;
+  }
+  return hits;
+}
+
 bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
   if (!WithinLimits(a) || !WithinLimits(b)) return false;
-  const double travel = ScaleInflation(a, b);  // the most any point moves; inflation scaled per link and pair
-  // Intervals [t0, t1] of the segment, each covered when both its ends pass inflated by (t1 - t0) travel / 2.
-  // Round one: intervals of kCoarseSteps · resolution of travel, every end tested exactly too: a motion into an
-  // obstacle (most motions a search tries in clutter) then ends at its first batch, where the inflated tests
-  // alone would fail and ask for the exact ones a round later.
-  // Each round tests what the intervals need, then halves the intervals not covered; a point that fails
-  // inflated is also tested exactly in the next round, and one that touches exactly ends the motion.
-  const int64_t coarse = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(travel / (kCoarseSteps * resolution_))));
-  const double smallest = resolution_ * std::ldexp(1.0, -kMaxHalvings);  // of travel
-  intervals_.clear();
-  for (int64_t i = 0; i < coarse; ++i) {
-    intervals_.push_back(
-        {static_cast<double>(i) / coarse, static_cast<double>(i + 1) / coarse, kFailedInflated, kFailedInflated});
+  const double travel = ScaleInflation(a, b);  // the most any point moves; clearance scaled per link and pair
+  if (travel <= 0) return IsValid(a);
+  // Points along the segment, each measured up to a cap: a point at t with clearance c (m of the largest link's
+  // travel) covers [t - c / travel, t + c / travel]. Round one spaces points kCoarseSteps resolutions of travel
+  // apart (at least a batch of them); each round then places points in what the last left uncovered, as many per
+  // gap as fill a batch, until nothing is uncovered (free), a point touches (not free) or a gap is below the
+  // smallest step. A point's cap is what it needs to cover its share of the gap: measuring farther would only
+  // let more obstacles past the kernel's broad phase.
+  const double smallest = resolution_ * std::ldexp(1.0, -kMaxHalvings) / travel;  // of t
+  const int64_t coarse = static_cast<int64_t>(std::ceil(travel / (kCoarseSteps * resolution_)));
+  const int64_t first_points = (coarse + kernel::kLanes) / kernel::kLanes * kernel::kLanes;  // >= coarse + 1
+  samples_.clear();
+  pending_.clear();
+  const double spacing = 1.0 / static_cast<double>(first_points - 1);
+  for (int64_t i = 0; i < first_points; ++i) {
+    samples_.push_back({std::min(1.0, static_cast<double>(i) * spacing), 0.0f});
+    pending_.push_back({static_cast<uint32_t>(i), static_cast<float>(kCoverShare * spacing * travel)});
   }
-  while (!intervals_.empty()) {
-    tests_.clear();
-    const auto need = [&](double t, float inflate) {
-      // A point shared with the previous interval was queued last (or just before its exact test).
-      for (size_t i = tests_.size(); i > 0 && i + 2 > tests_.size(); --i) {
-        if (tests_[i - 1].t == t && tests_[i - 1].inflate == inflate) return static_cast<int32_t>(i - 1);
-      }
-      tests_.push_back({t, inflate, false});
-      return static_cast<int32_t>(tests_.size() - 1);
-    };
-    for (Interval& interval : intervals_) {
-      const float inflate = static_cast<float>(0.5 * travel * (interval.t1 - interval.t0));
-      interval.exact0 = interval.pass0 == kFailedInflated ? need(interval.t0, 0.0f) : -1;
-      interval.test0 = interval.pass0 < inflate ? need(interval.t0, inflate) : -1;
-      interval.exact1 = interval.pass1 == kFailedInflated ? need(interval.t1, 0.0f) : -1;
-      interval.test1 = interval.pass1 < inflate ? need(interval.t1, inflate) : -1;
-    }
-    // The exact tests first, spread along the motion (bit-reversed order): a motion through an obstacle is then
-    // most often refused by its first batch. The order changes which batch finds a touch, never the answer.
-    exact_tests_.clear();
-    for (size_t i = 0; i < tests_.size(); ++i) {
-      if (tests_[i].inflate == 0.0f) exact_tests_.push_back(static_cast<uint32_t>(i));
-    }
-    const size_t exact_count = exact_tests_.size();
+  while (!pending_.empty()) {
+    // Measured spread along the segment (bit-reversed order), each batch stopping at its first touch: a motion
+    // into an obstacle is most often refused by its first batch.
     order_.clear();
-    AppendSpreadOut(exact_tests_, &order_);
-    for (size_t i = 0; i < tests_.size(); ++i) {
-      if (tests_[i].inflate != 0.0f) order_.push_back(static_cast<uint32_t>(i));
-    }
+    AppendSpreadOut(pending_.size(), &order_);
     for (size_t first = 0; first < order_.size(); first += kernel::kLanes) {
       const int count = static_cast<int>(std::min<size_t>(kernel::kLanes, order_.size() - first));
       for (int lane = 0; lane < count; ++lane) {
-        const PointTest& test = tests_[order_[first + lane]];
-        SetLane(lane, a, b, test.t, test.inflate);
+        const Pending& p = pending_[order_[first + lane]];
+        SetLane(lane, a, b, samples_[p.sample].t, p.cap);
       }
-      // Lanes tested as they are: one that touches decides the motion.
-      const uint32_t exact = first >= exact_count ? 0u : (1u << std::min<size_t>(count, exact_count - first)) - 1;
-      const uint32_t hits = TestLanes(count, exact);
-      if ((hits & exact) != 0) return false;  // touches as it is
-      for (int lane = 0; lane < count; ++lane) tests_[order_[first + lane]].touches = (hits >> lane) & 1u;
+      if (MeasureLanes(count, (1u << count) - 1) != 0) return false;  // touches as it is
+      for (int lane = 0; lane < count; ++lane) samples_[pending_[order_[first + lane]].sample].clearance = clearance_[lane];
     }
-    next_.clear();
-    for (Interval& interval : intervals_) {
-      const float inflate = static_cast<float>(0.5 * travel * (interval.t1 - interval.t0));
-      const auto update = [&](int32_t test, int32_t exact, float* pass) {
-        if (exact >= 0) *pass = 0.0f;  // passed exactly (a touch has returned above)
-        if (test < 0) return;
-        if (!tests_[test].touches) {
-          *pass = std::max(*pass, inflate);
-        } else if (*pass < 0) {
-          *pass = kFailedInflated;
+    // The gaps the samples leave, and new points in them.
+    gaps_.clear();
+    for (size_t i = 0; i + 1 < samples_.size(); ++i) {
+      const double from = samples_[i].t + samples_[i].clearance / travel;
+      const double to = samples_[i + 1].t - samples_[i + 1].clearance / travel;
+      if (from >= to) continue;  // covered
+      if (to - from < smallest) return false;  // too close to call: a conservative no
+      gaps_.push_back({i, from, to});
+    }
+    pending_.clear();
+    if (gaps_.empty()) break;
+    const size_t per_gap = std::max<size_t>(1, kernel::kLanes / gaps_.size());
+    next_samples_.clear();
+    size_t gap = 0;
+    for (size_t i = 0; i < samples_.size(); ++i) {
+      next_samples_.push_back(samples_[i]);
+      if (gap < gaps_.size() && gaps_[gap].after == i) {
+        const double step = (gaps_[gap].to - gaps_[gap].from) / static_cast<double>(per_gap);
+        for (size_t k = 0; k < per_gap; ++k) {
+          pending_.push_back({static_cast<uint32_t>(next_samples_.size()), static_cast<float>(kCoverShare * step * travel)});
+          next_samples_.push_back({gaps_[gap].from + (static_cast<double>(k) + 0.5) * step, 0.0f});
         }
-      };
-      update(interval.test0, interval.exact0, &interval.pass0);
-      update(interval.test1, interval.exact1, &interval.pass1);
-      if (interval.pass0 >= inflate && interval.pass1 >= inflate) continue;  // covered
-      if (travel * (interval.t1 - interval.t0) < smallest) return false;    // too close to call: a conservative no
-      const double mid = 0.5 * (interval.t0 + interval.t1);
-      next_.push_back({interval.t0, mid, interval.pass0, kUnknown});
-      next_.push_back({mid, interval.t1, kUnknown, interval.pass1});
+        ++gap;
+      }
     }
-    intervals_.swap(next_);
+    samples_.swap(next_samples_);
   }
   return true;
 }

@@ -7,17 +7,17 @@
 //
 // A configuration is valid when no sphere touches an obstacle or a sphere of a self pair (radii as modelled, plus
 // the kernel's float margin of 0.02 mm). A motion (straight joint-space segment) is checked conservatively, not
-// just sampled: every point of link l moves at most T_l = Σ_i |Δq_i| · lever_il along it (sphere_model.h), so
-// when the two ends of an interval dt long both pass with link l's spheres inflated by T_l dt / 2, the swept link
-// over the interval stays inside the inflated spheres of one of them; a self pair likewise with the motion of one
-// link relative to the other (only the joints between them), so a wrist near its own forearm is not inflated by
-// what the shoulder does. Checks start kCoarseSteps · resolution
-// apart (far from obstacles, few checks cover the motion), each of these points also tested as it is (a motion
-// into an obstacle, most of what a search tries in clutter, is then refused at once); an interval whose ends fail
-// is halved, its points tested again with half the inflation (and exactly: a point that touches as it is ends
-// the motion), down to resolution / 2^kMaxHalvings. Each round's exact tests go first, spread along the motion.
-// So a motion through a passage a few millimetres wide, or ending at a goal 1 mm from a shelf, is accepted when
-// it is free, at the price of more checks there only; a valid motion touches nothing anywhere on it.
+// just sampled: every point of link l moves at most T_l = Σ_i |Δq_i| · lever_il along it (sphere_model.h), so a
+// point of the segment at which link l's spheres could be inflated by c T_l / T and still touch nothing (its
+// clearance c, measured by the kernel: T the largest T_l) keeps the swept link free over c / T of the segment on
+// either side; a self pair likewise with the motion of one link relative to the other (only the joints between
+// them), so a wrist near its own forearm is not inflated by what the shoulder does. Round one measures points
+// kCoarseSteps · resolution of travel apart (at least a batch of them, spread along the motion so that a motion
+// into an obstacle, most of what a search tries in clutter, is refused by its first batch); each further round
+// measures points in the gaps the clearances leave, as many per gap as fill a batch, until none is left. A point
+// that touches ends the motion, and so does a gap below resolution / 2^kMaxHalvings ("too close to call"). So a
+// motion through a passage a few millimetres wide, or ending at a goal 1 mm from a shelf, is accepted when it is
+// free, at the price of more checks there only; a valid motion touches nothing anywhere on it.
 #pragma once
 
 #include <cstdint>
@@ -52,8 +52,8 @@ Obstacles CollectObstacles(const SceneModel& model, const SceneState& state, con
 
 class CollisionChecker {
  public:
-  // `resolution`, m of travel: a motion's first checks are kCoarseSteps · resolution apart, refined near
-  // obstacles down to resolution / 2^kMaxHalvings.
+  // `resolution`, m of travel: a motion's first points are kCoarseSteps · resolution apart, refined near
+  // obstacles down to gaps of resolution / 2^kMaxHalvings.
   CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, Obstacles obstacles, double resolution = 0.01);
 
   // Within the joint limits and no sphere touches an obstacle or a sphere of a self pair. A configuration of the
@@ -69,14 +69,20 @@ class CollisionChecker {
   double resolution() const { return resolution_; }
   uint64_t checks() const { return checks_; }  // configurations tested so far (each lane of a batch counts)
 
-  static constexpr int64_t kCoarseSteps = 16;  // resolutions of travel per interval of a motion's first round
-  static constexpr int kMaxHalvings = 16;      // below the resolution, before "too close to call"
+  static constexpr int64_t kCoarseSteps = 16;  // resolutions of travel between a motion's first-round points
+  static constexpr int kMaxHalvings = 16;      // the smallest gap: the resolution halved this often
+  // A point's cap, in spacings of travel to its neighbours: half of it, so that two neighbours at their caps cover
+  // what lies between them, and 0.1 % more, so that they still do after the clearances' float rounding.
+  static constexpr double kCoverShare = 0.5 * 1.001;
 
  private:
   // The kernel on lanes_ / inflate_ (filled by the caller; `count` lanes used, the rest copies of lane 0) plus
   // the scalar mesh pass; bit per lane that collides. Returns early once a lane of `stop` collides (other lanes'
   // bits may then be missing).
   uint32_t TestLanes(int count, uint32_t stop) const;
+  // The same lanes measured (kernel::ClearanceLanes with inflate_ as the caps, plus the meshes' lower bounds):
+  // each lane's clearance into clearance_; bit per lane that touches as it is.
+  uint32_t MeasureLanes(int count, uint32_t stop) const;
   void SetLane(int lane, const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b, double t,
                double inflate) const;
   bool WithinLimits(const Eigen::Ref<const VecX>& q) const;
@@ -105,21 +111,20 @@ class CollisionChecker {
   // Inflation scales (kernel::Model): per link T_l / T and per self pair T_ab / T for the motion being checked,
   // T_l the bound on how far link l moves, T_ab on how far b moves relative to a, T the largest T_l.
   mutable std::vector<float> link_inflation_, pair_inflation_;
-  mutable std::vector<double> link_travel_;
+  mutable std::vector<double> link_travel_, joint_step_;
+  std::vector<double> levers_;  // spheres_.link_lever by link: levers_[link * dof + d]
   struct PairMotion { int descendant = -1; int first_dof = 0, last_dof = -1; };  // dofs moving b relative to a
   std::vector<PairMotion> pair_motion_;
-  // IsMotionValid's buffers. Per interval end: the largest inflation it passed (>= 0: it passed exactly too),
-  // kUnknown, or kFailedInflated (failed inflated, not yet tested exactly).
-  static constexpr float kUnknown = -1.0f, kFailedInflated = -2.0f;
-  struct Interval {
-    double t0, t1;
-    float pass0, pass1;
-    int32_t test0 = -1, test1 = -1, exact0 = -1, exact1 = -1;  // this round's tests of its ends
-  };
-  struct PointTest { double t; float inflate; bool touches; };
-  mutable std::vector<Interval> intervals_, next_;
-  mutable std::vector<PointTest> tests_;
-  mutable std::vector<uint32_t> exact_tests_, order_;  // this round's exact tests; all in the order batched
+  // IsMotionValid's buffers: the points measured so far in order of t, their clearance (m of the largest link's
+  // travel); the points to measure this round with their caps; the gaps the last round left.
+  struct Sample { double t; float clearance; };
+  struct Pending { uint32_t sample; float cap; };
+  struct Gap { size_t after; double from, to; };
+  mutable std::vector<Sample> samples_, next_samples_;
+  mutable std::vector<Pending> pending_;
+  mutable std::vector<Gap> gaps_;
+  mutable std::vector<uint32_t> order_;  // this round's points in the order batched
+  mutable float clearance_[kernel::kLanes];
   // The scalar test's buffers.
   std::vector<uint32_t> sphere_begin_;           // per link: first sphere in the flat arrays (size links + 1)
   std::vector<double> radii_;                    // as the kernel's (float margin included)

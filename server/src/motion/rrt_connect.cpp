@@ -56,12 +56,16 @@ class Tree {
 // further failure down to kDomainMinRadius, grown by it at each success. Samples beyond it cost no check.
 constexpr double kDomainRadius = 4.0, kDomainAlpha = 1e-4, kDomainMinRadius = 1.0;
 
-// At most `range` from `from` towards `to`; *reached when that is `to` itself.
-VecX Step(const Eigen::Ref<const VecX>& from, const VecX& to, double range, bool* reached) {
-  const VecX d = to - from;
-  const double distance = d.norm();
-  *reached = distance <= range;
-  return *reached ? to : VecX(from + d * (range / distance));
+// *out: at most `range` from `from` towards `to`; returns whether that is `to` itself. Into a buffer the search
+// keeps: a step is taken at every iteration.
+bool Step(const Eigen::Ref<const VecX>& from, const VecX& to, double range, VecX* out) {
+  const double distance = (to - from).norm();
+  if (distance <= range) {
+    *out = to;
+    return true;
+  }
+  *out = from + (to - from) * (range / distance);
+  return false;
 }
 
 }  // namespace
@@ -78,7 +82,7 @@ SearchResult SearchRrtConnect(const CollisionChecker& checker, const VecX& start
   Tree* b = &goal_tree;
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  VecX sample(n);
+  VecX sample(n), added(n), next(n);
   SearchResult result;
   for (uint64_t iteration = 0;; ++iteration) {
     if ((iteration & 15) == 0) {
@@ -98,8 +102,7 @@ SearchResult SearchRrtConnect(const CollisionChecker& checker, const VecX& start
       std::swap(a, b);
       continue;
     }
-    bool reached;
-    const VecX added = Step(a->At(near), sample, range, &reached);
+    Step(a->At(near), sample, range, &added);
     if (!checker.IsMotionValid(a->At(near), added)) {  // tests `added` itself first
       domain = std::isinf(domain) ? kDomainRadius : std::max(domain * (1 - kDomainAlpha), kDomainMinRadius);
     } else {
@@ -108,7 +111,7 @@ SearchResult SearchRrtConnect(const CollisionChecker& checker, const VecX& start
       // Connect b to the new node, step by step, while the steps are free.
       int b_node = b->Nearest(added);
       while (true) {
-        const VecX next = Step(b->At(b_node), added, range, &reached);
+        const bool reached = Step(b->At(b_node), added, range, &next);
         if (!checker.IsMotionValid(b->At(b_node), next)) break;
         if (reached) {
           std::vector<VecX> from_a = a->PathToRoot(a_node), from_b = b->PathToRoot(b_node);

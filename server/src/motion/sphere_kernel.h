@@ -93,6 +93,16 @@ inline int64_t ScratchSize(const Model& model) {
 // sphere s at SphereCentres(model, scratch) + (3 s + axis) * kLanes; without it only the spheres tested are.
 uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop);
 
+// The same tests measuring instead of answering yes or no: clearance[lane] gets the largest inflation (m, scaled per
+// link and per self pair as `inflate` is above) up to cap[lane] at which the lane's configuration would still
+// touch nothing, i.e. min(cap, (d - r) / scale) over spheres at distance d from an obstacle's surface or from the
+// other sphere of a self pair (r: the radius, or the two radii). Negative where the configuration touches as it is;
+// those lanes are the returned mask, with the same early return on `stop` as CollidingLanes (the clearance of
+// unfinished lanes is then only an upper bound). cap 0 makes a lane the plain test. A motion check covers a
+// segment from fewer configurations with it (collision_checker.h). Meshes are not measured here.
+uint32_t ClearanceLanes(const Model& model, const float* q, const float* cap, float* scratch, float* clearance,
+                        StopLanes stop);
+
 inline const float* SphereCentres(const Model& model, const float* scratch) {
   return scratch + static_cast<int64_t>(model.link_count) * 15 * kLanes;
 }
@@ -104,10 +114,14 @@ const char* KernelIsa();
 // that compare them. The AVX2 one needs a CPU with AVX2 and FMA.
 namespace generic {
 uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop);
+uint32_t ClearanceLanes(const Model& model, const float* q, const float* cap, float* scratch, float* clearance,
+                        StopLanes stop);
 }
 #if defined(__x86_64__)
 namespace avx2 {
 uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop);
+uint32_t ClearanceLanes(const Model& model, const float* q, const float* cap, float* scratch, float* clearance,
+                        StopLanes stop);
 }
 #endif
 

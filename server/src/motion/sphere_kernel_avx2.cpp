@@ -1,4 +1,4 @@
-// CollidingLanes for CPUs with AVX2 and FMA (8 float lanes per instruction); compiled with -mavx2 -mfma
+// CollidingLanes and ClearanceLanes for CPUs with AVX2 and FMA (8 float lanes per instruction); compiled with -mavx2 -mfma
 // (motion/CMakeLists.txt) and only called when the CPU has both (sphere_kernel.cpp).
 #include "motion/sphere_kernel.h"
 
@@ -11,6 +11,11 @@ constexpr int kWidth = 8;
 
 uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate, float* scratch, StopLanes stop) {
   return CollidingLanesImpl(model, q, inflate, scratch, stop.mask);
+}
+
+uint32_t ClearanceLanes(const Model& model, const float* q, const float* cap, float* scratch, float* clearance,
+                        StopLanes stop) {
+  return ClearanceLanesImpl(model, q, cap, scratch, clearance, stop.mask);
 }
 
 }  // namespace graspsim::motion::kernel::avx2

@@ -221,6 +221,76 @@ TEST(MotionSphereKernelTest, Avx2AndPortableBuildsGiveTheSameMasks) {
 #endif
 }
 
+// ClearanceLanes: per lane the largest inflation up to the cap at which the reference says "free". Never more
+// (the reference is free at the kernel's clearance: the radii's float margin is on its side), and, below the cap,
+// not more than 1e-3 (in inflation units) less (the reference touches at the clearance + 1e-3); negative exactly
+// where CollidingLanes with no inflation hits; the AVX2 and portable builds within float error of each other.
+TEST(MotionSphereKernelTest, ClearanceIsTheLargestInflationAtWhichTheReferenceIsFree) {
+  for (const char* model : {"kuka_kr5_sixx_r850_barrett", "mitsubishi_pa10_pg70", "schunk_pg70_on_z_axis"}) {
+    const RandomScene r = NearArmScene(model, 9, 53);
+    const ArmModel arm(*r.s.view.model, r.s.view.state, "arm");
+    const ArmSphereModel spheres = BuildSphereModel(*r.s.view.model, arm);
+    const SphereReference reference(arm, spheres, r.obstacles);
+    KernelInput input(arm, spheres, r.obstacles);
+    std::vector<float> scratch_generic(input.scratch.size());
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    SphereReference::Scales scales;
+    std::vector<float> link_scale, pair_scale;
+    for (size_t l = 0; l < arm.links().size(); ++l) link_scale.push_back(static_cast<float>(0.2 + 2.8 * unit(rng)));
+    for (size_t p = 0; p < spheres.self_pairs.size(); ++p) pair_scale.push_back(static_cast<float>(0.2 + 3.8 * unit(rng)));
+    scales.link.assign(link_scale.begin(), link_scale.end());
+    scales.pair.assign(pair_scale.begin(), pair_scale.end());
+    int measured = 0, capped = 0, touching = 0;
+    double worst_builds = 0;
+    for (int batch = 0; batch < 600; ++batch) {
+      const LaneCase c = RandomLanes(arm, &rng);
+      const bool scaled = batch % 2 == 1;
+      input.model.link_inflation = scaled ? link_scale.data() : nullptr;
+      input.model.pair_inflation = scaled ? pair_scale.data() : nullptr;
+      input.model.place_every_sphere = batch % 3 != 0;
+      float cap[k::kLanes], clearance[k::kLanes], generic_clearance[k::kLanes];
+      for (int lane = 0; lane < k::kLanes; ++lane) cap[lane] = lane % 4 == 0 ? 0.0f : static_cast<float>(0.1 * unit(rng));
+      const uint32_t hits =
+          k::ClearanceLanes(input.model, c.q.data(), cap, input.scratch.data(), clearance, k::kRunToEnd);
+      const float zero[k::kLanes] = {};
+      EXPECT_EQ(hits, k::CollidingLanes(input.model, c.q.data(), zero, input.scratch.data(), k::kRunToEnd))
+          << model << " batch " << batch;
+      const uint32_t portable =
+          k::generic::ClearanceLanes(input.model, c.q.data(), cap, scratch_generic.data(), generic_clearance, k::kRunToEnd);
+      EXPECT_EQ(hits, portable) << model << " batch " << batch;
+      for (int lane = 0; lane < k::kLanes; ++lane) {
+        const SphereReference::Scales* s = scaled ? &scales : nullptr;
+        const VecX& q = c.configurations[lane];
+        if ((hits >> lane) & 1u) {
+          EXPECT_LT(clearance[lane], 0.0f) << model << " batch " << batch << " lane " << lane;
+          EXPECT_LT(reference.Clearance(q), kBand) << model << " batch " << batch << " lane " << lane;
+          ++touching;
+          continue;
+        }
+        worst_builds = std::max(worst_builds, static_cast<double>(std::abs(clearance[lane] - generic_clearance[lane])));
+        ASSERT_LE(clearance[lane], cap[lane]) << model << " batch " << batch << " lane " << lane;
+        EXPECT_GE(reference.Clearance(q, clearance[lane], nullptr, s), 0.0)
+            << model << " batch " << batch << " lane " << lane << ": the kernel overstates the clearance";
+        if (clearance[lane] < cap[lane] - 1e-3f) {
+          ++measured;
+          EXPECT_LT(reference.Clearance(q, clearance[lane] + 1e-3, nullptr, s), 0.0)
+              << model << " batch " << batch << " lane " << lane << ": the kernel understates the clearance";
+        } else {
+          ++capped;
+        }
+      }
+    }
+    EXPECT_LT(worst_builds, 1e-5) << model;
+    // Enough of each kind (the gripper on its axis collides with the scene's blocks in most random configurations).
+    EXPECT_GT(measured, 100) << model;
+    EXPECT_GT(capped, 40) << model;
+    EXPECT_GT(touching, 150) << model;
+    std::printf("%s: %d lanes measured below the cap, %d at the cap, %d touching; builds within %.2g\n", model,
+                measured, capped, touching, worst_builds);
+  }
+}
+
 TEST(MotionSphereKernelTest, ConfigurationsWithinTheFloatMarginAreNotValid) {
   // The header: valid means no sphere touches, radii as modelled plus 0.02 mm. 5 um from touching is refused
   // (and Explain names a pair: its double test uses the same radii); 0.1 mm away is free.
