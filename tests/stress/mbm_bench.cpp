@@ -4,7 +4,8 @@
 // measured on all 700 problems in a minute, and its answers compared (the paths' total length and the
 // configurations tested are printed beside the times).
 //
-// Usage: graspsim_mbm_bench [seeds=5] [problems_per_scene=100] [planner=rrt_connect|ompl_rrt_connect]
+// Usage: graspsim_mbm_bench [seeds=5] [problems_per_scene=100] [planner=rrt_connect|ompl_rrt_connect] [scene]
+// (scene: only that scene's problems, e.g. "cage").
 // Reads GRASPSIM_MBM_DIR like the motion suites. Prints one JSON object: search_us / plan_us p50 and p95 over
 // problems (a problem's figure the median over its seeds, an unsolved run counted as the timeout), checks per plan
 // p50, mean path length (rad), solved and runs.
@@ -41,6 +42,7 @@ int Run(int argc, char** argv) {
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 5;
   const int per_scene = argc > 2 ? std::atoi(argv[2]) : 100;
   const Planner planner = ParsePlanner("planner", argc > 3 ? argv[3] : "");
+  const std::string only_scene = argc > 4 ? argv[4] : "";
   const double timeout = 10.0;
   const std::string dir = motion_test::MbmDirectory();
   std::ifstream file(dir + "/problems.txt");
@@ -59,7 +61,7 @@ int Run(int argc, char** argv) {
   for (const motion_test::MbmProblem& problem : problems) {
     in_scene = problem.scene == scene ? in_scene + 1 : 0;
     scene = problem.scene;
-    if (in_scene >= per_scene) continue;
+    if (in_scene >= per_scene || (!only_scene.empty() && problem.scene != only_scene)) continue;
     ++counted;
     const motion_test::ArmScene s = motion_test::MbmScene(problem, urdf);
     const ArmModel arm(*s.view.model, s.view.state, "panda", "panda/panda_hand");

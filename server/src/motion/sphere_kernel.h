@@ -97,9 +97,9 @@ uint32_t CollidingLanes(const Model& model, const float* q, const float* inflate
 // link and per self pair as `inflate` is above) up to cap[lane] at which the lane's configuration would still
 // touch nothing, i.e. min(cap, (d - r) / scale) over spheres at distance d from an obstacle's surface or from the
 // other sphere of a self pair (r: the radius, or the two radii). Negative where the configuration touches as it is;
-// those lanes are the returned mask, with the same early return on `stop` as CollidingLanes (the clearance of
-// unfinished lanes is then only an upper bound). cap 0 makes a lane the plain test. A motion check covers a
-// segment from fewer configurations with it (collision_checker.h). Meshes are not measured here.
+// those lanes are the returned mask, with the same early return on `stop` as CollidingLanes (the clearances are
+// then not finished, and not to be read). A cap of 0 makes a lane the plain test. A motion check covers a segment
+// from fewer configurations with it (collision_checker.h). Meshes are not measured here (the checker does that).
 uint32_t ClearanceLanes(const Model& model, const float* q, const float* cap, float* scratch, float* clearance,
                         StopLanes stop);
 

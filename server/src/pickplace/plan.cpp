@@ -13,7 +13,7 @@ namespace graspsim::pickplace {
 namespace {
 
 // The near checkers' resolution: the straight moves pass a few millimetres from the table and the object, so
-// the swept-sphere inflation (half of it) must stay small there.
+// their motion checks start with points close together (16 resolutions of travel apart, collision_checker.h).
 constexpr double kNearResolution = 0.002;
 // Two IK solutions belong to one straight move when no joint differs by more than this (rad): a 6–8 cm
 // Cartesian move never turns a joint further, while another IK branch differs by far more.

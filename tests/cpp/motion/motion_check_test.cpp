@@ -1,7 +1,7 @@
 // CollisionChecker::IsMotionValid is conservative (collision_checker.h): a segment it accepts touches nothing
 // anywhere, checked by walking it so densely that no sphere centre moves more than 0.5 mm between samples, each
-// sample tested by the double-precision reference (sphere_reference.h). Ends closer to an obstacle than the
-// inflation are refined, so a motion that leaves a tight spot is accepted; a motion into an obstacle is not.
+// sample tested by the double-precision reference (sphere_reference.h). Ends closer to an obstacle than the first
+// round's spacing are refined, so a motion that leaves a tight spot is accepted; a motion into an obstacle is not.
 #include <cstdio>
 #include <random>
 #include <stdexcept>
