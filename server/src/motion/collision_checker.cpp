@@ -266,13 +266,17 @@ void CollisionChecker::SetLane(int lane, const Eigen::Ref<const VecX>& a, const 
   inflate_[lane] = static_cast<float>(inflate);
 }
 
-uint32_t CollisionChecker::TestLanes(int count, uint32_t stop) const {
+uint32_t CollisionChecker::FillLanes(int count) const {
   for (int lane = count; lane < kernel::kLanes; ++lane) {
     for (size_t i = 0; i < arm_.dof(); ++i) lanes_[i * kernel::kLanes + lane] = lanes_[i * kernel::kLanes];
     inflate_[lane] = inflate_[0];
   }
   checks_ += count;
-  const uint32_t used = (1u << count) - 1;
+  return (1u << count) - 1;
+}
+
+uint32_t CollisionChecker::TestLanes(int count, uint32_t stop) const {
+  const uint32_t used = FillLanes(count);
   stop &= used;
   uint32_t hits = kernel::CollidingLanes(kernel_, lanes_.data(), inflate_, scratch_.data(), kernel::StopLanes{stop});
   hits &= used;
@@ -350,12 +354,7 @@ bool CollisionChecker::IsValid(const Eigen::Ref<const VecX>& q) const {
 }
 
 uint32_t CollisionChecker::MeasureLanes(int count, uint32_t stop) const {
-  for (int lane = count; lane < kernel::kLanes; ++lane) {
-    for (size_t i = 0; i < arm_.dof(); ++i) lanes_[i * kernel::kLanes + lane] = lanes_[i * kernel::kLanes];
-    inflate_[lane] = inflate_[0];
-  }
-  checks_ += count;
-  const uint32_t used = (1u << count) - 1;
+  const uint32_t used = FillLanes(count);
   stop &= used;
   uint32_t hits =
       kernel::ClearanceLanes(kernel_, lanes_.data(), inflate_, scratch_.data(), clearance_, kernel::StopLanes{stop});

@@ -80,6 +80,9 @@ class CollisionChecker {
   // the scalar mesh pass; bit per lane that collides. Returns early once a lane of `stop` collides (other lanes'
   // bits may then be missing).
   uint32_t TestLanes(int count, uint32_t stop) const;
+  // Lanes count.. of lanes_ / inflate_ as copies of lane 0 (a batch is always whole), the checks counted; the
+  // mask of the lanes used.
+  uint32_t FillLanes(int count) const;
   // The same lanes measured (kernel::ClearanceLanes with inflate_ as the caps, plus the meshes' lower bounds):
   // each lane's clearance into clearance_; bit per lane that touches as it is.
   uint32_t MeasureLanes(int count, uint32_t stop) const;
