@@ -252,5 +252,45 @@ TEST(MotionCheckerMotionTest, ThinPlateBetweenTwoFreeEndsIsCaught) {
   EXPECT_FALSE(checker.IsMotionValid(end, geometry.q0));
 }
 
+TEST(MotionCheckerMotionTest, AMeshInThePathIsCaughtWhenItIsTheOnlyObstacle) {
+  // A mesh ball 4 cm across on the fastest sphere's path, half way along a 0.3 rad turn of joint 1, and nothing
+  // else: the primitives' tests place no sphere, so the mesh pass has to have every sphere placed for it.
+  const NearMiss geometry(0.0, 0.01);  // only for q0 and the sphere model
+  const Obstacles none;
+  const SphereReference free_space(geometry.probe_arm, geometry.spheres, none);
+  VecX end = geometry.q0, mid = geometry.q0, away = geometry.q0;
+  end[0] += 0.3;
+  mid[0] += 0.15;
+  away[0] -= 0.3;
+  std::vector<Vec3> at;
+  free_space.Centres(mid, &at);
+  size_t fastest = 0;
+  {
+    VecX nudged = mid;
+    nudged[0] += 1e-6;
+    std::vector<Vec3> later;
+    free_space.Centres(nudged, &later);
+    for (size_t k = 0; k < at.size(); ++k) {
+      if ((later[k] - at[k]).norm() > (later[fastest] - at[fastest]).norm()) fastest = k;
+    }
+  }
+  const ArmScene s = MakeArmScene("kuka_kr5_sixx_r850_barrett", Pose{}, [&](Scene* scene) {
+    AddStatic(scene, "melon", MeshBall(0.02), {at[fastest], Quat::Identity()});
+  });
+  const ArmModel arm(*s.view.model, s.view.state, "arm");
+  // The configurations checked one by one on a checker of their own: the motion checks below start from a
+  // checker that has placed no sphere yet.
+  const CollisionChecker probe(arm, geometry.spheres, CollectObstacles(*s.view.model, s.view.state, "arm"));
+  ASSERT_TRUE(probe.IsValid(geometry.q0));
+  ASSERT_TRUE(probe.IsValid(end));
+  ASSERT_TRUE(probe.IsValid(away));
+  ASSERT_FALSE(probe.IsValid(mid)) << "the ball sits on the fastest sphere's centre half way";
+  for (int k = 0; k <= 300; ++k) ASSERT_TRUE(probe.IsValid(geometry.q0 + (k / 300.0) * (away - geometry.q0)));
+  const CollisionChecker checker(arm, geometry.spheres, CollectObstacles(*s.view.model, s.view.state, "arm"));
+  EXPECT_FALSE(checker.IsMotionValid(geometry.q0, end));
+  EXPECT_FALSE(checker.IsMotionValid(end, geometry.q0));
+  EXPECT_TRUE(checker.IsMotionValid(geometry.q0, away)) << "turning the other way meets nothing";
+}
+
 }  // namespace
 }  // namespace graspsim::motion

@@ -224,7 +224,8 @@ TEST(MotionSphereKernelTest, Avx2AndPortableBuildsGiveTheSameMasks) {
 // ClearanceLanes: per lane the largest inflation up to the cap at which the reference says "free". Never more
 // (the reference is free at the kernel's clearance: the radii's float margin is on its side), and, below the cap,
 // not more than 1e-3 (in inflation units) less (the reference touches at the clearance + 1e-3); negative exactly
-// where CollidingLanes with no inflation hits; the AVX2 and portable builds within float error of each other.
+// where CollidingLanes with no inflation hits; the AVX2 and portable builds within float error of each other; every
+// sphere placed when the model asks for it.
 TEST(MotionSphereKernelTest, ClearanceIsTheLargestInflationAtWhichTheReferenceIsFree) {
   for (const char* model : {"kuka_kr5_sixx_r850_barrett", "mitsubishi_pa10_pg70", "schunk_pg70_on_z_axis"}) {
     const RandomScene r = NearArmScene(model, 9, 53);
@@ -242,7 +243,7 @@ TEST(MotionSphereKernelTest, ClearanceIsTheLargestInflationAtWhichTheReferenceIs
     scales.link.assign(link_scale.begin(), link_scale.end());
     scales.pair.assign(pair_scale.begin(), pair_scale.end());
     int measured = 0, capped = 0, touching = 0;
-    double worst_builds = 0;
+    double worst_builds = 0, worst_centre = 0;
     for (int batch = 0; batch < 600; ++batch) {
       const LaneCase c = RandomLanes(arm, &rng);
       const bool scaled = batch % 2 == 1;
@@ -253,6 +254,20 @@ TEST(MotionSphereKernelTest, ClearanceIsTheLargestInflationAtWhichTheReferenceIs
       for (int lane = 0; lane < k::kLanes; ++lane) cap[lane] = lane % 4 == 0 ? 0.0f : static_cast<float>(0.1 * unit(rng));
       const uint32_t hits =
           k::ClearanceLanes(input.model, c.q.data(), cap, input.scratch.data(), clearance, k::kRunToEnd);
+      // With Model::place_every_sphere (the checker's mesh pass reads them), every sphere's centre is placed (read
+      // before CollidingLanes below, which places them in the same scratch itself).
+      if (input.model.place_every_sphere && hits != 0xffu) {
+        std::vector<Vec3> centres;
+        const float* placed = k::SphereCentres(input.model, input.scratch.data());
+        for (int lane = 0; lane < k::kLanes; ++lane) {
+          reference.Centres(c.configurations[lane], &centres);
+          for (size_t s = 0; s < centres.size(); ++s) {
+            const Vec3 kernel_centre(placed[(3 * s) * k::kLanes + lane], placed[(3 * s + 1) * k::kLanes + lane],
+                                     placed[(3 * s + 2) * k::kLanes + lane]);
+            worst_centre = std::max(worst_centre, (kernel_centre - centres[s]).norm());
+          }
+        }
+      }
       const float zero[k::kLanes] = {};
       EXPECT_EQ(hits, k::CollidingLanes(input.model, c.q.data(), zero, input.scratch.data(), k::kRunToEnd))
           << model << " batch " << batch;
@@ -282,6 +297,7 @@ TEST(MotionSphereKernelTest, ClearanceIsTheLargestInflationAtWhichTheReferenceIs
       }
     }
     EXPECT_LT(worst_builds, 1e-5) << model;
+    EXPECT_LT(worst_centre, 5e-6) << model;
     // Enough of each kind (the gripper on its axis collides with the scene's blocks in most random configurations).
     EXPECT_GT(measured, 100) << model;
     EXPECT_GT(capped, 40) << model;
