@@ -92,6 +92,12 @@ void StoreOffset(const Rigid& offset, kernel::Link* link) {
   StoreVector(offset.translation, link->translation);
 }
 
+size_t BitReversed(size_t rank, int bits) {
+  size_t reversed = 0;
+  for (int b = 0; b < bits; ++b) reversed |= ((rank >> b) & 1u) << (bits - 1 - b);
+  return reversed;
+}
+
 // The ranks 0 .. 2^bits - 1 in bit-reversed order (0, n/2, n/4, 3n/4, ...), for bits up to kMaxTableBits; worked out
 // once, as every motion check asks for them.
 constexpr int kMaxTableBits = 12;
@@ -100,11 +106,7 @@ const std::vector<uint32_t>& BitReversedRanks(int bits) {
   static const std::vector<std::vector<uint32_t>> tables = [] {
     std::vector<std::vector<uint32_t>> out(kMaxTableBits + 1);
     for (int b = 0; b <= kMaxTableBits; ++b) {
-      for (uint32_t rank = 0; rank < (1u << b); ++rank) {
-        uint32_t reversed = 0;
-        for (int k = 0; k < b; ++k) reversed |= ((rank >> k) & 1u) << (b - 1 - k);
-        out[b].push_back(reversed);
-      }
+      for (size_t rank = 0; rank < (size_t{1} << b); ++rank) out[b].push_back(static_cast<uint32_t>(BitReversed(rank, b)));
     }
     return out;
   }();
@@ -122,8 +124,7 @@ void AppendSpreadOut(size_t n, std::vector<uint32_t>* out) {
     return;
   }
   for (size_t rank = 0; rank < (size_t{1} << bits); ++rank) {
-    size_t reversed = 0;
-    for (int b = 0; b < bits; ++b) reversed |= ((rank >> b) & 1u) << (bits - 1 - b);
+    const size_t reversed = BitReversed(rank, bits);
     if (reversed < n) out->push_back(static_cast<uint32_t>(reversed));
   }
 }
