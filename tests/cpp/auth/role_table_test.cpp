@@ -16,6 +16,7 @@
 #include "graspsim/v1/recording.pb.h"
 #include "graspsim/v1/scene.pb.h"
 #include "graspsim/v1/tactile.pb.h"
+#include "source_tree.h"
 
 namespace graspsim::auth {
 namespace {
@@ -38,7 +39,7 @@ TEST(AuthRoleTable, EveryProtoMethodHasARowAndEveryRowAMethod) {
   }
   // Every .proto of the API in the source tree is among them: a new file with a service cannot be missed.
   const auto* pool = google::protobuf::DescriptorPool::generated_pool();
-  const auto proto_dir = std::filesystem::path(__FILE__).parent_path() / "../../../proto/graspsim/v1";
+  const auto proto_dir = std::filesystem::path(SourceTree()) / "proto/graspsim/v1";
   int proto_files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(proto_dir)) {
     if (entry.path().extension() != ".proto") continue;

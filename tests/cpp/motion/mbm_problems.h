@@ -14,6 +14,7 @@
 #include "import/robot_import.h"
 #include "motion/collision_checker.h"
 #include "motion_test_scenes.h"
+#include "source_tree.h"
 
 namespace graspsim::motion_test {
 
@@ -94,7 +95,7 @@ inline std::vector<MbmProblem> ParseMbmProblems(std::istream& in, const std::str
 // GRASPSIM_MBM_DIR, else <repo>/build/bench-data/mbm/panda.
 inline std::string MbmDirectory() {
   const char* dir = std::getenv("GRASPSIM_MBM_DIR");
-  return dir && *dir ? dir : std::string(GRASPSIM_SOURCE_DIR) + "/build/bench-data/mbm/panda";
+  return dir && *dir ? dir : SourceTree() + "/build/bench-data/mbm/panda";
 }
 
 inline bool ReadFile(const std::string& path, std::string* text) {

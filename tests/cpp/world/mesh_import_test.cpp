@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "source_tree.h"
 #include "world/loaders.h"
 
 namespace graspsim {
@@ -19,7 +20,7 @@ struct FuzzFile {
 };
 
 FuzzFile Regression(const std::string& name) {
-  std::ifstream file(std::string(GRASPSIM_SOURCE_DIR) + "/tests/fuzz/regressions/" + name, std::ios::binary);
+  std::ifstream file(SourceTree() + "/tests/fuzz/regressions/" + name, std::ios::binary);
   std::ostringstream text;
   text << file.rdbuf();
   const std::string data = text.str();
