@@ -53,7 +53,7 @@ int Run(int argc, char** argv) {
   }
   urdf = motion_test::WithoutVisuals(urdf);
   std::vector<motion_test::MbmProblem> problems = motion_test::ParseMbmProblems(file);
-  std::vector<double> search_us, plan_us, checks;
+  std::vector<double> search_us, plan_us, checks, search_checks;
   double length_sum = 0, plan_total_us = 0;
   int solved = 0, runs = 0, counted = 0;
   std::string scene;
@@ -67,7 +67,7 @@ int Run(int argc, char** argv) {
     const ArmModel arm(*s.view.model, s.view.state, "panda", "panda/panda_hand");
     const CollisionChecker checker(arm, BuildSphereModel(*s.view.model, arm),
                                    CollectObstacles(*s.view.model, s.view.state, "panda"));
-    std::vector<double> search, plan, tested;
+    std::vector<double> search, plan, tested, tested_searching;
     int problem_solved = 0;
     for (int seed = 1; seed <= seeds; ++seed) {
       PlanOptions options;
@@ -80,6 +80,7 @@ int Run(int argc, char** argv) {
         search.push_back(r.search_seconds * 1e6);
         plan.push_back(r.seconds * 1e6);
         tested.push_back(static_cast<double>(r.checks));
+        tested_searching.push_back(static_cast<double>(r.search_checks));
         plan_total_us += r.seconds * 1e6;
         for (size_t k = 1; k < r.path.size(); ++k) length_sum += (r.path[k] - r.path[k - 1]).norm();
         ++problem_solved;
@@ -92,13 +93,15 @@ int Run(int argc, char** argv) {
     search_us.push_back(Median(search));
     plan_us.push_back(Median(plan));
     if (!tested.empty()) checks.push_back(Median(tested));
+    if (!tested_searching.empty()) search_checks.push_back(Median(tested_searching));
   }
   std::printf(
       "{\"problems\": %d, \"seeds\": %d, \"planner\": \"%s\", \"solved\": %d, \"search_us_p50\": %.1f, "
       "\"search_us_p95\": %.1f, \"plan_us_p50\": %.1f, \"plan_us_p95\": %.1f, \"checks_per_plan_p50\": %.0f, "
+      "\"search_checks_per_plan_p50\": %.0f, "
       "\"path_length_sum_rad\": %.4f, \"runs\": %d, \"plan_us_total_solved\": %.0f}\n",
       counted, seeds, PlannerName(planner), solved, Median(search_us), Percentile(search_us, 0.95), Median(plan_us),
-      Percentile(plan_us, 0.95), Median(checks), length_sum, runs, plan_total_us);
+      Percentile(plan_us, 0.95), Median(checks), Median(search_checks), length_sum, runs, plan_total_us);
   return 0;
 }
 

@@ -137,6 +137,7 @@ PlanResult PlanPath(const CollisionChecker& checker, const VecX& start, const st
   }
   result.raw_waypoints = raw.size();
   result.search_seconds = Seconds(began);
+  result.search_checks = checker.checks() - checks_before;
   std::vector<VecX> path = raw.size() > 2 ? ShortcutGreedy(checker, raw) : raw;
   ShortcutRandom(checker, options.shortcut_rounds, options.shortcut_min_gain, options.seed, &path);
   VecX acceleration = options.acceleration.size() == static_cast<long>(n) ? options.acceleration

@@ -47,6 +47,7 @@ struct PlanResult {
   bool cancelled = false;          // stopped by `cancelled`: path empty
   size_t raw_waypoints = 0;        // before shortcutting
   uint64_t checks = 0;             // configurations tested
+  uint64_t search_checks = 0;      // of which: before shortcutting (start and goals, the straight segment, RRT-Connect)
   double seconds = 0;              // wall time of the whole plan
   double search_seconds = 0;       // of which: checking start and goals, the straight segment and RRT-Connect
 };
