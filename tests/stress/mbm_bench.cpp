@@ -92,8 +92,10 @@ int Run(int argc, char** argv) {
     if (2 * problem_solved > seeds) ++solved;
     search_us.push_back(Median(search));
     plan_us.push_back(Median(plan));
-    if (!tested.empty()) checks.push_back(Median(tested));
-    if (!tested_searching.empty()) search_checks.push_back(Median(tested_searching));
+    if (!tested.empty()) {
+      checks.push_back(Median(tested));
+      search_checks.push_back(Median(tested_searching));
+    }
   }
   std::printf(
       "{\"problems\": %d, \"seeds\": %d, \"planner\": \"%s\", \"solved\": %d, \"search_us_p50\": %.1f, "
@@ -101,7 +103,8 @@ int Run(int argc, char** argv) {
       "\"search_checks_per_plan_p50\": %.0f, \"checks_per_plan_p95\": %.0f, "
       "\"path_length_sum_rad\": %.4f, \"runs\": %d, \"plan_us_total_solved\": %.0f}\n",
       counted, seeds, PlannerName(planner), solved, Median(search_us), Percentile(search_us, 0.95), Median(plan_us),
-      Percentile(plan_us, 0.95), Median(checks), Median(search_checks), Percentile(checks, 0.95), length_sum, runs, plan_total_us);
+      Percentile(plan_us, 0.95), Median(checks), Median(search_checks), Percentile(checks, 0.95), length_sum, runs,
+      plan_total_us);
   return 0;
 }
 
