@@ -253,18 +253,33 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
   for (size_t l = 0; l < links.size(); ++l) {
     for (size_t d = 0; d < arm_.dof(); ++d) levers_[l * arm_.dof() + d] = spheres_.link_lever[d][l];
   }
-  link_travel_.assign(links.size(), 0.0);
+  travel_prefix_.assign(links.size() * arm_.dof(), 0.0);
   joint_step_.assign(arm_.dof(), 0.0);
+  motion_from_.assign(arm_.dof(), 0.0);
+  motion_delta_.assign(arm_.dof(), 0.0);
   lanes_.assign(std::max<size_t>(arm_.dof(), 1) * kernel::kLanes, 0.0f);
   scratch_.assign(kernel::ScratchSize(kernel_), 0.0f);
   centres_.resize(radii_.size());
   poses_.resize(links.size());
 }
 
-void CollisionChecker::SetLane(int lane, const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b, double t,
-                               double inflate) const {
-  for (size_t i = 0; i < arm_.dof(); ++i) lanes_[i * kernel::kLanes + lane] = static_cast<float>(a[i] + t * (b[i] - a[i]));
-  inflate_[lane] = static_cast<float>(inflate);
+void CollisionChecker::SetMotion(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
+  for (size_t i = 0; i < arm_.dof(); ++i) {
+    motion_from_[i] = a[i];
+    motion_delta_[i] = b[i] - a[i];
+  }
+}
+
+void CollisionChecker::SetLanes(const double* t, int count) const {
+  // Every lane, those past `count` at lane 0's t (as FillLanes would copy them), so the loop over lanes has a
+  // constant length and is vectorised.
+  double at[kernel::kLanes];
+  for (int lane = 0; lane < kernel::kLanes; ++lane) at[lane] = t[lane < count ? lane : 0];
+  for (size_t i = 0; i < arm_.dof(); ++i) {
+    const double from = motion_from_[i], delta = motion_delta_[i];
+    float* row = lanes_.data() + i * kernel::kLanes;
+    for (int lane = 0; lane < kernel::kLanes; ++lane) row[lane] = static_cast<float>(from + at[lane] * delta);
+  }
 }
 
 uint32_t CollisionChecker::FillLanes(int count) const {
@@ -308,28 +323,32 @@ uint32_t CollisionChecker::TestLanes(int count, uint32_t stop) const {
 
 double CollisionChecker::ScaleInflation(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const {
   const size_t links = spheres_.links.size(), dof = arm_.dof();
-  double* travel = link_travel_.data();
+  if (dof == 0) return 0;
   double* step = joint_step_.data();
   for (size_t d = 0; d < dof; ++d) step[d] = std::abs(b[d] - a[d]);
+  // Per link the travel of the dofs up to each one (prefix sums): a link's whole travel is its last, and a pair's
+  // relative motion (the dofs between its links) a difference of two, instead of a sum per pair.
+  double* travel = travel_prefix_.data();
   double largest = 0;
   for (size_t l = 0; l < links; ++l) {
     const double* lever = levers_.data() + l * dof;
+    double* prefix = travel + l * dof;
     double t = 0;
-    for (size_t d = 0; d < dof; ++d) t += step[d] * lever[d];
-    travel[l] = t;
+    for (size_t d = 0; d < dof; ++d) prefix[d] = t += step[d] * lever[d];
     largest = std::max(largest, t);
   }
   if (largest <= 0) return 0;
+  const auto whole = [&](size_t l) { return travel[l * dof + dof - 1]; };
   const double inverse = 1.0 / largest;
-  for (size_t l = 0; l < links; ++l) link_inflation_[l] = static_cast<float>(travel[l] * inverse * 1.0001);
+  for (size_t l = 0; l < links; ++l) link_inflation_[l] = static_cast<float>(whole(l) * inverse * 1.0001);
   for (size_t p = 0; p < pair_motion_.size(); ++p) {
     const PairMotion& m = pair_motion_[p];
     double relative = 0;
     if (m.descendant < 0) {
-      relative = travel[spheres_.self_pairs[p].first] + travel[spheres_.self_pairs[p].second];
-    } else {
-      const double* lever = levers_.data() + static_cast<size_t>(m.descendant) * dof;
-      for (int d = m.first_dof; d <= m.last_dof; ++d) relative += step[d] * lever[d];
+      relative = whole(spheres_.self_pairs[p].first) + whole(spheres_.self_pairs[p].second);
+    } else if (m.last_dof >= m.first_dof) {
+      const double* prefix = travel + static_cast<size_t>(m.descendant) * dof;
+      relative = prefix[m.last_dof] - (m.first_dof > 0 ? prefix[m.first_dof - 1] : 0.0);
     }
     // The float rounding of the ratio must not shrink the inflation below what the bound asks.
     pair_inflation_[p] = static_cast<float>(relative * inverse) * 1.0001f;
@@ -350,7 +369,10 @@ bool CollisionChecker::WithinLimits(const Eigen::Ref<const VecX>& q) const {
 
 bool CollisionChecker::IsValid(const Eigen::Ref<const VecX>& q) const {
   if (!WithinLimits(q)) return false;
-  SetLane(0, q, q, 0, 0);
+  SetMotion(q, q);
+  const double t = 0;
+  SetLanes(&t, 1);
+  inflate_[0] = 0;
   return TestLanes(1, 1u) == 0;
 }
 
@@ -395,6 +417,7 @@ bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eige
   // gap as fill a batch, until nothing is uncovered (free), a point touches (not free) or a gap is below the
   // smallest step. A point's cap is what it needs to cover its share of the gap: measuring farther would only
   // let more obstacles past the kernel's broad phase.
+  SetMotion(a, b);
   const double smallest = resolution_ * std::ldexp(1.0, -kMaxHalvings) / travel;  // of t
   const int64_t coarse = static_cast<int64_t>(std::ceil(travel / (kCoarseSteps * resolution_)));
   const int64_t first_points = (coarse + kernel::kLanes) / kernel::kLanes * kernel::kLanes;  // >= coarse + 1
@@ -412,10 +435,13 @@ bool CollisionChecker::IsMotionValid(const Eigen::Ref<const VecX>& a, const Eige
     AppendSpreadOut(pending_.size(), &order_);
     for (size_t first = 0; first < order_.size(); first += kernel::kLanes) {
       const int count = static_cast<int>(std::min<size_t>(kernel::kLanes, order_.size() - first));
+      double t[kernel::kLanes];
       for (int lane = 0; lane < count; ++lane) {
         const Pending& p = pending_[order_[first + lane]];
-        SetLane(lane, a, b, samples_[p.sample].t, p.cap);
+        t[lane] = samples_[p.sample].t;
+        inflate_[lane] = p.cap;
       }
+      SetLanes(t, count);
       if (MeasureLanes(count, (1u << count) - 1) != 0) return false;  // touches as it is
       for (int lane = 0; lane < count; ++lane) samples_[pending_[order_[first + lane]].sample].clearance = clearance_[lane];
     }

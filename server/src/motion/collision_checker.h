@@ -86,8 +86,10 @@ class CollisionChecker {
   // The same lanes measured (kernel::ClearanceLanes with inflate_ as the caps, plus the meshes' lower bounds):
   // each lane's clearance into clearance_; bit per lane that touches as it is.
   uint32_t MeasureLanes(int count, uint32_t stop) const;
-  void SetLane(int lane, const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b, double t,
-               double inflate) const;
+  // The segment a -> b that SetLanes places lanes on.
+  void SetMotion(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const;
+  // Lanes 0 .. count - 1 of lanes_ at a + t[lane] (b - a) of the segment SetMotion set (the rest at t[0]).
+  void SetLanes(const double* t, int count) const;
   bool WithinLimits(const Eigen::Ref<const VecX>& q) const;
   // Sets the inflation scales for the motion a -> b; returns T (m).
   double ScaleInflation(const Eigen::Ref<const VecX>& a, const Eigen::Ref<const VecX>& b) const;
@@ -114,7 +116,10 @@ class CollisionChecker {
   // Inflation scales (kernel::Model): per link T_l / T and per self pair T_ab / T for the motion being checked,
   // T_l the bound on how far link l moves, T_ab on how far b moves relative to a, T the largest T_l.
   mutable std::vector<float> link_inflation_, pair_inflation_;
-  mutable std::vector<double> link_travel_, joint_step_;
+  // Per link and dof the link's travel due to the dofs up to that one (ScaleInflation, [link * dof + d]); per
+  // dof |b - a|.
+  mutable std::vector<double> travel_prefix_, joint_step_;
+  mutable std::vector<double> motion_from_, motion_delta_;  // SetMotion's segment
   std::vector<double> levers_;  // spheres_.link_lever by link: levers_[link * dof + d]
   struct PairMotion { int descendant = -1; int first_dof = 0, last_dof = -1; };  // dofs moving b relative to a
   std::vector<PairMotion> pair_motion_;
