@@ -29,15 +29,33 @@ body; deleted after the problem.
   between checks near anything, self collision of the pairs panda.srdf does not disable), inside the URDF's joint
   limits, starting at the start and ending at the goal (1e-9 rad); the first failures in "unverified".
   ompl_verified_fraction likewise for the peer's paths. The re-check runs after the server has stopped.
-- vamp_*: published figures quoted in issue 20 (not measured here).
+- path_length_rad_mean / ompl_path_length_rad_mean: mean over all solved runs of the returned path's length (L2 in
+  joint space, rad): what shortcutting buys, set beside VAMP's.
+- vamp_* (only with GRASPSIM_MBM_VAMP_PYTHON, a Python that can `import vamp`; else vamp_measured is false): VAMP
+  itself (vamp-planner 0.6.4, RRT-Connect and its simplifier with their defaults, as its evaluate_mbm.py runs them:
+  tests/bench/_vamp_mbm.py) on the same problems.txt, REPS runs per problem, after our server has stopped, in the
+  same bench run. Its own geometry (its sphere model of the Panda; cylinders as capsules, boxes in "box") and its
+  own fixed-resolution motion check, so not the same checker: the field's anchor, not a like-for-like checker
+  comparison. vamp_search_us_*: its planning time (our search_us_*); vamp_plan_us_*: planning plus simplification
+  (our plan_us_*), each the median over a problem's runs, a problem VAMP calls invalid or a run it does not solve
+  counted as TIMEOUT_S; vamp_simplify_us_p50; vamp_solved_rate over all problems; vamp_path_length_rad_mean;
+  speedup_search_vs_vamp_p50 = vamp_search_us_p50 / search_us_p50 and speedup_vs_vamp_p50 = vamp_plan_us_p50 /
+  plan_us_p50 (above 1: ours faster); vamp_verified_fraction: its first run's simplified paths re-checked by the
+  same PyBullet checker (between the path's own end points: VAMP keeps configurations in float32, so they differ
+  from the problem's by up to vamp_endpoint_error_rad_max; reported, not counted). Per scene vamp_search_us_p50
+  and vamp_plan_us_p50.
+- vamp_published_*: the figures quoted in issue 20 (35 µs published; 85 µs / 1.06 ms on a machine like ours).
 
 Environment: GRASPSIM_MBM_REPS (5), GRASPSIM_MBM_OMPL_REPS (5), GRASPSIM_MBM_PROBLEMS_PER_SCENE (100),
-GRASPSIM_MBM_TIMEOUT_S (10), GRASPSIM_MBM_VERIFY_REPS (1; 0 = no PyBullet check). The full run takes about 8.5 min
+GRASPSIM_MBM_TIMEOUT_S (10), GRASPSIM_MBM_VERIFY_REPS (1; 0 = no PyBullet check), GRASPSIM_MBM_VAMP_PYTHON (unset:
+VAMP not run). The full run takes about 8.5 min
 on 2 cores, most of it the timeouts of the few problems nobody solves (and 1 min of PyBullet);
 GRASPSIM_MBM_PROBLEMS_PER_SCENE=10 gives a look in about 20 s.
 """
 import importlib.util
+import json
 import os
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -67,6 +85,7 @@ PER_SCENE = int(os.environ.get("GRASPSIM_MBM_PROBLEMS_PER_SCENE", "100"))
 TIMEOUT_S = float(os.environ.get("GRASPSIM_MBM_TIMEOUT_S", "10"))
 VERIFY_REPS = min(REPS, int(os.environ.get("GRASPSIM_MBM_VERIFY_REPS", "1")))
 PEER = "ompl_rrt_connect"
+VAMP_PYTHON = os.environ.get("GRASPSIM_MBM_VAMP_PYTHON", "")
 MAX_MESSAGES = 12
 
 
@@ -169,6 +188,11 @@ def _rep_range(runs, reps):
     return [round(float(min(by_seed)) * 1e6, 1), round(float(max(by_seed)) * 1e6, 1)]
 
 
+def _length(waypoints) -> float:
+    """L2 length in joint space, rad."""
+    return float(np.linalg.norm(np.diff(np.asarray(waypoints, dtype=np.float64), axis=0), axis=1).sum())
+
+
 def _ordered(path, arm_ids):
     """The path's waypoints as columns panda_joint1..7."""
     columns = [path.joint_ids.index(j) for j in arm_ids]
@@ -183,6 +207,7 @@ def _plan_all(problems, urdf: Path):
     ours, peer, failures, planners = [], [], {}, set()
     searches = {"ours": [], "ompl": []}  # per problem: each run's search seconds
     paths = {"ours": [], "ompl": []}
+    lengths = {"ours": [], "ompl": []}  # every solved run's path length, rad
     started = time.perf_counter()
 
     def keep(name):
@@ -190,8 +215,10 @@ def _plan_all(problems, urdf: Path):
             if name == "ompl" and path.planner != PEER:
                 raise RuntimeError(f"asked for planner {PEER}, the server ran {path.planner!r}")
             planners.add(path.planner)
+            waypoints = _ordered(path, arm_ids)
+            lengths[name].append(_length(waypoints))
             if seed <= VERIFY_REPS:
-                paths[name].append((problem, seed, _ordered(path, arm_ids)))
+                paths[name].append((problem, seed, waypoints))
         return add
 
     with Server() as server, graspsim.connect(server.address) as client:
@@ -215,7 +242,7 @@ def _plan_all(problems, urdf: Path):
                             f"{np.median(_per_problem(theirs)) * 1e6:.0f} µs"
                 log(f"{line} ({time.perf_counter() - started:.0f} s so far)")
         exit_code = server.stop()
-    return ours, peer, paths, failures, sorted(planners), exit_code, searches
+    return ours, peer, paths, failures, sorted(planners), exit_code, searches, lengths
 
 
 def _unsolved(problems, runs):
@@ -230,7 +257,8 @@ def run():
     log(f"mbm: {len(problems)} problems, {REPS} runs each (graspsim), {OMPL_REPS} ({PEER}), timeout {TIMEOUT_S} s; "
         f"PyBullet re-check of {VERIFY_REPS} path(s) per problem and planner")
     started = time.perf_counter()
-    ours, peer, paths, failures, planners, exit_code, searches = _plan_all(problems, panda / "panda_spherized.urdf")
+    ours, peer, paths, failures, planners, exit_code, searches, lengths = _plan_all(problems,
+                                                                                   panda / "panda_spherized.urdf")
     plan_s = time.perf_counter() - started
 
     per_problem = _per_problem(ours)
@@ -267,6 +295,12 @@ def run():
         if OMPL_REPS > 0:
             per_scene[scene]["ompl_solved_rate"] = _solved([peer[k] for k in idx])
             per_scene[scene]["ompl_us_p50"] = round(float(np.median(per_problem_peer[idx])) * 1e6, 1)
+    figures["path_length_rad_mean"] = round(float(np.mean(lengths["ours"])), 4) if lengths["ours"] else None
+    if OMPL_REPS > 0 and lengths["ompl"]:
+        figures["ompl_path_length_rad_mean"] = round(float(np.mean(lengths["ompl"])), 4)
+    figures["vamp_measured"] = bool(VAMP_PYTHON)
+    if VAMP_PYTHON:
+        figures.update(_vamp(panda, problems, figures, per_scene))
     figures["per_scene"] = per_scene
     figures["unsolved"] = _unsolved(problems, ours)
     figures["ompl_unsolved"] = _unsolved(problems, peer) if OMPL_REPS > 0 else []
@@ -280,10 +314,9 @@ def run():
     figures["vamp_published_like_ours_us_p50"] = 85
     figures["vamp_published_like_ours_us_p95"] = 1060
     figures["vamp_published_note"] = (
-        "quoted from issue 20, not measured here: VAMP's published median on the MBM Panda problems is 35 µs; "
-        "its 85 µs median and 1.06 ms p95 were measured on a machine like ours. VAMP's evaluate_mbm.py reports "
-        "planning time apart from simplification time; our like-for-like key is search_us_*, plan_us_* adds "
-        "shortcutting and time parameterisation")
+        "quoted from issue 20: VAMP's published median on the MBM Panda problems is 35 µs; its 85 µs median and "
+        "1.06 ms p95 were measured on a machine like ours. Both are VAMP's planning time without its "
+        "simplification: beside our search_us_*; vamp_search_us_* / vamp_plan_us_* are VAMP run here")
     return figures, exit_code
 
 
@@ -313,4 +346,62 @@ def _verify(panda: Path, paths) -> dict:
                     f"{prefix}verify_samples_per_path": round(samples / max(1, len(runs)), 1),
                     f"{prefix}unverified": unverified})
     out["verify_s"] = round(time.perf_counter() - started, 1)
+    return out
+
+
+def _vamp(panda: Path, problems, ours: dict, per_scene: dict) -> dict:
+    """VAMP's runs (tests/bench/_vamp_mbm.py under VAMP_PYTHON) on the same problems, their figures and PyBullet's
+    verdict on its first run's paths. `ours` and `per_scene` give the keys to set VAMP's beside."""
+    from _mbm_check import PandaChecker
+    started = time.perf_counter()
+    listing = panda / "problems_vamp.txt"   # the problems run here (PER_SCENE may cut the 700)
+    mbm.write_problems_txt(problems, listing)
+    reply = subprocess.run([VAMP_PYTHON, str(Path(__file__).with_name("_vamp_mbm.py")), str(listing), str(REPS)],
+                           check=True, capture_output=True, text=True)
+    runs = json.loads(reply.stdout)["problems"]
+    if [r["name"] for r in runs] != [p.name for p in problems]:
+        raise RuntimeError("VAMP's answers are not for the problems asked")
+    vamp_s = time.perf_counter() - started
+
+    def median(r, with_simplify):
+        if not r["valid"] or 2 * sum(r["solved"]) < len(r["solved"]):
+            return TIMEOUT_S
+        times = [p + (s if with_simplify else 0) if ok else TIMEOUT_S * 1e6
+                 for p, s, ok in zip(r["plan_us"], r["simplify_us"], r["solved"])]
+        return float(np.median(times)) / 1e6
+
+    search = np.array([median(r, False) for r in runs])
+    plan = np.array([median(r, True) for r in runs])
+    out = {**_us("vamp_search", search, (50, 95)), **_us("vamp_plan", plan, (50, 95))}
+    simplify = [s for r in runs for s in r["simplify_us"] if s is not None]
+    out["vamp_simplify_us_p50"] = round(float(np.median(simplify)), 1) if simplify else None
+    out["vamp_solved_rate"] = round(sum(t < TIMEOUT_S for t in plan) / len(runs), 4)
+    out["vamp_invalid"] = [r["name"] for r in runs if not r["valid"]]
+    lengths = [x for r in runs for x in r["length_rad"] if x is not None]
+    out["vamp_path_length_rad_mean"] = round(float(np.mean(lengths)), 4) if lengths else None
+    out["speedup_search_vs_vamp_p50"] = round(out["vamp_search_us_p50"] / ours["search_us_p50"], 2)
+    out["speedup_vs_vamp_p50"] = round(out["vamp_plan_us_p50"] / ours["plan_us_p50"], 2)
+    for scene, figures in per_scene.items():
+        idx = [k for k, p in enumerate(problems) if p.scene == scene]
+        figures["vamp_search_us_p50"] = round(float(np.median(search[idx])) * 1e6, 1)
+        figures["vamp_plan_us_p50"] = round(float(np.median(plan[idx])) * 1e6, 1)
+    checker = PandaChecker(panda / "panda_spherized.urdf", panda / "panda.srdf", mbm.ARM_JOINTS)
+    good, checked, endpoint, unverified = 0, 0, 0.0, []
+    for problem, r in zip(problems, runs):
+        if r["waypoints"] is None:
+            continue
+        waypoints = np.array(r["waypoints"], dtype=np.float64)
+        endpoint = max(endpoint, float(np.abs(waypoints[0] - problem.start).max()),
+                       float(np.abs(waypoints[-1] - problem.goal).max()))
+        checker.set_obstacles(problem.obstacles)
+        result = checker.check_path(waypoints, waypoints[0], waypoints[-1])
+        checked += 1
+        good += result.ok
+        if not result.ok and len(unverified) < MAX_MESSAGES:
+            unverified.append(f"{problem.name}: " + "; ".join(result.problems[:3]))
+    out.update({"vamp_verified_paths": checked, "vamp_verified_fraction": round(good / checked, 4) if checked else None,
+                "vamp_endpoint_error_rad_max": endpoint, "vamp_unverified": unverified,
+                "vamp_phase_s": round(vamp_s, 1)})
+    log(f"mbm: VAMP search p50 {out['vamp_search_us_p50']} µs, with simplification {out['vamp_plan_us_p50']} µs; "
+        f"{good} of {checked} paths collision free in PyBullet")
     return out
