@@ -201,7 +201,8 @@ def _ordered(path, arm_ids):
 
 def _plan_all(problems, urdf: Path):
     """Every problem through one server: per problem the runs of ours and of the peer ((seconds | None, setup s,
-    wall s) each), the paths to re-check ((problem, seed, waypoints) per planner), failure messages."""
+    wall s) each), the paths to re-check ((problem, seed, waypoints) per planner), failure messages, and per planner
+    every solved run's path length."""
     import graspsim
     arm_ids = [f"{ROBOT}/{j}" for j in mbm.ARM_JOINTS]
     ours, peer, failures, planners = [], [], {}, set()
