@@ -12,10 +12,12 @@ Input: the same problems.txt that the server's runs read (tests/data/mbm.py pars
 VAMP's problem dictionary and through vamp.problem_dict_to_vamp, as VAMP's converter does from the same YAML:
 cylinders as capsules, and as boxes in the "box" scene). Only VAMP's own start/goal test decides what is run: a
 problem whose start or goal VAMP calls colliding is reported invalid, not planned (evaluate_mbm.py skips those).
-Output, one JSON object on stdout: per problem (in input order) name, valid, and over its REPS runs each run's
-planning and simplification microseconds (VAMP's own nanosecond timers), solved flags, path lengths (rad, L2 in
-joint space, after simplification), and the first run's simplified waypoints for the PyBullet re-check.
+Output, one JSON object on stdout: VAMP's version and motion resolution; per problem (in input order) its name,
+valid, and its REPS runs, each with planning and simplification microseconds (VAMP's own nanosecond timers; the
+latter null when the run found no path) and the simplified path's waypoints (null likewise). mbm.py makes the
+figures from them.
 """
+import importlib.metadata
 import importlib.util
 import json
 import sys
@@ -51,10 +53,6 @@ def _problem_dict(problem) -> dict:
     return out
 
 
-def _length(waypoints) -> float:
-    return float(sum(sum((b - a) ** 2 for a, b in zip(p, q)) ** 0.5 for p, q in zip(waypoints, waypoints[1:])))
-
-
 def main(problems_txt: str, reps: str) -> int:
     reps = int(reps)
     robot, rrtc, plan_settings, simplify_settings = vamp.configure_robot_and_planner_with_kwargs("panda", "rrtc")
@@ -63,28 +61,21 @@ def main(problems_txt: str, reps: str) -> int:
     for problem in _problems(Path(problems_txt)):
         env = vamp.problem_dict_to_vamp(_problem_dict(problem))
         entry = {"name": problem.name, "valid": bool(robot.validate(problem.start, env) and
-                                                    robot.validate(problem.goal, env)),
-                 "plan_us": [], "simplify_us": [], "solved": [], "length_rad": [], "waypoints": None}
+                                                    robot.validate(problem.goal, env)), "runs": []}
         results.append(entry)
         if not entry["valid"]:
             continue
         sampler.reset()
-        for rep in range(reps):
+        for _ in range(reps):
             planned = rrtc(problem.start, [problem.goal], env, plan_settings, sampler)
-            entry["solved"].append(bool(planned.solved))
-            entry["plan_us"].append(planned.nanoseconds / 1e3)
-            if not planned.solved:
-                entry["simplify_us"].append(None)
-                entry["length_rad"].append(None)
-                continue
-            simple = robot.simplify(planned.path, env, simplify_settings, sampler)
-            waypoints = simple.path.numpy().astype(float).tolist()
-            entry["simplify_us"].append(simple.nanoseconds / 1e3)
-            entry["length_rad"].append(_length(waypoints))
-            if rep == 0:
-                entry["waypoints"] = waypoints
-    json.dump({"vamp_version": getattr(vamp, "__version__", "0.6.4"), "reps": reps,
-               "resolution": robot.resolution(), "problems": results}, sys.stdout)
+            run = {"plan_us": planned.nanoseconds / 1e3, "simplify_us": None, "waypoints": None}
+            if planned.solved:
+                simple = robot.simplify(planned.path, env, simplify_settings, sampler)
+                run["simplify_us"] = simple.nanoseconds / 1e3
+                run["waypoints"] = simple.path.numpy().astype(float).tolist()
+            entry["runs"].append(run)
+    json.dump({"vamp_version": importlib.metadata.version("vamp-planner"), "resolution": robot.resolution(),
+               "problems": results}, sys.stdout)
     return 0
 
 

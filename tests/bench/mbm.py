@@ -40,17 +40,17 @@ body; deleted after the problem.
   (our plan_us_*), each the median over a problem's runs, a problem VAMP calls invalid or a run it does not solve
   counted as TIMEOUT_S; vamp_simplify_us_p50; vamp_solved_rate over all problems; vamp_path_length_rad_mean;
   speedup_search_vs_vamp_p50 = vamp_search_us_p50 / search_us_p50 and speedup_vs_vamp_p50 = vamp_plan_us_p50 /
-  plan_us_p50 (above 1: ours faster); vamp_verified_fraction: its first run's simplified paths re-checked by the
-  same PyBullet checker (between the path's own end points: VAMP keeps configurations in float32, so they differ
-  from the problem's by up to vamp_endpoint_error_rad_max; reported, not counted). Per scene vamp_search_us_p50
-  and vamp_plan_us_p50.
+  plan_us_p50 (above 1: ours faster); vamp_verified_fraction (and the other verify keys with the vamp_ prefix):
+  its simplified paths of runs 1..VERIFY_REPS re-checked by _verify like ours, between the path's own end points
+  (VAMP keeps configurations in float32, so they differ from the problem's by up to vamp_endpoint_error_rad_max;
+  reported, not counted). vamp_version, vamp_motion_resolution (its fixed motion-check resolution). Per scene
+  vamp_search_us_p50 and vamp_plan_us_p50.
 - vamp_published_*: the figures quoted in issue 20 (35 µs published; 85 µs / 1.06 ms on a machine like ours).
 
 Environment: GRASPSIM_MBM_REPS (5), GRASPSIM_MBM_OMPL_REPS (5), GRASPSIM_MBM_PROBLEMS_PER_SCENE (100),
 GRASPSIM_MBM_TIMEOUT_S (10), GRASPSIM_MBM_VERIFY_REPS (1; 0 = no PyBullet check), GRASPSIM_MBM_VAMP_PYTHON (unset:
-VAMP not run). The full run takes about 8.5 min
-on 2 cores, most of it the timeouts of the few problems nobody solves (and 1 min of PyBullet);
-GRASPSIM_MBM_PROBLEMS_PER_SCENE=10 gives a look in about 20 s.
+VAMP not run). The full run takes about 8.5 min on 2 cores, most of it the timeouts of the few problems nobody
+solves (and 1 min of PyBullet); GRASPSIM_MBM_PROBLEMS_PER_SCENE=10 gives a look in about 20 s.
 """
 import importlib.util
 import json
@@ -301,7 +301,7 @@ def run():
         figures["ompl_path_length_rad_mean"] = round(float(np.mean(lengths["ompl"])), 4)
     figures["vamp_measured"] = bool(VAMP_PYTHON)
     if VAMP_PYTHON:
-        figures.update(_vamp(panda, problems, figures, per_scene))
+        figures.update(_vamp(panda, problems, figures, per_scene, paths))
     figures["per_scene"] = per_scene
     figures["unsolved"] = _unsolved(problems, ours)
     figures["ompl_unsolved"] = _unsolved(problems, peer) if OMPL_REPS > 0 else []
@@ -334,7 +334,11 @@ def _verify(panda: Path, paths) -> dict:
             if problem is not current:
                 checker.set_obstacles(problem.obstacles)
                 current = problem
-            result = checker.check_path(waypoints, np.array(problem.start), np.array(problem.goal))
+            # VAMP keeps configurations in float32: its paths are checked between their own end points (how far
+            # those are from the problem's is vamp_endpoint_error_rad_max).
+            start, goal = ((waypoints[0], waypoints[-1]) if planner == "vamp" else
+                           (np.array(problem.start), np.array(problem.goal)))
+            result = checker.check_path(waypoints, start, goal)
             samples += result.samples
             good += result.ok
             if not result.ok and len(unverified) < MAX_MESSAGES:
@@ -350,59 +354,50 @@ def _verify(panda: Path, paths) -> dict:
     return out
 
 
-def _vamp(panda: Path, problems, ours: dict, per_scene: dict) -> dict:
-    """VAMP's runs (tests/bench/_vamp_mbm.py under VAMP_PYTHON) on the same problems, their figures and PyBullet's
-    verdict on its first run's paths. `ours` and `per_scene` give the keys to set VAMP's beside."""
-    from _mbm_check import PandaChecker
+def _vamp(panda: Path, problems, ours: dict, per_scene: dict, paths: dict) -> dict:
+    """VAMP's runs (tests/bench/_vamp_mbm.py under VAMP_PYTHON) on the same problems and their figures; its first
+    VERIFY_REPS runs' paths go to paths["vamp"] for _verify. `ours` and `per_scene` give the keys to set VAMP's
+    beside."""
     started = time.perf_counter()
     listing = panda / "problems_vamp.txt"   # the problems run here (PER_SCENE may cut the 700)
     mbm.write_problems_txt(problems, listing)
     reply = subprocess.run([VAMP_PYTHON, str(Path(__file__).with_name("_vamp_mbm.py")), str(listing), str(REPS)],
                            check=True, capture_output=True, text=True)
-    runs = json.loads(reply.stdout)["problems"]
-    if [r["name"] for r in runs] != [p.name for p in problems]:
+    answer = json.loads(reply.stdout)
+    results = answer["problems"]
+    if [r["name"] for r in results] != [p.name for p in problems]:
         raise RuntimeError("VAMP's answers are not for the problems asked")
     vamp_s = time.perf_counter() - started
 
-    def median(r, with_simplify):
-        if not r["valid"] or 2 * sum(r["solved"]) < len(r["solved"]):
+    def median(result, with_simplify):
+        """A problem's median over its runs (s), as _per_problem counts ours."""
+        runs = result["runs"]
+        if not result["valid"] or 2 * sum(r["waypoints"] is not None for r in runs) < len(runs):
             return TIMEOUT_S
-        times = [p + (s if with_simplify else 0) if ok else TIMEOUT_S * 1e6
-                 for p, s, ok in zip(r["plan_us"], r["simplify_us"], r["solved"])]
-        return float(np.median(times)) / 1e6
+        return float(np.median([TIMEOUT_S * 1e6 if r["waypoints"] is None else
+                                r["plan_us"] + (r["simplify_us"] if with_simplify else 0) for r in runs])) / 1e6
 
-    search = np.array([median(r, False) for r in runs])
-    plan = np.array([median(r, True) for r in runs])
-    out = {**_us("vamp_search", search, (50, 95)), **_us("vamp_plan", plan, (50, 95))}
-    simplify = [s for r in runs for s in r["simplify_us"] if s is not None]
+    search = np.array([median(r, False) for r in results])
+    plan = np.array([median(r, True) for r in results])
+    solved = [(problem, k + 1, np.array(run["waypoints"], dtype=np.float64)) for problem, r in zip(problems, results)
+              for k, run in enumerate(r["runs"]) if run["waypoints"] is not None]  # (problem, seed, waypoints)
+    paths["vamp"] = [entry for entry in solved if entry[1] <= VERIFY_REPS]
+    out = {"vamp_version": answer["vamp_version"], "vamp_motion_resolution": answer["resolution"],
+           **_us("vamp_search", search, (50, 95)), **_us("vamp_plan", plan, (50, 95))}
+    simplify = [run["simplify_us"] for r in results for run in r["runs"] if run["waypoints"] is not None]
     out["vamp_simplify_us_p50"] = round(float(np.median(simplify)), 1) if simplify else None
-    out["vamp_solved_rate"] = round(sum(t < TIMEOUT_S for t in plan) / len(runs), 4)
-    out["vamp_invalid"] = [r["name"] for r in runs if not r["valid"]]
-    lengths = [x for r in runs for x in r["length_rad"] if x is not None]
-    out["vamp_path_length_rad_mean"] = round(float(np.mean(lengths)), 4) if lengths else None
+    out["vamp_solved_rate"] = round(sum(t < TIMEOUT_S for t in plan) / len(results), 4)
+    out["vamp_invalid"] = [r["name"] for r in results if not r["valid"]]
+    out["vamp_path_length_rad_mean"] = round(float(np.mean([_length(w) for _, _, w in solved])), 4) if solved else None
     out["speedup_search_vs_vamp_p50"] = round(out["vamp_search_us_p50"] / ours["search_us_p50"], 2)
     out["speedup_vs_vamp_p50"] = round(out["vamp_plan_us_p50"] / ours["plan_us_p50"], 2)
+    out["vamp_endpoint_error_rad_max"] = max((float(max(np.abs(w[0] - problem.start).max(),
+                                                        np.abs(w[-1] - problem.goal).max()))
+                                              for problem, _, w in paths["vamp"]), default=None)
+    out["vamp_phase_s"] = round(vamp_s, 1)
     for scene, figures in per_scene.items():
         idx = [k for k, p in enumerate(problems) if p.scene == scene]
         figures["vamp_search_us_p50"] = round(float(np.median(search[idx])) * 1e6, 1)
         figures["vamp_plan_us_p50"] = round(float(np.median(plan[idx])) * 1e6, 1)
-    checker = PandaChecker(panda / "panda_spherized.urdf", panda / "panda.srdf", mbm.ARM_JOINTS)
-    good, checked, endpoint, unverified = 0, 0, 0.0, []
-    for problem, r in zip(problems, runs):
-        if r["waypoints"] is None:
-            continue
-        waypoints = np.array(r["waypoints"], dtype=np.float64)
-        endpoint = max(endpoint, float(np.abs(waypoints[0] - problem.start).max()),
-                       float(np.abs(waypoints[-1] - problem.goal).max()))
-        checker.set_obstacles(problem.obstacles)
-        result = checker.check_path(waypoints, waypoints[0], waypoints[-1])
-        checked += 1
-        good += result.ok
-        if not result.ok and len(unverified) < MAX_MESSAGES:
-            unverified.append(f"{problem.name}: " + "; ".join(result.problems[:3]))
-    out.update({"vamp_verified_paths": checked, "vamp_verified_fraction": round(good / checked, 4) if checked else None,
-                "vamp_endpoint_error_rad_max": endpoint, "vamp_unverified": unverified,
-                "vamp_phase_s": round(vamp_s, 1)})
-    log(f"mbm: VAMP search p50 {out['vamp_search_us_p50']} µs, with simplification {out['vamp_plan_us_p50']} µs; "
-        f"{good} of {checked} paths collision free in PyBullet")
+    log(f"mbm: VAMP search p50 {out['vamp_search_us_p50']} µs, with simplification {out['vamp_plan_us_p50']} µs")
     return out
