@@ -38,7 +38,9 @@ body; deleted after the problem.
   own fixed-resolution motion check, so not the same checker: the field's anchor, not a like-for-like checker
   comparison. vamp_search_us_*: its planning time (our search_us_*); vamp_plan_us_*: planning plus simplification
   (our plan_us_*), each the median over a problem's runs, a problem VAMP calls invalid or a run it does not solve
-  counted as TIMEOUT_S; vamp_simplify_us_p50; vamp_solved_rate over all problems; vamp_path_length_rad_mean;
+  counted as TIMEOUT_S, with vamp_search_us_p50_rep_range / vamp_plan_us_p50_rep_range (as plan_us_p50_rep_range,
+  over VAMP's REPS runs: the sampler continues from run to run, as evaluate_mbm.py has it); vamp_simplify_us_p50;
+  vamp_solved_rate over all problems; vamp_path_length_rad_mean;
   speedup_search_vs_vamp_p50 = vamp_search_us_p50 / search_us_p50 and speedup_vs_vamp_p50 = vamp_plan_us_p50 /
   plan_us_p50 (above 1: ours faster); vamp_verified_fraction (and the other verify keys with the vamp_ prefix):
   its simplified paths of runs 1..VERIFY_REPS re-checked by _verify like ours, between the path's own end points
@@ -385,6 +387,12 @@ def _vamp(panda: Path, problems, ours: dict, per_scene: dict, paths: dict) -> di
     out = {"vamp_version": answer["vamp_version"], "vamp_motion_resolution": answer["resolution"],
            **_us("vamp_search", search, (50, 95)), **_us("vamp_plan", plan, (50, 95))}
     simplify = [run["simplify_us"] for r in results for run in r["runs"] if run["waypoints"] is not None]
+    # Its runs as _rep_range reads ours: per problem REPS (seconds | None, ...), an invalid problem all None.
+    for key, with_simplify in (("vamp_search", False), ("vamp_plan", True)):
+        as_ours = [[((run["plan_us"] + (run["simplify_us"] if with_simplify else 0)) / 1e6
+                     if run["waypoints"] is not None else None, None, None) for run in r["runs"]]
+                   or [(None, None, None)] * REPS for r in results]
+        out[f"{key}_us_p50_rep_range"] = _rep_range(as_ours, REPS)
     out["vamp_simplify_us_p50"] = round(float(np.median(simplify)), 1) if simplify else None
     out["vamp_solved_rate"] = round(sum(t < TIMEOUT_S for t in plan) / len(results), 4)
     out["vamp_invalid"] = [r["name"] for r in results if not r["valid"]]
