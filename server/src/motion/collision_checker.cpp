@@ -227,6 +227,9 @@ CollisionChecker::CollisionChecker(const ArmModel& arm, ArmSphereModel spheres, 
   kernel_.ball_count = static_cast<int32_t>(kernel_balls_.size());
   kernel_.cylinders = kernel_cylinders_.data();
   kernel_.cylinder_count = static_cast<int32_t>(kernel_cylinders_.size());
+  obstacle_bounds_.resize(kernel::ObstacleBoundsSize(kernel_));
+  kernel::FillObstacleBounds(kernel_, obstacle_bounds_.data());
+  kernel_.obstacle_bounds = obstacle_bounds_.data();
   kernel_.self_pairs = kernel_self_pairs_.data();
   kernel_.self_pair_count = static_cast<int32_t>(spheres_.self_pairs.size());
   link_inflation_.assign(links.size(), 1.0f);

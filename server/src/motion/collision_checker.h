@@ -108,6 +108,7 @@ class CollisionChecker {
   std::vector<kernel::Box> kernel_boxes_;
   std::vector<kernel::Ball> kernel_balls_;
   std::vector<kernel::Cylinder> kernel_cylinders_;
+  std::vector<float> obstacle_bounds_;  // kernel::FillObstacleBounds
   std::vector<int32_t> kernel_self_pairs_;
   kernel::Model kernel_;
   mutable std::vector<float> lanes_;    // dof rows of kLanes

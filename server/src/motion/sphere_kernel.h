@@ -66,7 +66,20 @@ struct Model {
   // Place every sphere, not only those a test reads (a caller that tests the spheres further, e.g. against
   // meshes, needs them all; see CollidingLanes).
   bool place_every_sphere = false;
+  // The obstacles' broad phase (FillObstacleBounds): each obstacle's world box, so that a link first tests the
+  // box around all lanes' bounding spheres against kLanes obstacles per instruction, and then, lane by lane, only
+  // the obstacles that box meets. Null: every obstacle lane by lane (the same answers, more tests).
+  const float* obstacle_bounds = nullptr;
 };
+
+// Floats FillObstacleBounds writes: per group of kLanes obstacles (boxes, then balls, then cylinders, in their
+// order) 6 rows of kLanes, the lower then the upper x, y, z of each one's world box, grown by 0.1 mm so that float
+// rounding cannot drop an obstacle a lane touches; slots past the last obstacle hold empty boxes.
+inline int64_t ObstacleBoundsSize(const Model& model) {
+  const int64_t obstacles = static_cast<int64_t>(model.box_count) + model.ball_count + model.cylinder_count;
+  return (obstacles + kLanes - 1) / kLanes * 6 * kLanes;
+}
+void FillObstacleBounds(const Model& model, float* out);
 
 // Lanes whose collision ends a CollidingLanes call at once: the answer is then decided for its caller (a
 // configuration tested as it is, in a motion check), so the other lanes need not be finished.

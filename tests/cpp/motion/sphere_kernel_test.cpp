@@ -123,8 +123,10 @@ TEST(MotionSphereKernelTest, EachLaneAnswersWithItsOwnInflationAndPlacesSpheresE
       const bool scaled = batch % 2 == 1;
       input.model.link_inflation = scaled ? link_scale.data() : nullptr;
       input.model.pair_inflation = scaled ? pair_scale.data() : nullptr;
-      // Spheres placed only where a test reads them in the batches of one in three, the masks the same.
+      // Spheres placed only where a test reads them in the batches of one in three, the masks the same; the
+      // obstacles' broad phase off in one batch in four.
       input.model.place_every_sphere = batch % 3 != 0;
+      input.model.obstacle_bounds = batch % 4 == 3 ? nullptr : input.obstacle_bounds.data();
       const uint32_t all = k::CollidingLanes(input.model, c.q.data(), c.inflate, input.scratch.data(), k::kRunToEnd);
       // With some lane free at the end, every sphere's centre is in scratch when asked for.
       const bool centres_placed = input.model.place_every_sphere && all != 0xffu;
@@ -250,6 +252,7 @@ TEST(MotionSphereKernelTest, ClearanceIsTheLargestInflationAtWhichTheReferenceIs
       input.model.link_inflation = scaled ? link_scale.data() : nullptr;
       input.model.pair_inflation = scaled ? pair_scale.data() : nullptr;
       input.model.place_every_sphere = batch % 3 != 0;
+      input.model.obstacle_bounds = batch % 4 == 3 ? nullptr : input.obstacle_bounds.data();
       float cap[k::kLanes], clearance[k::kLanes], generic_clearance[k::kLanes];
       for (int lane = 0; lane < k::kLanes; ++lane) cap[lane] = lane % 4 == 0 ? 0.0f : static_cast<float>(0.1 * unit(rng));
       const uint32_t hits =

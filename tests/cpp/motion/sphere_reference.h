@@ -313,11 +313,16 @@ class KernelInput {
     model.self_pairs = pairs_.data();
     model.self_pair_count = static_cast<int32_t>(spheres.self_pairs.size());
     model.place_every_sphere = true;  // the tests compare the centres
+    // The obstacles' broad phase as the checker sets it; a test may turn it off (nullptr) to compare.
+    obstacle_bounds.resize(k::ObstacleBoundsSize(model));
+    k::FillObstacleBounds(model, obstacle_bounds.data());
+    model.obstacle_bounds = obstacle_bounds.data();
     scratch.assign(motion::kernel::ScratchSize(model), 0.0f);
   }
 
   motion::kernel::Model model;
   std::vector<float> scratch;
+  std::vector<float> obstacle_bounds;
 
  private:
   static void Store(const Mat3& r, float* out) {
