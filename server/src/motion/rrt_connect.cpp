@@ -1,7 +1,7 @@
 // RRT-Connect (Kuffner & LaValle 2000) as VAMP runs it: two trees in flat arrays, nearest neighbour by a linear
-// scan over joint columns, four nodes per vector (trees stay small on the problems it is for; a scan of a few
-// hundred 7-vectors beats a tree structure's bookkeeping), the smaller tree grown while one is twice the other,
-// dynamic domains, every new edge through the checker's batched, conservative motion test.
+// scan (trees stay small on the problems it is for; a scan of a few hundred 7-vectors beats a tree structure's
+// bookkeeping), the smaller tree grown while one is twice the other, dynamic domains, every new edge through
+// the checker's batched, conservative motion test.
 #include <cmath>
 #include <random>
 
@@ -12,37 +12,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The squared distance of each node to q into distances[0 .. count), four nodes per vector (the columns hold a
-// multiple of four, the last ones padding). Each sum adds the joints in order, as a loop per node would, and no
-// multiply is fused with its add: the AVX2 clone and the baseline's (two SSE2 halves) give the same bits.
-typedef double Four __attribute__((vector_size(4 * sizeof(double))));
-
-__attribute__((target_clones("avx2", "default"))) void SquaredDistances(const double* const* columns, size_t dof,
-                                                                       size_t count, const double* q,
-                                                                       double* distances) {
-  for (size_t i = 0; i < count; i += 4) {
-    Four sum = {0, 0, 0, 0};
-    for (size_t k = 0; k < dof; ++k) {
-      Four v;
-      __builtin_memcpy(&v, columns[k] + i, sizeof(v));
-      const Four d = v - q[k];
-      sum += d * d;
-    }
-    __builtin_memcpy(distances + i, &sum, sizeof(sum));
-  }
-}
-
 class Tree {
  public:
-  explicit Tree(size_t dof) : dof_(dof), columns_(dof), column_data_(dof) {}
+  explicit Tree(size_t dof) : dof_(dof) {}
   int Add(const VecX& q, int parent) {
     values_.insert(values_.end(), q.data(), q.data() + dof_);
-    const size_t node = parents_.size();
-    for (size_t k = 0; k < dof_; ++k) {
-      if (node % 4 == 0) columns_[k].resize(node + 4, 0.0);  // a new block of four
-      columns_[k][node] = q[k];
-      column_data_[k] = columns_[k].data();
-    }
     parents_.push_back(parent);
     domains_.push_back(INFINITY);
     return static_cast<int>(parents_.size()) - 1;
@@ -52,12 +26,13 @@ class Tree {
   size_t Size() const { return parents_.size(); }
   double& Domain(int i) { return domains_[i]; }  // its dynamic domain; infinite until an extension from it fails
   int Nearest(const VecX& q, double* distance = nullptr) const {
-    distances_.resize((parents_.size() + 3) / 4 * 4);
-    SquaredDistances(column_data_.data(), dof_, parents_.size(), q.data(), distances_.data());
     int best = 0;
     double best_d = INFINITY;
-    for (size_t i = 0; i < parents_.size(); ++i) {
-      if (distances_[i] < best_d) best_d = distances_[i], best = static_cast<int>(i);
+    const double* v = values_.data();
+    for (size_t i = 0; i < parents_.size(); ++i, v += dof_) {
+      double d = 0;
+      for (size_t k = 0; k < dof_; ++k) d += (v[k] - q[k]) * (v[k] - q[k]);
+      if (d < best_d) best_d = d, best = static_cast<int>(i);
     }
     if (distance) *distance = std::sqrt(best_d);
     return best;
@@ -71,10 +46,7 @@ class Tree {
 
  private:
   size_t dof_;
-  std::vector<double> values_;                // node after node (At)
-  std::vector<std::vector<double>> columns_;  // joint after joint (Nearest's scan)
-  std::vector<const double*> column_data_;
-  mutable std::vector<double> distances_;
+  std::vector<double> values_;
   std::vector<int> parents_;
   std::vector<double> domains_;
 };
