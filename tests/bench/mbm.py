@@ -371,30 +371,25 @@ def _vamp(panda: Path, problems, ours: dict, per_scene: dict, paths: dict) -> di
         raise RuntimeError("VAMP's answers are not for the problems asked")
     vamp_s = time.perf_counter() - started
 
-    def median(result, with_simplify):
-        """A problem's median over its runs (s), as _per_problem counts ours."""
-        runs = result["runs"]
-        if not result["valid"] or 2 * sum(r["waypoints"] is not None for r in runs) < len(runs):
-            return TIMEOUT_S
-        return float(np.median([TIMEOUT_S * 1e6 if r["waypoints"] is None else
-                                r["plan_us"] + (r["simplify_us"] if with_simplify else 0) for r in runs])) / 1e6
+    def as_ours(with_simplify):
+        """VAMP's runs shaped as _plan_all's for ours: per problem REPS (seconds | None, None, None), an invalid
+        problem's all None, so that _per_problem, _rep_range and _solved count them as they count ours."""
+        return [[((run["plan_us"] + (run["simplify_us"] if with_simplify else 0)) / 1e6
+                  if run["waypoints"] is not None else None, None, None) for run in r["runs"]]
+                or [(None, None, None)] * REPS for r in results]
 
-    search = np.array([median(r, False) for r in results])
-    plan = np.array([median(r, True) for r in results])
+    search_runs, plan_runs = as_ours(False), as_ours(True)
+    search, plan = _per_problem(search_runs), _per_problem(plan_runs)
     solved = [(problem, k + 1, np.array(run["waypoints"], dtype=np.float64)) for problem, r in zip(problems, results)
               for k, run in enumerate(r["runs"]) if run["waypoints"] is not None]  # (problem, seed, waypoints)
     paths["vamp"] = [entry for entry in solved if entry[1] <= VERIFY_REPS]
     out = {"vamp_version": answer["vamp_version"], "vamp_motion_resolution": answer["resolution"],
            **_us("vamp_search", search, (50, 95)), **_us("vamp_plan", plan, (50, 95))}
     simplify = [run["simplify_us"] for r in results for run in r["runs"] if run["waypoints"] is not None]
-    # Its runs as _rep_range reads ours: per problem REPS (seconds | None, ...), an invalid problem all None.
-    for key, with_simplify in (("vamp_search", False), ("vamp_plan", True)):
-        as_ours = [[((run["plan_us"] + (run["simplify_us"] if with_simplify else 0)) / 1e6
-                     if run["waypoints"] is not None else None, None, None) for run in r["runs"]]
-                   or [(None, None, None)] * REPS for r in results]
-        out[f"{key}_us_p50_rep_range"] = _rep_range(as_ours, REPS)
+    out["vamp_search_us_p50_rep_range"] = _rep_range(search_runs, REPS)
+    out["vamp_plan_us_p50_rep_range"] = _rep_range(plan_runs, REPS)
     out["vamp_simplify_us_p50"] = round(float(np.median(simplify)), 1) if simplify else None
-    out["vamp_solved_rate"] = round(sum(t < TIMEOUT_S for t in plan) / len(results), 4)
+    out["vamp_solved_rate"] = _solved(plan_runs)
     out["vamp_invalid"] = [r["name"] for r in results if not r["valid"]]
     out["vamp_path_length_rad_mean"] = round(float(np.mean([_length(w) for _, _, w in solved])), 4) if solved else None
     out["speedup_search_vs_vamp_p50"] = round(out["vamp_search_us_p50"] / ours["search_us_p50"], 2)

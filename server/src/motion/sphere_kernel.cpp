@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "collision/aabb.h"
 #include "core/cpu_dispatch.h"
 
 namespace graspsim::motion::kernel {
@@ -38,15 +39,13 @@ void FillObstacleBounds(const Model& model, float* out) {
     }
     ++o;
   };
-  // rotation_t is R^T: row a of R (world axis a in the obstacle's axes) is column a of rotation_t.
   for (int32_t i = 0; i < model.box_count; ++i) {
     const Box& box = model.boxes[i];
-    double extent[3];
-    for (int a = 0; a < 3; ++a) {
-      extent[a] = 0;
-      for (int j = 0; j < 3; ++j) extent[a] += std::abs(static_cast<double>(box.rotation_t[3 * j + a])) * box.half[j];
-    }
-    put(box.centre, extent);
+    const Vec3 half(box.half[0], box.half[1], box.half[2]);
+    // rotation_t is R^T, row-major: read as column-major it is R.
+    const Mat3 rotation = Eigen::Map<const Eigen::Matrix3f>(box.rotation_t).cast<double>();
+    const collision::Aabb world = collision::TransformAabb({-half, half}, rotation, Vec3::Zero());
+    put(box.centre, world.hi.data());  // centred on 0: its upper corner is the half-extent
   }
   for (int32_t i = 0; i < model.ball_count; ++i) {
     const double extent[3] = {model.balls[i].radius, model.balls[i].radius, model.balls[i].radius};
